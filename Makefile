@@ -1,0 +1,34 @@
+# jaka_driver — every target sets up what is missing first (scripts/setup.sh is idempotent).
+SHELL := /bin/bash
+ENV   := source devel/setup.bash &&
+MODEL ?= zu5
+BACKEND ?= sim
+PYTEST_ARGS ?=
+
+.PHONY: setup run test fuzz bench emulator clean
+
+setup:
+	@scripts/setup.sh
+
+## Start rosmaster (if none is running) and the driver on the MuJoCo twin.
+run: setup
+	@$(ENV) roslaunch jaka_driver jaka_driver.launch backend:=$(BACKEND) model:=$(MODEL)
+
+## The whole suite: unit tests, integration tests through a real rosmaster, rostest suites.
+test: setup
+	@$(ENV) python -m pytest test $(PYTEST_ARGS)
+
+## 10 000 random requests per service (the suite runs 200).
+fuzz: setup
+	@$(ENV) JAKA_FUZZ_EXAMPLES=10000 python -m pytest test -m fuzz $(PYTEST_ARGS)
+
+## Benchmarks with targets; writes bench/results/latest.{json,md}.
+bench: setup
+	@$(ENV) python -m bench
+
+## The controller emulator (JAKA TCP protocol on 127.0.0.1:10001/10000) serving the twin.
+emulator: setup
+	@$(ENV) python -m jaka_driver.emulator --model $(MODEL)
+
+clean:
+	rm -rf devel build .pytest_cache
