@@ -38,7 +38,7 @@ fi
 
 # 3. Messages -----------------------------------------------------------------
 stamp=devel/.msgs.stamp
-if [ ! -f "$stamp" ] || [ -n "$(find msg srv scripts/gen_msgs.sh scripts/gen_control_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
+if [ ! -f "$stamp" ] || [ -n "$(find msg srv ext_msgs scripts/gen_msgs.sh scripts/gen_control_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
   scripts/gen_msgs.sh devel
   [ -x scripts/gen_control_msgs.sh ] && scripts/gen_control_msgs.sh devel
   touch "$stamp"

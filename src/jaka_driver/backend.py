@@ -1,0 +1,165 @@
+"""The backend contract: what the MuJoCo twin and the real-controller backend both implement.
+
+The node never asks which backend it has. Requests reach a backend through
+:class:`jaka_driver.driver.RobotDriver`, which has already validated them (lengths, finiteness,
+ranges, joint limits), converted units (SI inside: metres, radians, 4x4 poses) and checked the
+robot state (e-stop, power, modes, busy). A backend therefore implements capabilities, not
+policy; anything it cannot do it answers with a failure :class:`Result`, never silently.
+
+Frames: a Cartesian pose handed to or returned by a backend is a 4x4 homogeneous matrix in
+metres. Unless a method says otherwise, it is the pose of the *active tool* expressed in the
+*active user frame* (contract.md, "Frames").
+
+Concurrency: every method may be called from any thread (rospy serves each service connection
+in its own thread). Blocking moves block the calling thread only; ``state()`` never blocks.
+"""
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import TYPE_CHECKING, Optional
+
+import numpy as np
+
+from .models import RobotModel
+from .results import Result
+from .robot_state import RobotState
+
+if TYPE_CHECKING:
+    from .motion.trajectory import JointTrajectory
+
+
+class Backend(ABC):
+    """One robot: a twin or a controller connection."""
+
+    #: "sim" or "controller"
+    kind: str = ""
+
+    def __init__(self, model: RobotModel):
+        self.model = model
+
+    # ---- life cycle -------------------------------------------------------------------
+    @abstractmethod
+    def start(self) -> None:
+        """Bring the robot up (twin: physics thread, powered and enabled; controller:
+        connect, power on, enable). Returns once a first state sample exists."""
+
+    @abstractmethod
+    def shutdown(self) -> None:
+        """Stop motion, threads and connections. Idempotent."""
+
+    @abstractmethod
+    def state(self) -> RobotState:
+        """The latest sample; never blocks."""
+
+    def describe(self) -> dict:
+        """Facts for diagnostics (version, connection, rates). Backends add their own."""
+        return {"backend": self.kind, "model": self.model.name}
+
+    # ---- power --------------------------------------------------------------------------
+    @abstractmethod
+    def set_power(self, on: bool) -> Result:
+        """Power the arm on or off."""
+
+    @abstractmethod
+    def set_enabled(self, on: bool) -> Result:
+        """Enable (servos hold the arm) or disable it."""
+
+    # ---- motion ---------------------------------------------------------------------------
+    @abstractmethod
+    def joint_move(self, q_target: np.ndarray, speed: float, accel: float,
+                   duration: Optional[float] = None) -> Result:
+        """Synchronised joint move to ``q_target`` (rad) with peak speed ``speed`` (rad/s) and
+        acceleration ``accel`` (rad/s²), both already clamped to the model; ``duration`` (s)
+        stretches the motion. Blocks until in position (1e-3 rad) or stopped (-12)."""
+
+    @abstractmethod
+    def linear_move(self, target: np.ndarray, speed: float, accel: float,
+                    ref_q: Optional[np.ndarray] = None) -> Result:
+        """Straight-line TCP move to ``target`` (4x4, active tool in the active user frame, m)
+        at ``speed`` m/s and ``accel`` m/s²; ``ref_q`` seeds the IK. The whole path is
+        checked before anything moves (-4 if unreachable). Blocks until in position."""
+
+    @abstractmethod
+    def start_trajectory(self, trajectory: "JointTrajectory") -> Result:
+        """Start following ``trajectory`` (joint samples every 8 ms from the current setpoint,
+        :class:`jaka_driver.motion.trajectory.JointTrajectory`) and return at once;
+        ``Result.value`` is ``(completion, duration_s)`` where ``completion``
+        (:class:`jaka_driver.completion.Completion`) finishes with success once in position,
+        or -12 if stopped. :meth:`stop_move` stops it."""
+
+    @abstractmethod
+    def jog(self, coord: int, axis: int, direction: int, speed: float) -> Result:
+        """Start (or keep) a continuous jog: ``coord`` 0 joint, 1 base, 2 tool; ``axis`` 0–5
+        (joint, or X Y Z RX RY RZ); ``direction`` ±1; ``speed`` rad/s or m/s. Returns at once;
+        the caller (RobotDriver) owns the 3 s watchdog and calls :meth:`jog_stop`."""
+
+    @abstractmethod
+    def jog_stop(self) -> Result:
+        """Decelerate a jog to rest."""
+
+    @abstractmethod
+    def servo_enable(self, on: bool) -> Result:
+        """Enter or leave servo mode."""
+
+    @abstractmethod
+    def servo_j(self, q_target: np.ndarray) -> Result:
+        """Absolute joint target (rad) to reach within one 8 ms cycle (already speed-checked)."""
+
+    @abstractmethod
+    def servo_p(self, target: np.ndarray) -> Result:
+        """Absolute TCP target (4x4, active tool in active user frame, m) for one cycle;
+        -4 when there is no IK solution, -2 when it implies over-speed."""
+
+    @abstractmethod
+    def stop_move(self) -> Result:
+        """Decelerate any motion to rest; a blocking move in progress returns -12."""
+
+    # ---- frames, payload, settings ----------------------------------------------------------
+    @abstractmethod
+    def set_tool_frame(self, tool_id: int, pose: np.ndarray) -> Result:
+        """Store tool ``tool_id`` (1–11; 0 = the flange) as ``pose`` (flange→tool, 4x4, m) and
+        make it the active tool."""
+
+    @abstractmethod
+    def set_user_frame(self, user_id: int, pose: np.ndarray) -> Result:
+        """Store user frame ``user_id`` (1–10; 0 = the base) as ``pose`` (base→user, 4x4, m)
+        and make it the active user frame."""
+
+    @abstractmethod
+    def frames(self) -> tuple[np.ndarray, np.ndarray]:
+        """(active tool pose flange→tool, active user frame pose base→user), 4x4, metres."""
+
+    @abstractmethod
+    def set_payload(self, tool_id: int, mass: float, centroid: np.ndarray) -> Result:
+        """Payload ``mass`` (kg) at ``centroid`` (m, flange frame); activates ``tool_id``."""
+
+    @abstractmethod
+    def set_drag_mode(self, on: bool) -> Result:
+        """Free drive on or off."""
+
+    @abstractmethod
+    def set_collision_level(self, level: int) -> Result:
+        """Collision sensitivity level 0 (off) or 1–4 (25/50/75/100 N)."""
+
+    @abstractmethod
+    def set_io(self, signal: str, io_type: int, index: int, value: float) -> Result:
+        """Set output ``index`` of ``signal`` ("digital"/"analog") on ``io_type`` (0 cabinet,
+        1 tool, 2 extension). Digital values are 0/1."""
+
+    @abstractmethod
+    def get_io(self, signal: str, path: int, io_type: int, index: int) -> Result:
+        """Read an input (``path`` 0) or output (1); the value is in ``Result.value``."""
+
+    @abstractmethod
+    def clear_error(self) -> Result:
+        """Clear a collision, protective stop or error; the arm returns to ready."""
+
+    # ---- kinematics ----------------------------------------------------------------------------
+    @abstractmethod
+    def forward_kinematics(self, q: np.ndarray) -> Result:
+        """Pose (4x4, m) of the active tool in the active user frame at joints ``q`` (rad)."""
+
+    @abstractmethod
+    def inverse_kinematics(self, target: np.ndarray, ref_q: np.ndarray) -> Result:
+        """Joints (rad) reaching ``target`` (4x4, active tool in active user frame), nearest
+        ``ref_q``; -4 when unreachable."""

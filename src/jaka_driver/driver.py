@@ -1,0 +1,443 @@
+"""The door of the driver: every service request passes through :class:`RobotDriver`.
+
+Order of checks (design.md, "Safety first"): validate the request → check the robot state →
+let the backend plan the whole motion → only then move. A refused command changes nothing.
+
+The methods take the values of the service requests in the interface document's units
+(rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`; they never raise.
+They are safe to call from many threads at once, as rospy does.
+"""
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from contextlib import contextmanager
+from typing import Callable, Sequence
+
+import numpy as np
+
+from . import validation as check
+from .backend import Backend
+from .results import Code, CommandRefused, Result, invalid
+from .robot_state import RobotState
+from .transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
+from .watchdogs import JogWatchdog, ServoStream
+
+log = logging.getLogger(__name__)
+
+SERVO_CYCLE = 0.008            # s, the controller's servo period
+JOG_AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
+MAX_JOG_ROTATION_SPEED = np.pi  # rad/s, cap for RX–RZ jogs
+TOOL_REACH_MM = 1000.0          # |tool offset| bound
+USER_REACH_MM = 10000.0         # |user frame origin| bound
+CENTROID_REACH_MM = 1000.0
+ANALOG_LIMIT = 10.0             # V; the twin's analog outputs are ±10 V
+
+
+def _answers(method: Callable) -> Callable:
+    """Turn a refusal into its Result and any other exception into a -3 answer: a request may
+    be refused, but it never takes the driver down."""
+
+    def wrapper(self, *args, **kwargs) -> Result:
+        try:
+            return method(self, *args, **kwargs)
+        except CommandRefused as refusal:
+            return refusal.result()
+        except Exception as exc:  # noqa: BLE001 — the node must survive any request
+            log.exception("%s failed", method.__name__)
+            return Result.failure(Code.COMMUNICATION_ERROR,
+                                  f"{method.__name__} failed inside the driver: {exc!r}")
+
+    wrapper.__name__ = method.__name__
+    wrapper.__doc__ = method.__doc__
+    return wrapper
+
+
+class RobotDriver:
+    """Validation, state checks and watchdogs in front of a :class:`Backend`."""
+
+    def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1):
+        self.backend = backend
+        self.model = backend.model
+        self._move_lock = threading.Lock()   # one blocking move at a time
+        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout)
+        self._servo = ServoStream(timeout=servo_timeout)
+
+    # ---- life cycle --------------------------------------------------------------------
+    def start(self) -> None:
+        self.backend.start()
+
+    def shutdown(self) -> None:
+        self._jog.close()
+        self.backend.shutdown()
+
+    def state(self) -> RobotState:
+        return self.backend.state()
+
+    # ---- state machine -----------------------------------------------------------------
+    def _ready(self, *, servo: bool = False, allow_servo_mode: bool = False) -> RobotState:
+        """The arm may move: connected, no e-stop, powered, enabled, no error, right mode."""
+        st = self.backend.state()
+        if not st.connected:
+            raise CommandRefused(Code.NOT_CONNECTED, "not connected to the controller")
+        if st.emergency_stop:
+            raise CommandRefused(Code.EMERGENCY_STOP, "emergency stop is pressed")
+        if not st.powered:
+            raise CommandRefused(Code.NOT_POWERED, "robot is not powered (call power)")
+        if not st.enabled:
+            raise CommandRefused(Code.NOT_ENABLED, "robot is not enabled (call enable)")
+        if st.in_error:
+            raise CommandRefused(Code.MOTION_STOPPED, f"{self._error_text(st)} stands; "
+                                 "call clear_err before moving")
+        if st.drag_mode:
+            raise CommandRefused(Code.WRONG_MODE, "refused in drag mode")
+        if servo and not st.servo_mode:
+            raise CommandRefused(Code.SERVO_MODE_OFF, "servo mode is off (call servo_move_enable)")
+        if not servo and not allow_servo_mode and st.servo_mode:
+            raise CommandRefused(Code.WRONG_MODE, "refused in servo mode "
+                                 "(leave it with servo_move_enable false)")
+        return st
+
+    @staticmethod
+    def _error_text(st: RobotState) -> str:
+        if st.collision:
+            return "collision alarm"
+        if st.protective_stop:
+            return "protective stop"
+        return f"error {st.error_code:#x} {st.error_message}".strip()
+
+    def _not_jogging(self) -> None:
+        if self._jog.session is not None:
+            raise CommandRefused(Code.BUSY, "a jog is running (stop_move, or wait 3 s after "
+                                 "the last jog call)")
+
+    @contextmanager
+    def _blocking_move(self, what: str):
+        if not self._move_lock.acquire(blocking=False):
+            raise CommandRefused(Code.BUSY, f"{what} refused: another move is running")
+        try:
+            yield
+        finally:
+            self._move_lock.release()
+
+    @property
+    def moving(self) -> bool:
+        return self._move_lock.locked() or self._jog.session is not None
+
+    # ---- motion ------------------------------------------------------------------------
+    @_answers
+    def joint_move(self, pose: Sequence[float], mvvelo: float, mvacc: float,
+                   mvtime: float = 0.0) -> Result:
+        """Synchronised joint move to ``pose`` (rad) at ``mvvelo`` rad/s, ``mvacc`` rad/s²;
+        ``mvtime`` > 0 stretches it to that many seconds. Blocks."""
+        q = check.joint_targets("pose", pose, self.model)
+        notes: list[str] = []
+        v = check.speed("mvvelo", mvvelo, float(np.max(self.model.max_velocity)), "rad/s",
+                        notes=notes)
+        a = check.speed("mvacc", mvacc, float(np.max(self.model.max_acceleration)), "rad/s²",
+                        default=float(np.min(self.model.max_acceleration)), notes=notes)
+        duration = check.finite("mvtime", mvtime, "s")
+        if duration < 0:
+            raise invalid(f"mvtime is {duration:g} s, expected ≥ 0 (0 = as fast as allowed)")
+        self._not_jogging()
+        with self._blocking_move("joint_move"):
+            self._ready()
+            result = self.backend.joint_move(q, v, a, duration or None)
+        return _with_notes(result, notes)
+
+    @_answers
+    def linear_move(self, pose: Sequence[float], mvvelo: float, mvacc: float,
+                    coord_mode: int = 0, has_ref: bool = False,
+                    ref_joint: Sequence[float] = ()) -> Result:
+        """Straight-line move to ``pose`` (mm + rotation vector) at ``mvvelo`` mm/s,
+        ``mvacc`` mm/s²; ``coord_mode`` 0 user frame, 1 base frame, 2 relative in the tool
+        frame. Blocks."""
+        target_mm = check.vector("pose", pose)
+        mode = check.integer_in("coord_mode", coord_mode, 0, 2)
+        notes: list[str] = []
+        v = check.speed("mvvelo", mvvelo, self.model.max_tcp_speed_mm_s, "mm/s", notes=notes)
+        a = check.speed("mvacc", mvacc, self.model.max_tcp_accel_mm_s2, "mm/s²",
+                        default=self.model.max_tcp_accel_mm_s2 / 4, notes=notes)
+        ref_q = check.joint_targets("ref_joint", ref_joint, self.model) if has_ref else None
+        self._not_jogging()
+        with self._blocking_move("linear_move"):
+            st = self._ready()
+            target = pose_to_matrix(target_mm, rotation="rotvec", length_scale=1e-3)
+            if mode == 1:
+                _, user = self.backend.frames()
+                target = np.linalg.inv(user) @ target
+            elif mode == 2:
+                target = st.tcp_pose @ target
+            result = self.backend.linear_move(target, v / 1000.0, a / 1000.0, ref_q)
+        return _with_notes(result, notes)
+
+    @_answers
+    def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
+        """Continuous jog (doc §1.3): coord 0 joint / 1 base / 2 tool; index 0–11, odd =
+        negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling again."""
+        coord = check.integer_in("coord_mode", coord_mode, 0, 2)
+        idx = check.integer_in("index", index, 0, 11)
+        axis, direction = idx // 2, (-1 if idx % 2 else 1)
+        notes: list[str] = []
+        name = "mvvelo"
+        raw = check.finite("mvvelo", mvvelo)
+        if raw == 0 and check.finite("mvacc", mvacc) > 0:
+            raw, name = float(mvacc), "mvacc"
+            notes.append("mvvelo is 0: using mvacc as the speed, like JAKA's driver")
+        if coord == 0:
+            label, unit = self.model.joint_names[axis], "rad/s"
+            speed = check.speed(name, raw, float(self.model.max_velocity[axis]), unit, notes=notes)
+        elif axis < 3:
+            label, unit = JOG_AXES[axis], "mm/s"
+            speed = check.speed(name, raw, self.model.max_tcp_speed_mm_s, unit, notes=notes) / 1000
+        else:
+            label, unit = JOG_AXES[axis], "rad/s"
+            speed = check.speed(name, raw, MAX_JOG_ROTATION_SPEED, unit, notes=notes)
+        if self._move_lock.locked():
+            raise CommandRefused(Code.BUSY, "jog refused: a blocking move is running")
+        self._ready()
+        session = self._jog.session
+        same = session is not None and (session.coord, session.index) == (coord, idx)
+        result = self.backend.jog(coord, axis, direction, speed)
+        if not result.ok:
+            self._jog.clear()
+            return result
+        self._jog.kick(coord, idx, speed)
+        sign = "+" if direction > 0 else "-"
+        what = "still jogging" if same else "jogging"
+        shown = speed * 1000 if unit == "mm/s" else speed
+        return _with_notes(Result.success(f"{what} {label}{sign} at {shown:g} {unit} "
+                                          f"(stops {self._jog.timeout:g} s after the last call)"),
+                           notes)
+
+    def follow_trajectory(self, trajectory, monitor: Callable[[float, RobotState],
+                                                               "str | None"],
+                          period: float = 0.02) -> Result:
+        """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
+        ``monitor(t, state)`` is called with the time since the start; a string it returns
+        aborts: the arm is stopped and the result is -12 with that reason. Blocks."""
+        try:
+            self._not_jogging()
+            with self._blocking_move("trajectory"):
+                self._ready()
+                started = self.backend.start_trajectory(trajectory)
+                if not started.ok:
+                    return started
+                completion, duration = started.value
+                t0 = time.monotonic()
+                while True:
+                    result = completion.wait(period)
+                    if result is not None:
+                        return result
+                    elapsed = time.monotonic() - t0
+                    reason = monitor(elapsed, self.backend.state())
+                    if reason is None and elapsed > duration + 2.0:
+                        reason = f"not in position {elapsed - duration:.1f} s after the end"
+                    if reason is not None:
+                        self.backend.stop_move()
+                        completion.wait(1.0)
+                        return Result.failure(Code.MOTION_STOPPED, reason)
+        except CommandRefused as refusal:
+            return refusal.result()
+
+    def _jog_expired(self) -> None:
+        log.info("jog stopped: no jog call for %.1f s", self._jog.timeout)
+        self.backend.jog_stop()
+
+    @_answers
+    def stop_move(self) -> Result:
+        """Decelerate whatever moves; a blocking move returns -12."""
+        self._jog.clear()
+        return self.backend.stop_move()
+
+    @_answers
+    def servo_move_enable(self, enable: bool) -> Result:
+        """Enter or leave servo mode."""
+        if enable:
+            if self._move_lock.locked():
+                raise CommandRefused(Code.BUSY, "servo mode refused: a blocking move is running")
+            self._not_jogging()
+            self._ready(allow_servo_mode=True)
+        self._servo.reset()
+        return self.backend.servo_enable(bool(enable))
+
+    @_answers
+    def servo_j(self, pose: Sequence[float]) -> Result:
+        """Absolute joint target (rad) for the next 8 ms cycle."""
+        q = check.joint_targets("pose", pose, self.model)
+        st = self._ready(servo=True)
+        reference, gap = self._servo.reference(st.joint_position)
+        step = np.abs(q - reference) / SERVO_CYCLE
+        worst = int(np.argmax(step / self.model.max_velocity))
+        if step[worst] > self.model.max_velocity[worst]:
+            raise invalid(f"{self.model.joint_names[worst]} step of {abs(q - reference)[worst]:.4f}"
+                          f" rad in one {SERVO_CYCLE * 1000:g} ms cycle needs "
+                          f"{step[worst]:.2f} rad/s, limit {self.model.max_velocity[worst]:.2f}"
+                          " rad/s; the arm holds")
+        result = self.backend.servo_j(q)
+        if result.ok:
+            self._servo.accepted(q)
+        return _with_gap(result, gap, self._servo.timeout)
+
+    @_answers
+    def servo_p(self, pose: Sequence[float]) -> Result:
+        """Absolute TCP target (m + RPY rad, active user frame) for the next cycle."""
+        p = check.vector("pose", pose)
+        st = self._ready(servo=True)
+        target = np.eye(4)
+        target[:3, :3] = rpy_to_matrix(*p[3:])
+        target[:3, 3] = p[:3]
+        _, gap = self._servo.reference(st.joint_position)
+        tcp_speed = np.linalg.norm(target[:3, 3] - st.tcp_pose[:3, 3]) / SERVO_CYCLE * 1000
+        if gap is None and tcp_speed > self.model.max_tcp_speed_mm_s:
+            raise invalid(f"pose step needs {tcp_speed:.0f} mm/s in one "
+                          f"{SERVO_CYCLE * 1000:g} ms cycle, limit "
+                          f"{self.model.max_tcp_speed_mm_s:.0f} mm/s; the arm holds")
+        result = self.backend.servo_p(target)
+        if result.ok:
+            self._servo.accepted(None)
+        return _with_gap(result, gap, self._servo.timeout)
+
+    # ---- frames, payload, settings --------------------------------------------------------
+    @_answers
+    def set_toolframe(self, pose: Sequence[float], tool_num: int) -> Result:
+        """Tool ``tool_num`` (1–11, 0 = flange) = ``pose`` (mm + rotvec, flange frame)."""
+        num = check.integer_in("tool_num", tool_num, 0, 11)
+        frame = np.eye(4) if num == 0 else self._frame_pose(pose, TOOL_REACH_MM)
+        return self.backend.set_tool_frame(num, frame)
+
+    @_answers
+    def set_userframe(self, pose: Sequence[float], user_num: int) -> Result:
+        """User frame ``user_num`` (1–10, 0 = base) = ``pose`` (mm + rotvec, base frame)."""
+        num = check.integer_in("user_num", user_num, 0, 10)
+        frame = np.eye(4) if num == 0 else self._frame_pose(pose, USER_REACH_MM)
+        return self.backend.set_user_frame(num, frame)
+
+    @staticmethod
+    def _frame_pose(pose: Sequence[float], reach_mm: float) -> np.ndarray:
+        p = check.vector("pose", pose)
+        distance = float(np.linalg.norm(p[:3]))
+        if distance > reach_mm:
+            raise invalid(f"pose origin is {distance:.1f} mm away, limit {reach_mm:g} mm")
+        return pose_to_matrix(p, rotation="rotvec", length_scale=1e-3)
+
+    @_answers
+    def set_payload(self, tool_num: int, mass: float, xc: float, yc: float, zc: float) -> Result:
+        """Payload ``mass`` kg at (xc, yc, zc) mm in the flange frame; activates tool_num."""
+        num = check.integer_in("tool_num", tool_num, 0, 11)
+        m = check.finite("mass", mass, "kg")
+        limit = 1.5 * self.model.rated_payload_kg
+        if not 0 <= m <= limit:
+            raise invalid(f"mass is {m:g} kg, expected 0–{limit:g} kg (1.5 × rated payload "
+                          f"of {self.model.name})")
+        c = np.array([check.finite(n, v, "mm") for n, v in (("xc", xc), ("yc", yc), ("zc", zc))])
+        if np.linalg.norm(c) > CENTROID_REACH_MM:
+            raise invalid(f"centroid is {np.linalg.norm(c):.1f} mm from the flange, limit "
+                          f"{CENTROID_REACH_MM:g} mm")
+        return self.backend.set_payload(num, m, c / 1000.0)
+
+    @_answers
+    def drag_mode(self, on: bool) -> Result:
+        """Free drive on or off; refused in servo mode or while moving."""
+        if on:
+            if self.moving:
+                raise CommandRefused(Code.BUSY, "drag mode refused while the arm moves")
+            self._ready()
+        return self.backend.set_drag_mode(bool(on))
+
+    @_answers
+    def set_collisionlevel(self, is_enable: bool, value: int) -> Result:
+        """Detection off, or ``value`` 10–100 → level 1–4 (≤25, ≤50, ≤75, ≤100)."""
+        if not is_enable:
+            return self.backend.set_collision_level(0)
+        v = check.integer_in("value", value, 10, 100)
+        level = 1 if v <= 25 else 2 if v <= 50 else 3 if v <= 75 else 4
+        return self.backend.set_collision_level(level)
+
+    @_answers
+    def set_io(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
+        """Set an output (doc §2.6); digital non-zero → 1."""
+        sig = check.io_signal(signal)
+        check.io_address(self.model, sig, 1, type, index)
+        v = check.finite("value", value)
+        if sig == "digital":
+            v = 1.0 if v != 0 else 0.0
+        elif abs(v) > ANALOG_LIMIT:
+            raise invalid(f"value is {v:g}, analog outputs are ±{ANALOG_LIMIT:g} V")
+        return self.backend.set_io(sig, int(type), int(index), v)
+
+    @_answers
+    def get_io(self, signal: str, path: int, type: int, index: int) -> Result:  # noqa: A002
+        """Read an IO point (doc §2.7); value in ``Result.value``."""
+        sig = check.io_signal(signal)
+        check.io_address(self.model, sig, path, type, index)
+        return self.backend.get_io(sig, int(path), int(type), int(index))
+
+    @_answers
+    def clear_err(self) -> Result:
+        """Clear a collision / protective stop / error; refused under e-stop."""
+        if self.backend.state().emergency_stop:
+            raise CommandRefused(Code.EMERGENCY_STOP, "emergency stop is pressed: release it "
+                                 "first")
+        self._jog.clear()
+        return self.backend.clear_error()
+
+    @_answers
+    def set_power(self, on: bool) -> Result:
+        if not on:
+            self._jog.clear()
+        elif self.backend.state().emergency_stop:
+            raise CommandRefused(Code.EMERGENCY_STOP, "emergency stop is pressed")
+        return self.backend.set_power(bool(on))
+
+    @_answers
+    def set_enabled(self, on: bool) -> Result:
+        st = self.backend.state()
+        if on and st.emergency_stop:
+            raise CommandRefused(Code.EMERGENCY_STOP, "emergency stop is pressed")
+        if on and not st.powered:
+            raise CommandRefused(Code.NOT_POWERED, "robot is not powered (call power)")
+        if not on:
+            self._jog.clear()
+        return self.backend.set_enabled(bool(on))
+
+    # ---- kinematics ---------------------------------------------------------------------------
+    @_answers
+    def get_fk(self, joint: Sequence[float]) -> Result:
+        """Pose (mm + rotvec) of the active tool in the active user frame at ``joint``."""
+        q = check.vector("joint", joint)
+        result = self.backend.forward_kinematics(q)
+        if not result.ok:
+            return result
+        pose = matrix_to_pose(result.value, rotation="rotvec", length_scale=1e-3)
+        return Result.success(result.message, [float(x) for x in pose])
+
+    @_answers
+    def get_ik(self, ref_joint: Sequence[float], cartesian_pose: Sequence[float]) -> Result:
+        """Joints (rad) nearest ``ref_joint`` reaching ``cartesian_pose`` (mm + rotvec);
+        an empty ``ref_joint`` seeds from the current joints."""
+        if len(ref_joint) == 0:
+            ref = self.backend.state().joint_position
+        else:
+            ref = check.vector("ref_joint", ref_joint)
+        pose = check.vector("cartesian_pose", cartesian_pose)
+        target = pose_to_matrix(pose, rotation="rotvec", length_scale=1e-3)
+        result = self.backend.inverse_kinematics(target, ref)
+        if not result.ok:
+            return result
+        return Result.success(result.message, [float(x) for x in result.value])
+
+
+def _with_notes(result: Result, notes: list[str]) -> Result:
+    if not notes:
+        return result
+    return Result(result.code, f"{result.message} ({'; '.join(notes)})", result.value)
+
+
+def _with_gap(result: Result, gap, timeout: float) -> Result:
+    if gap is None:
+        return result
+    return Result(result.code, f"{result.message} (the servo stream had stopped for "
+                  f"{gap:.2f} s, timeout {timeout:g} s: the arm held its last target)",
+                  result.value)

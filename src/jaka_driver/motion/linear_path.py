@@ -1,0 +1,223 @@
+"""Cartesian straight-line planning for ``linear_move``: the whole path is sampled and checked
+(IK, joint limits, joint speed) before anything moves, as the contract demands.
+
+Frames and units: ``T_start`` and ``T_goal`` are 4x4 homogeneous TCP poses in one frame
+(whatever frame ``ik`` expects), positions in metres. Speeds m/s and rad/s, accelerations m/s²
+and rad/s², joints rad and rad/s, time s. Messages give positions in mm, the driver's unit.
+
+Kinematics is injected: ``ik(T, seed) -> q or None`` returns the joint solution nearest
+``seed`` (rad) or None when there is none.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..results import Code, CommandRefused
+from .profiles import TrapezoidProfile
+from .trajectory import JointTrajectory, time_grid
+
+# Default orientation limits. A rotation is given the speed a point ROTATION_RADIUS from the
+# axis would have at the linear speed (so a slow move also turns slowly), capped so that a
+# fast move does not whip the tool round.
+ROTATION_RADIUS = 0.1               # m
+MAX_ANGULAR_SPEED = math.pi         # rad/s
+MAX_ANGULAR_ACCEL = 2.0 * math.pi   # rad/s²
+
+# Translations and rotations below these are "no motion" (float noise of an FK round trip).
+_ZERO_LENGTH = 1e-12                # m
+_ZERO_ANGLE = 1e-12                 # rad
+# Joint speed and limit checks forgive this much float noise.
+_SPEED_RTOL = 1e-9
+_LIMIT_TOL = 1e-9                   # rad
+
+IK = Callable[[np.ndarray, np.ndarray], Optional[np.ndarray]]
+
+
+class PlanningError(CommandRefused):
+    """A linear move cannot be planned. ``code`` is -4 (:attr:`Code.IK_FAILED`: unreachable,
+    singular, or a joint limit on the path) or -2 (:attr:`Code.INVALID_PARAMETER`); the message
+    says what failed, where on the path, and the limit."""
+
+
+def _invalid(message: str) -> PlanningError:
+    return PlanningError(Code.INVALID_PARAMETER, message)
+
+
+def _positive(name: str, value: float, unit: str) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise _invalid(f"{name} is {value:g} {unit}, expected a finite value > 0")
+    return value
+
+
+def _pose(name: str, T) -> np.ndarray:
+    T = np.asarray(T, dtype=float)
+    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+        raise _invalid(f"{name} must be a finite 4x4 homogeneous matrix, got shape {T.shape}")
+    R = T[:3, :3]
+    if np.max(np.abs(R.T @ R - np.eye(3))) > 1e-6 or np.linalg.det(R) <= 0.0:
+        raise _invalid(f"{name} has a rotation part that is not a proper rotation matrix")
+    return T
+
+
+def _joints(name: str, value, n: int) -> np.ndarray:
+    vec = np.asarray(value, dtype=float)
+    if vec.shape != (n,) or not np.all(np.isfinite(vec)):
+        raise _invalid(f"{name} must be {n} finite values, got shape {vec.shape}")
+    return vec
+
+
+def _axis_angle(R: np.ndarray) -> tuple[np.ndarray, float]:
+    """Unit axis and angle (rad, in [0, π]) of rotation matrix ``R``, through the quaternion
+    (largest-component extraction, accurate at every angle including near π)."""
+    tr = np.trace(R)
+    i = int(np.argmax([tr, R[0, 0], R[1, 1], R[2, 2]]))
+    if i == 0:
+        w = 0.5 * math.sqrt(max(1.0 + tr, 0.0))
+        v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (4.0 * w)
+    else:
+        a = i - 1                                # the axis with the largest component
+        j, k = (a + 1) % 3, (a + 2) % 3          # the two others, in cyclic order
+        big = 0.5 * math.sqrt(max(1.0 + 2.0 * R[a, a] - tr, 0.0))
+        v = np.empty(3)
+        v[a] = big
+        v[j] = (R[j, a] + R[a, j]) / (4.0 * big)
+        v[k] = (R[k, a] + R[a, k]) / (4.0 * big)
+        w = (R[k, j] - R[j, k]) / (4.0 * big)
+    if w < 0.0:                                  # same rotation, take the short way round
+        w, v = -w, -v
+    norm = float(np.linalg.norm(v))
+    if norm < 1e-15:
+        return np.array([1.0, 0.0, 0.0]), 0.0
+    return v / norm, 2.0 * math.atan2(norm, w)
+
+
+def _slerp(R0: np.ndarray, R1: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Rotations (N, 3, 3) along the shortest great arc from ``R0`` (u = 0) to ``R1`` (u = 1):
+    ``R0 · Rot(axis, u · angle)`` with the axis and angle of ``R0ᵀ R1`` (Rodrigues)."""
+    axis, angle = _axis_angle(R0.T @ R1)
+    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
+                  [-axis[1], axis[0], 0.0]])
+    phi = np.asarray(u, dtype=float)[:, None, None] * angle
+    rel = np.eye(3) + np.sin(phi) * K + (1.0 - np.cos(phi)) * (K @ K)
+    return R0 @ rel
+
+
+def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: IK, lower,
+                     upper, v_max, cycle: float = 0.008, ref_q=None,
+                     angular_speed: Optional[float] = None,
+                     angular_accel: Optional[float] = None) -> JointTrajectory:
+    """Plan a straight-line TCP move from ``T_start`` (the pose at ``q_start``) to ``T_goal``.
+
+    The position follows the segment, the orientation the slerp between the two, both driven
+    by one path parameter ``u(t) ∈ [0, 1]`` with a trapezoid time law. ``u``'s limits make the
+    TCP's linear speed / acceleration stay within ``speed`` (m/s) / ``accel`` (m/s²) and its
+    angular speed / acceleration within ``angular_speed`` (rad/s) / ``angular_accel``
+    (rad/s²); whichever of translation and rotation needs longer sets the time. Defaults:
+    ``speed / ROTATION_RADIUS`` capped at ``MAX_ANGULAR_SPEED``, ``accel / ROTATION_RADIUS``
+    capped at ``MAX_ANGULAR_ACCEL``.
+
+    The path is sampled every ``cycle`` s (see :func:`time_grid`). Sample 0 is ``q_start``
+    itself (the arm is there; solving IK for it would only add error). Each further sample is
+    solved by ``ik`` seeded with the previous solution — the first with ``ref_q`` when given —
+    and checked: a solution exists, it lies within ``[lower, upper]`` (rad), and no joint
+    moves faster than ``v_max`` (rad/s) since the previous sample; a configuration flip or a
+    singularity shows up as such a jump. The last sample is ``T_goal`` exactly.
+
+    Returns a :class:`JointTrajectory` with ``qd`` from finite differences (0 at both ends,
+    where the TCP is at rest) and the planned ``tcp`` poses. Raises :class:`PlanningError`
+    with code -4 when the path cannot be followed and -2 for invalid parameters.
+    """
+    speed = _positive("speed", speed, "m/s")
+    accel = _positive("accel", accel, "m/s²")
+    cycle = _positive("cycle", cycle, "s")
+    angular_speed = min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED) if angular_speed is None \
+        else _positive("angular_speed", angular_speed, "rad/s")
+    angular_accel = min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL) if angular_accel is None \
+        else _positive("angular_accel", angular_accel, "rad/s²")
+    T_start, T_goal = _pose("T_start", T_start), _pose("T_goal", T_goal)
+    q_start = np.asarray(q_start, dtype=float)
+    if q_start.ndim != 1 or q_start.shape[0] == 0:
+        raise _invalid(f"q_start must be a 1-D array of joint angles, got shape {q_start.shape}")
+    n = q_start.shape[0]
+    q_start = _joints("q_start", q_start, n)
+    lower, upper = _joints("lower", lower, n), _joints("upper", upper, n)
+    v_max = _joints("v_max", v_max, n)
+    if np.any(v_max <= 0.0):
+        raise _invalid(f"v_max must be > 0 for every joint, got {v_max.tolist()}")
+    ref_q = None if ref_q is None else _joints("ref_q", ref_q, n)
+
+    p0, p1 = T_start[:3, 3], T_goal[:3, 3]
+    length = float(np.linalg.norm(p1 - p0))
+    _, angle = _axis_angle(T_start[:3, :3].T @ T_goal[:3, :3])
+    if length <= _ZERO_LENGTH and angle <= _ZERO_ANGLE:
+        return JointTrajectory(times=np.zeros(1), q=q_start[None, :], qd=np.zeros((1, n)),
+                               tcp=T_goal[None, :, :])
+
+    # Limits of the path parameter u: a unit of u is `length` m and `angle` rad.
+    u_speed = min(speed / length if length > _ZERO_LENGTH else math.inf,
+                  angular_speed / angle if angle > _ZERO_ANGLE else math.inf)
+    u_accel = min(accel / length if length > _ZERO_LENGTH else math.inf,
+                  angular_accel / angle if angle > _ZERO_ANGLE else math.inf)
+    law = TrapezoidProfile(1.0, u_speed, u_accel)
+    times = time_grid(law.duration, cycle)
+    u = np.asarray(law.sample(times)[0])
+
+    tcp = np.tile(np.eye(4), (times.shape[0], 1, 1))
+    tcp[:, :3, 3] = p0 + u[:, None] * (p1 - p0)
+    tcp[:, :3, :3] = _slerp(T_start[:3, :3], T_goal[:3, :3], u)
+    tcp[-1] = T_goal                    # land on the target, not on its rounding
+
+    q = np.empty((times.shape[0], n))
+    q[0] = q_start
+    for k in range(1, times.shape[0]):
+        seed = ref_q if (k == 1 and ref_q is not None) else q[k - 1]
+        q[k] = _solve(ik, tcp[k], seed, n, u[k])
+        _check_limits(q[k], lower, upper, u[k])
+        _check_speed(q[k] - q[k - 1], times[k] - times[k - 1], v_max, u[k],
+                     first=(k == 1 and ref_q is not None))
+
+    qd = np.gradient(q, times, axis=0)
+    qd[0] = qd[-1] = 0.0
+    return JointTrajectory(times=times, q=q, qd=qd, tcp=tcp)
+
+
+def _where(u: float) -> str:
+    return f"{100.0 * u:.1f} % of the path"
+
+
+def _solve(ik: IK, T: np.ndarray, seed: np.ndarray, n: int, u: float) -> np.ndarray:
+    solution = ik(T, seed.copy())
+    if solution is not None:
+        solution = np.asarray(solution, dtype=float)
+        if solution.shape != (n,):
+            raise ValueError(f"ik returned shape {solution.shape}, expected ({n},)")
+    if solution is None or not np.all(np.isfinite(solution)):
+        x, y, z = 1000.0 * T[:3, 3]
+        raise PlanningError(Code.IK_FAILED, f"no IK solution at {_where(u)} "
+                            f"(x={x:.1f}, y={y:.1f}, z={z:.1f} mm)")
+    return solution
+
+
+def _check_limits(q: np.ndarray, lower: np.ndarray, upper: np.ndarray, u: float) -> None:
+    excess = np.maximum(lower - q, q - upper)
+    i = int(np.argmax(excess))
+    if excess[i] > _LIMIT_TOL:
+        raise PlanningError(Code.IK_FAILED, f"joint_{i + 1} would leave its limits at "
+                            f"{_where(u)}: {q[i]:.3f} rad is outside "
+                            f"[{lower[i]:.2f}, {upper[i]:.2f}]")
+
+
+def _check_speed(step: np.ndarray, dt: float, v_max: np.ndarray, u: float,
+                 first: bool) -> None:
+    needed = np.abs(step) / dt
+    ratio = needed / v_max
+    i = int(np.argmax(ratio))
+    if ratio[i] > 1.0 + _SPEED_RTOL:
+        cause = "ref_joint selects another configuration than the arm's?" if first \
+            else "singularity?"
+        raise PlanningError(Code.IK_FAILED, f"joint_{i + 1} would need {needed[i]:.2f} rad/s "
+                            f"at {_where(u)}, limit {v_max[i]:.2f} rad/s ({cause})")

@@ -1,0 +1,354 @@
+"""Sockets: the blocking command client (port 10001) and the status receiver thread (port 10000).
+
+Neither reconnects by itself: the backend owns that policy. Both make ``connect``/``start`` and
+``close``/``stop`` idempotent, so a policy can simply call them again.
+"""
+from __future__ import annotations
+
+import logging
+import socket
+import threading
+import time
+from typing import Any, Callable, Mapping, Optional, Tuple
+
+from . import errors
+from .commands import encode
+from .errors import ConnectFailed, ConnectionLost, InvalidArgument, ProtocolError
+from .fields import COMMAND_PORT, STATUS_PORT, Field
+from .replies import Reply, command_names_match, parse_reply
+from .status_stream import MAX_BUFFER, RobotStatus, StatusStreamDecoder, parse_status
+from .wire import decode_first_object
+
+_log = logging.getLogger(__name__)
+_RECV_SIZE = 65536
+_WHITESPACE = b" \t\r\n"
+
+
+def _open(host: str, port: int, timeout: float, what: str) -> socket.socket:
+    try:
+        sock = socket.create_connection((host, port), timeout=timeout)
+    except OSError as exc:
+        raise ConnectFailed(
+            f"cannot open the {what} connection to {host}:{port} ({exc}); check the controller's "
+            f"IP address, that it is switched on, and that port {port} is reachable from this "
+            "machine") from None
+    # Commands are small and latency-bound (servo set-points every 8 ms): no Nagle delay.
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return sock
+
+
+class _Connection:
+    """One open command socket and the bytes received on it but not yet consumed."""
+
+    def __init__(self, sock: socket.socket):
+        self.sock = sock
+        self.buf = bytearray()
+        self.closed_locally = False
+
+    def close(self) -> None:
+        self.closed_locally = True
+        try:
+            # shutdown wakes a thread blocked in recv() on this socket; close alone may not.
+            self.sock.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+        self.sock.close()
+
+
+class CommandClient:
+    """Blocking client of the command port.
+
+    Thread-safe: any number of threads may call :meth:`call`; requests go out one at a time
+    and each waits for its own reply (the protocol has no request ids, so replies can only be
+    matched by order). :meth:`close` may be called from any thread, also while a call waits.
+
+    ``timeout`` (s) is the default time a :meth:`call` waits for its reply; ``connect_timeout``
+    (s, default ``timeout``) bounds :meth:`connect`.
+    """
+
+    def __init__(self, host: str, port: int = COMMAND_PORT, timeout: float = 1.0,
+                 connect_timeout: Optional[float] = None):
+        self.host = host
+        self.port = int(port)
+        self.timeout = float(timeout)
+        self.connect_timeout = float(timeout if connect_timeout is None else connect_timeout)
+        if not (self.timeout > 0.0 and self.connect_timeout > 0.0):
+            raise InvalidArgument("timeout and connect_timeout must be > 0 s")
+        self._call_lock = threading.Lock()    # one request in flight
+        self._conn_lock = threading.Lock()    # guards swapping self._conn
+        self._conn: Optional[_Connection] = None
+
+    @property
+    def address(self) -> str:
+        return f"{self.host}:{self.port}"
+
+    @property
+    def connected(self) -> bool:
+        """Whether a connection is open (as far as we know: a peer close is noticed at the next
+        call)."""
+        return self._conn is not None
+
+    def connect(self) -> None:
+        """Open the connection; does nothing if it is open. Raises :class:`ConnectFailed`."""
+        with self._conn_lock:
+            if self._conn is None:
+                self._conn = _Connection(_open(self.host, self.port, self.connect_timeout,
+                                               "command"))
+
+    def close(self) -> None:
+        """Close the connection; does nothing if it is closed. A call waiting for its reply
+        raises :class:`ConnectionLost`."""
+        with self._conn_lock:
+            conn, self._conn = self._conn, None
+        if conn is not None:
+            conn.close()
+
+    def __enter__(self) -> "CommandClient":
+        self.connect()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def call(self, request: Mapping[str, Any], timeout: Optional[float] = None) -> Reply:
+        """Send one request (a dict from :mod:`.commands`) and return the controller's reply.
+
+        A reply with a non-zero ``errorCode`` is returned (``reply.ok`` False), not raised.
+        Raises :class:`~.errors.InvalidArgument` (nothing sent), :class:`ConnectionLost`,
+        :class:`~.errors.TimeoutError` (the connection is then closed) or
+        :class:`ProtocolError`.
+        """
+        payload = encode(request)
+        name = request[Field.CMD_NAME]
+        wait = self.timeout if timeout is None else float(timeout)
+        if not wait > 0.0:
+            raise InvalidArgument(f"timeout must be > 0 s; got {wait}")
+        with self._call_lock:
+            conn = self._conn
+            if conn is None:
+                raise ConnectionLost(f"not connected to the controller at {self.address}; "
+                                     "call connect() first")
+            deadline = time.monotonic() + wait
+            if conn.buf.strip(_WHITESPACE):
+                _log.warning("discarding %d unexpected bytes from %s before sending %r",
+                             len(conn.buf), self.address, name)
+            conn.buf.clear()
+            try:
+                conn.sock.settimeout(wait)
+                conn.sock.sendall(payload)
+            except socket.timeout:
+                self._discard(conn)
+                raise errors.TimeoutError(
+                    f"could not send {name!r} to {self.address} within {wait:.3f} s; the "
+                    "connection was closed, call connect() again") from None
+            except OSError as exc:
+                lost = self._lost(conn, name, f"sending failed ({exc})")
+                self._discard(conn)
+                raise lost from None
+            reply = parse_reply(self._read_object(conn, name, deadline, wait))
+            if reply.cmd_name and not command_names_match(name, reply.cmd_name):
+                self._discard(conn)
+                raise ProtocolError(
+                    f"sent {name!r} but the reply is for {reply.cmd_name!r}: replies are out of "
+                    "step with requests; the connection was closed, call connect() again")
+            return reply
+
+    # ---- internals -------------------------------------------------------------------------
+    def _discard(self, conn: _Connection) -> None:
+        with self._conn_lock:
+            if self._conn is conn:
+                self._conn = None
+        conn.close()
+
+    def _lost(self, conn: _Connection, name: str, what: str) -> ConnectionLost:
+        # Call before _discard(): it tells a close() from another thread from a peer close.
+        if conn.closed_locally:
+            return ConnectionLost(f"the connection to {self.address} was closed by close() while "
+                                  f"{name!r} waited for its reply")
+        return ConnectionLost(f"{what} while waiting for the reply to {name!r} from "
+                              f"{self.address}; call connect() again (is another client holding "
+                              "the command port, or was the controller restarted?)")
+
+    def _read_object(self, conn: _Connection, name: str, deadline: float, wait: float):
+        while True:
+            obj = self._take_object(conn, name)
+            if obj is not None:
+                return obj
+            remaining = deadline - time.monotonic()
+            try:
+                if remaining <= 0:
+                    raise socket.timeout
+                conn.sock.settimeout(remaining)
+                chunk = conn.sock.recv(_RECV_SIZE)
+            except socket.timeout:
+                self._discard(conn)
+                partial = (f"; {len(conn.buf)} bytes of an incomplete reply arrived: "
+                           f"{bytes(conn.buf[:80])!r}" if conn.buf else "")
+                raise errors.TimeoutError(
+                    f"no reply to {name!r} from {self.address} within {wait:.3f} s{partial}; the "
+                    "connection was closed (a late reply could not be told apart from the next "
+                    "one), call connect() again") from None
+            except OSError as exc:
+                lost = self._lost(conn, name, f"the connection broke ({exc})")
+                self._discard(conn)
+                raise lost from None
+            if not chunk:
+                got = f" after {len(conn.buf)} bytes of the reply" if conn.buf else ""
+                lost = self._lost(conn, name, f"the controller closed the connection{got}")
+                self._discard(conn)
+                raise lost
+            conn.buf += chunk
+
+    def _take_object(self, conn: _Connection, name: str):
+        """The next complete JSON object from the buffer, or None if it is not complete yet."""
+        start = 0
+        while start < len(conn.buf) and conn.buf[start] in _WHITESPACE:
+            start += 1
+        del conn.buf[:start]
+        if not conn.buf:
+            return None
+        if conn.buf[0] != ord("{"):
+            self._discard(conn)
+            raise ProtocolError(f"the reply to {name!r} from {self.address} is not a JSON object: "
+                                f"{bytes(conn.buf[:80])!r}; is {self.address} really a JAKA "
+                                "command port? The connection was closed")
+        if b"}" not in conn.buf:   # cheap test before a full parse attempt
+            return None
+        try:
+            obj, used = decode_first_object(conn.buf)
+        except ValueError:   # json.JSONDecodeError: not complete yet (or broken: timeout tells)
+            return None
+        del conn.buf[:used]
+        return obj
+
+
+StatusCallback = Callable[[RobotStatus, float], None]
+LostCallback = Callable[[str], None]
+
+
+class StatusReceiver:
+    """Reads the status stream in its own thread.
+
+    ``on_status(status, received)`` is called from that thread for every packet, with
+    ``received`` = ``clock()`` (default ``time.time``, s) at the read that completed it.
+    ``on_connection_lost(reason)`` is called once, from that thread, when the stream ends for
+    any reason other than :meth:`stop` (peer closed, socket error, or no data for
+    ``stall_timeout`` s if given); the thread then ends and :meth:`start` may be called again.
+    Exceptions raised by the callbacks are logged and do not stop the thread.
+    """
+
+    _POLL = 0.1   # s; how often the thread looks at the stop flag and the stall timer
+
+    def __init__(self, host: str, port: int = STATUS_PORT,
+                 on_status: Optional[StatusCallback] = None,
+                 on_connection_lost: Optional[LostCallback] = None,
+                 connect_timeout: float = 1.0, stall_timeout: Optional[float] = None,
+                 clock: Callable[[], float] = time.time, max_buffer: int = MAX_BUFFER):
+        self.host = host
+        self.port = int(port)
+        self.on_status = on_status
+        self.on_connection_lost = on_connection_lost
+        self.connect_timeout = float(connect_timeout)
+        self.stall_timeout = stall_timeout
+        self._clock = clock
+        #: The stream decoder; its counters (packets, bytes_dropped, packets_dropped) add up over
+        #: every connection of this receiver.
+        self.decoder = StatusStreamDecoder(max_buffer)
+        self._lock = threading.Lock()
+        self._thread: Optional[threading.Thread] = None
+        self._sock: Optional[socket.socket] = None
+        self._stop = threading.Event()
+        self._latest: Optional[Tuple[RobotStatus, float]] = None
+
+    @property
+    def address(self) -> str:
+        return f"{self.host}:{self.port}"
+
+    @property
+    def running(self) -> bool:
+        thread = self._thread
+        return thread is not None and thread.is_alive()
+
+    @property
+    def latest(self) -> Optional[Tuple[RobotStatus, float]]:
+        """The last (status, received) pair, or None before the first packet."""
+        return self._latest
+
+    def start(self) -> None:
+        """Connect and start the reader thread; does nothing if it runs. Raises
+        :class:`ConnectFailed` (no thread is left behind)."""
+        with self._lock:
+            if self.running:
+                return
+            sock = _open(self.host, self.port, self.connect_timeout, "status")
+            sock.settimeout(self._POLL)
+            self._stop = threading.Event()
+            self._sock = sock
+            self.decoder.reset()
+            self._thread = threading.Thread(target=self._run, args=(sock, self._stop),
+                                            name=f"jaka-status-{self.address}", daemon=True)
+            self._thread.start()
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Stop the thread and close the socket; does nothing if stopped. No
+        ``on_connection_lost`` is reported for a stop."""
+        with self._lock:
+            thread, sock = self._thread, self._sock
+            self._thread = self._sock = None
+            self._stop.set()
+        if sock is not None:
+            try:
+                sock.shutdown(socket.SHUT_RDWR)   # wakes the reader at once
+            except OSError:
+                pass
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(timeout)
+
+    def __enter__(self) -> "StatusReceiver":
+        self.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+    def _run(self, sock: socket.socket, stop: threading.Event) -> None:
+        reason = None
+        last_data = time.monotonic()
+        try:
+            while not stop.is_set():
+                try:
+                    chunk = sock.recv(_RECV_SIZE)
+                except socket.timeout:
+                    if (self.stall_timeout is not None
+                            and time.monotonic() - last_data > self.stall_timeout):
+                        reason = (f"no status data from {self.address} for "
+                                  f"{self.stall_timeout:.2f} s")
+                        break
+                    continue
+                except OSError as exc:
+                    reason = f"the status connection to {self.address} broke ({exc})"
+                    break
+                if not chunk:
+                    reason = f"the controller at {self.address} closed the status connection"
+                    break
+                received = self._clock()
+                last_data = time.monotonic()
+                for packet in self.decoder.feed(chunk):
+                    self._deliver(parse_status(packet), received)
+        finally:
+            sock.close()
+        if reason is not None and not stop.is_set():
+            _log.warning("%s", reason)
+            if self.on_connection_lost is not None:
+                try:
+                    self.on_connection_lost(reason)
+                except Exception:  # noqa: BLE001 - a callback must not kill the reader
+                    _log.exception("on_connection_lost callback raised")
+
+    def _deliver(self, status: RobotStatus, received: float) -> None:
+        self._latest = (status, received)
+        if self.on_status is not None:
+            try:
+                self.on_status(status, received)
+            except Exception:  # noqa: BLE001 - a callback must not kill the reader
+                _log.exception("on_status callback raised")

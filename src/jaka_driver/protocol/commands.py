@@ -1,0 +1,395 @@
+"""Commands of the JAKA TCP protocol (port 10001): request encoders and reply decoders.
+
+Every encoder takes **driver units** — joints in rad (rad/s, rad/s²), Cartesian poses as
+``[x, y, z mm, rotation vector rad]``, speeds mm/s and mm/s² — validates them at the door
+(:class:`~.errors.InvalidArgument`, nothing is sent), and returns the request as a plain dict in
+**wire units** (deg, deg/s, deg/s², mm, RPY deg). :func:`encode` turns a dict into bytes.
+
+Replies are decoded by :func:`parse_reply` into a :class:`Reply`; the ``reply_*`` accessors
+check success, read one field and convert it back to driver units (module :mod:`.replies`,
+re-exported here).
+
+Key names and how sure we are of each command come from :mod:`.fields` (see ``COMMANDS`` there
+for the medium- and low-confidence entries).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Dict, Mapping, Optional
+
+import numpy as np
+
+from . import units
+from .errors import InvalidArgument
+from .fields import Cmd, CoordMap, Field, JogMode, ServoFilter
+# Replies live in their own module; re-exported so requests and their accessors read together.
+from .replies import (PowerState, Reply, command_names_match, parse_reply,  # noqa: F401
+                      reply_clsn_sensitivity, reply_din_status, reply_flag, reply_id,
+                      reply_joint_pos, reply_kine_forward, reply_kine_inverse, reply_payload,
+                      reply_robot_state, reply_tcp_pos, reply_value, reply_version)
+from .wire import encode_json
+
+Request = Dict[str, Any]
+
+
+def encode(request: Mapping[str, Any]) -> bytes:
+    """A request dict → compact UTF-8 JSON bytes, ready for ``sendall``."""
+    name = request.get(Field.CMD_NAME) if isinstance(request, Mapping) else None
+    if not isinstance(name, str) or not name:
+        raise InvalidArgument(f"a request needs a non-empty string {Field.CMD_NAME!r}; "
+                              f"got {request!r}")
+    try:
+        return encode_json(dict(request))
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgument(f"request {name!r} cannot be encoded as JSON: {exc}") from None
+
+
+# ---- validation at the door ------------------------------------------------------------------
+
+def _vector(values, n: int, what: str) -> np.ndarray:
+    try:
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"{what} must be {n} numbers; got {values!r}") from None
+    if v.shape != (n,):
+        raise InvalidArgument(f"{what} has {v.size} values, expected {n}")
+    if not np.all(np.isfinite(v)):
+        raise InvalidArgument(f"{what} has a value that is not finite: {v.tolist()}")
+    return v
+
+
+def _number(value, what: str, positive: bool = False, lo: float = -math.inf,
+            hi: float = math.inf) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InvalidArgument(f"{what} must be a number; got {value!r}") from None
+    if not math.isfinite(x):
+        raise InvalidArgument(f"{what} must be finite; got {x}")
+    if positive and x <= 0.0:
+        raise InvalidArgument(f"{what} must be > 0; got {x}")
+    if not lo <= x <= hi:
+        raise InvalidArgument(f"{what} = {x} is outside [{lo}, {hi}]")
+    return x
+
+
+def _integer(value, what: str, lo: int = 0, hi: Optional[int] = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InvalidArgument(f"{what} must be an integer; got {value!r}")
+    i = int(value)
+    if i < lo or (hi is not None and i > hi):
+        raise InvalidArgument(f"{what} = {i} is outside [{lo}, {'∞' if hi is None else hi}]")
+    return i
+
+
+def _rel_flag(relative: bool) -> int:
+    return 1 if relative else 0
+
+
+def _cmd(cmd_name: str, /, **fields) -> Request:
+    return {Field.CMD_NAME: cmd_name, **fields}
+
+
+# ---- power, enable, state ------------------------------------------------------------------
+
+def power_on() -> Request:
+    return _cmd(Cmd.POWER_ON)
+
+
+def power_off() -> Request:
+    return _cmd(Cmd.POWER_OFF)
+
+
+def enable_robot() -> Request:
+    return _cmd(Cmd.ENABLE_ROBOT)
+
+
+def disable_robot() -> Request:
+    return _cmd(Cmd.DISABLE_ROBOT)
+
+
+def get_robot_state() -> Request:
+    """Reply: see :func:`reply_robot_state`."""
+    return _cmd(Cmd.GET_ROBOT_STATE)
+
+
+def emergency_stop_status() -> Request:
+    """Reply: ``reply_flag(reply, Field.EMERGENCY_STOP)``."""
+    return _cmd(Cmd.EMERGENCY_STOP_STATUS)
+
+
+def protective_stop_status() -> Request:
+    """Reply: ``reply_flag(reply, Field.PROTECTIVE_STOP)``."""
+    return _cmd(Cmd.PROTECTIVE_STOP_STATUS)
+
+
+def clear_error() -> Request:
+    """Recover from a collision or protective stop."""
+    return _cmd(Cmd.CLEAR_ERROR)
+
+
+def get_data() -> Request:
+    """Full status in one reply; its fields are those of a status packet, so decode them with
+    ``status_stream.parse_status(reply.fields)``."""
+    return _cmd(Cmd.GET_DATA)
+
+
+def get_version() -> Request:
+    return _cmd(Cmd.GET_VERSION)
+
+
+def quit() -> Request:  # noqa: A001 - the protocol's name
+    """Ask the controller to close this command connection."""
+    return _cmd(Cmd.QUIT)
+
+
+# ---- motion ----------------------------------------------------------------------------------
+
+def joint_move(q_rad, speed_rad_s: float, accel_rad_s2: float, relative: bool = False) -> Request:
+    """Joint move to ``q_rad`` (6 joints, rad; an increment if ``relative``) with joint speed
+    ``speed_rad_s`` (rad/s) and acceleration ``accel_rad_s2`` (rad/s²).
+
+    The controller answers when the move is accepted, not when it ends."""
+    q = _vector(q_rad, 6, "joint target (rad)")
+    speed = _number(speed_rad_s, "joint speed (rad/s)", positive=True)
+    accel = _number(accel_rad_s2, "joint acceleration (rad/s²)", positive=True)
+    return _cmd(Cmd.JOINT_MOVE, **{
+        Field.JOINT_POSITION: units.joints_to_wire(q),
+        Field.SPEED: math.degrees(speed),
+        Field.ACCEL: math.degrees(accel),
+        Field.REL_FLAG: _rel_flag(relative)})
+
+
+def moveL(pose_mm_rotvec, speed_mm_s: float, accel_mm_s2: float, relative: bool = False,
+          tol_mm: Optional[float] = None) -> Request:  # noqa: N802 - the protocol's name
+    """Straight-line move of the TCP to ``pose_mm_rotvec`` (mm + rotation vector rad) at
+    ``speed_mm_s`` (mm/s) and ``accel_mm_s2`` (mm/s²); ``tol_mm`` is the optional blending
+    tolerance.
+
+    With ``relative`` the pose is an increment; its rotation vector is sent as the RPY of that
+    rotation (how the controller composes a relative orientation is not documented)."""
+    pose = _vector(pose_mm_rotvec, 6, "TCP pose (mm, rotation vector rad)")
+    request = _cmd(Cmd.MOVE_L, **{
+        Field.CART_POSITION: units.pose_to_wire(pose),
+        Field.SPEED: _number(speed_mm_s, "TCP speed (mm/s)", positive=True),
+        Field.ACCEL: _number(accel_mm_s2, "TCP acceleration (mm/s²)", positive=True),
+        Field.REL_FLAG: _rel_flag(relative)})
+    if tol_mm is not None:
+        request[Field.TOL] = _number(tol_mm, "tolerance (mm)", lo=0.0)
+    return request
+
+
+def _angular_axis(coord_map: int, jnum: int) -> bool:
+    # Joints are all angular; in Cartesian jogs axes 3..5 are rx, ry, rz.
+    return coord_map == CoordMap.JOINT or jnum >= 3
+
+
+def jog(mode: int, coord_map: int, jnum: int, jogvel: float = 0.0,
+        poscmd: float = 0.0) -> Request:
+    """Jog one axis. ``mode``: :class:`~.fields.JogMode` (0 stop, 1 continuous, 2 increment,
+    3 absolute); ``coord_map``: :class:`~.fields.CoordMap` (0 base, 1 joint, 2 tool);
+    ``jnum`` 0–5 (joint 1–6, or x, y, z, rx, ry, rz).
+
+    ``jogvel`` in rad/s for angular axes (every joint; rx, ry, rz) and mm/s for x, y, z; its
+    sign is the direction. ``poscmd`` (rad or mm) is the increment or absolute target for modes
+    2 and 3. Sent as deg/s, deg, mm/s, mm (medium confidence, see ``fields.COMMANDS``). A stop
+    (mode 0) carries only ``coord_map`` and ``jnum``."""
+    mode = JogMode(_integer(mode, "jog mode", 0, 3))
+    coord = CoordMap(_integer(coord_map, "jog coord_map", 0, 2))
+    axis = _integer(jnum, "jog axis number", 0, 5)
+    fields: Request = {Field.JOG_MODE: int(mode), Field.COORD_MAP: int(coord), Field.JNUM: axis}
+    if mode != JogMode.STOP:
+        vel = _number(jogvel, "jog speed")
+        pos = _number(poscmd, "jog position")
+        if _angular_axis(coord, axis):
+            vel, pos = math.degrees(vel), math.degrees(pos)
+        fields[Field.JOGVEL] = vel
+        fields[Field.POSCMD] = pos
+    return _cmd(Cmd.JOG, **fields)
+
+
+def stop_program() -> Request:
+    """Stop any motion or program (the SDK's ``motion_abort``)."""
+    return _cmd(Cmd.STOP_PROGRAM)
+
+
+def rapid_rate(rate: float) -> Request:
+    """Global speed override, 0 < rate ≤ 1 (1 = 100 %)."""
+    return _cmd(Cmd.RAPID_RATE, **{Field.RATE_VALUE: _number(rate, "rapid rate", positive=True,
+                                                             hi=1.0)})
+
+
+# ---- servo mode ------------------------------------------------------------------------------
+
+def servo_move(enable: bool) -> Request:
+    """Enter (``True``) or leave servo mode."""
+    return _cmd(Cmd.SERVO_MOVE, **{Field.REL_FLAG: 1 if enable else 0})
+
+
+def is_in_servomove() -> Request:
+    """Reply: ``reply_flag(reply, Field.IN_SERVOMOVE)``."""
+    return _cmd(Cmd.IS_IN_SERVOMOVE)
+
+
+def _step_fields(step_num: int) -> Request:
+    # stepNum is optional on the wire; leaving it out for 1 keeps the common message as old
+    # controllers know it.
+    n = _integer(step_num, "servo step_num", 1)
+    return {} if n == 1 else {Field.STEP_NUM: n}
+
+
+def servo_j(q_rad, relative: bool = False, step_num: int = 1) -> Request:
+    """One servo set-point: joints ``q_rad`` (rad; an increment if ``relative``), to be reached
+    in ``step_num`` × 8 ms. The controller refuses more than 180°/s implied joint speed."""
+    q = _vector(q_rad, 6, "servo joint target (rad)")
+    return _cmd(Cmd.SERVO_J, **{Field.JOINT_POSITION: units.joints_to_wire(q),
+                                Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
+
+
+def servo_p(pose_mm_rotvec, relative: bool = False, step_num: int = 1) -> Request:
+    """One Cartesian servo set-point: TCP pose (mm + rotation vector rad; an increment if
+    ``relative``) in ``step_num`` × 8 ms. Sent under the key ``catPosition`` (sic)."""
+    pose = _vector(pose_mm_rotvec, 6, "servo TCP pose (mm, rotation vector rad)")
+    return _cmd(Cmd.SERVO_P, **{Field.SERVO_CART_POSITION: units.pose_to_wire(pose),
+                                Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
+
+
+def set_servo_move_filter(filter_type: int, lpf_cutoff_hz: Optional[float] = None) -> Request:
+    """Servo filter: :attr:`ServoFilter.NONE`, or :attr:`ServoFilter.JOINT_LPF` with a cut-off
+    frequency in Hz. Only accepted outside servo mode."""
+    kind = _integer(filter_type, "servo filter type", 0)
+    fields: Request = {Field.FILTER_TYPE: kind}
+    if kind == ServoFilter.JOINT_LPF:
+        fields[Field.LPF_CF] = _number(lpf_cutoff_hz, "low-pass cut-off (Hz)", positive=True)
+    elif kind != ServoFilter.NONE:
+        raise InvalidArgument(f"servo filter type {kind} is not supported; use 0 (none) or "
+                              "1 (joint low-pass)")
+    return _cmd(Cmd.SET_SERVO_MOVE_FILTER, **fields)
+
+
+# ---- positions and kinematics ---------------------------------------------------------------
+
+def get_joint_pos() -> Request:
+    """Reply: :func:`reply_joint_pos`."""
+    return _cmd(Cmd.GET_JOINT_POS)
+
+
+def get_tcp_pos() -> Request:
+    """Reply: :func:`reply_tcp_pos`."""
+    return _cmd(Cmd.GET_TCP_POS)
+
+
+def kine_forward(q_rad) -> Request:
+    """Forward kinematics of the controller (active tool, active user frame). Reply:
+    :func:`reply_kine_forward`."""
+    q = _vector(q_rad, 6, "joint position (rad)")
+    return _cmd(Cmd.KINE_FORWARD, **{Field.JOINT_POSITION: units.joints_to_wire(q)})
+
+
+def kine_inverse(ref_q_rad, pose_mm_rotvec) -> Request:
+    """Inverse kinematics near the reference configuration ``ref_q_rad`` (rad) for the TCP
+    pose (mm + rotation vector rad). Reply: :func:`reply_kine_inverse`."""
+    ref = _vector(ref_q_rad, 6, "reference joint position (rad)")
+    pose = _vector(pose_mm_rotvec, 6, "TCP pose (mm, rotation vector rad)")
+    return _cmd(Cmd.KINE_INVERSE, **{Field.JOINT_POSITION: units.joints_to_wire(ref),
+                                     Field.CART_POSITION: units.pose_to_wire(pose)})
+
+
+# ---- frames, payload, safety ----------------------------------------------------------------
+
+def set_tool_offsets(tool_id: int, pose_mm_rotvec, name: str = "") -> Request:
+    """Store tool frame ``tool_id``: its pose relative to the flange (mm + rotation vector)."""
+    pose = _vector(pose_mm_rotvec, 6, "tool offset (mm, rotation vector rad)")
+    return _cmd(Cmd.SET_TOOL_OFFSETS, **{Field.TOOL_OFFSET: units.pose_to_wire(pose),
+                                         Field.ID: _integer(tool_id, "tool id"),
+                                         Field.NAME: str(name)})
+
+
+def set_tool_id(tool_id: int) -> Request:
+    """Activate tool frame ``tool_id`` (0 = flange)."""
+    return _cmd(Cmd.SET_TOOL_ID, **{Field.TOOL_ID: _integer(tool_id, "tool id")})
+
+
+def get_curr_tool_id() -> Request:
+    """Reply: :func:`reply_id`."""
+    return _cmd(Cmd.GET_CURR_TOOL_ID)
+
+
+def set_user_offsets(user_id: int, pose_mm_rotvec, name: str = "") -> Request:
+    """Store user frame ``user_id``: its pose relative to the base (mm + rotation vector)."""
+    pose = _vector(pose_mm_rotvec, 6, "user frame (mm, rotation vector rad)")
+    return _cmd(Cmd.SET_USER_OFFSETS, **{Field.USER_OFFSET: units.pose_to_wire(pose),
+                                         Field.ID: _integer(user_id, "user frame id"),
+                                         Field.NAME: str(name)})
+
+
+def set_user_id(user_id: int) -> Request:
+    """Activate user frame ``user_id`` (0 = base)."""
+    return _cmd(Cmd.SET_USER_ID, **{Field.USER_FRAME_ID: _integer(user_id, "user frame id")})
+
+
+def get_curr_user_id() -> Request:
+    """Reply: :func:`reply_id`."""
+    return _cmd(Cmd.GET_CURR_USER_ID)
+
+
+def set_payload(mass_kg: float, centroid_mm) -> Request:
+    """Payload ``mass_kg`` (kg) with its centre of mass ``centroid_mm`` (mm, flange frame)."""
+    centroid = _vector(centroid_mm, 3, "payload centroid (mm)")
+    return _cmd(Cmd.SET_PAYLOAD, **{Field.MASS: _number(mass_kg, "payload mass (kg)", lo=0.0),
+                                    Field.CENTROID: [float(v) for v in centroid]})
+
+
+def get_payload() -> Request:
+    """Reply: :func:`reply_payload`."""
+    return _cmd(Cmd.GET_PAYLOAD)
+
+
+def set_clsn_sensitivity(level: int) -> Request:
+    """Collision sensitivity level: 0 off, 1–5 (25–125 N)."""
+    return _cmd(Cmd.SET_CLSN_SENSITIVITY,
+                **{Field.SENSITIVITY_VAL: _integer(level, "collision level", 0, 5)})
+
+
+def get_clsn_sensitivity() -> Request:
+    """Reply: :func:`reply_clsn_sensitivity`."""
+    return _cmd(Cmd.GET_CLSN_SENSITIVITY)
+
+
+def drag_status() -> Request:
+    """Reply: ``reply_flag(reply, Field.DRAG_STATUS)``."""
+    return _cmd(Cmd.DRAG_STATUS)
+
+
+# ---- IO -------------------------------------------------------------------------------------
+# io_type: fields.IOType (0 cabinet, 1 tool, 2 extension; controllers know more). index as the
+# controller counts it. Outputs and analog inputs are also in every status packet.
+
+def _io(io_type: int, index: int) -> Request:
+    return {Field.IO_TYPE: _integer(io_type, "IO type"), Field.INDEX: _integer(index, "IO index")}
+
+
+def set_digital_output(io_type: int, index: int, value) -> Request:
+    """Set a digital output; any truthy ``value`` is 1."""
+    return _cmd(Cmd.SET_DIGITAL_OUTPUT, **_io(io_type, index), **{Field.VALUE: 1 if value else 0})
+
+
+def set_analog_output(io_type: int, index: int, value: float) -> Request:
+    """Set an analog output (controller units, usually V or mA)."""
+    return _cmd(Cmd.SET_ANALOG_OUTPUT, **_io(io_type, index),
+                **{Field.VALUE: _number(value, "analog output value")})
+
+
+def get_digital_input(io_type: int, index: int) -> Request:
+    """Reply: :func:`reply_value` (0/1)."""
+    return _cmd(Cmd.GET_DIGITAL_INPUT, **_io(io_type, index))
+
+
+def get_digital_input_status() -> Request:
+    """Reply: :func:`reply_din_status` (all cabinet digital inputs)."""
+    return _cmd(Cmd.GET_DIGITAL_INPUT_STATUS)
+
+
+def get_analog_output(io_type: int, index: int) -> Request:
+    """Reply: :func:`reply_value`."""
+    return _cmd(Cmd.GET_ANALOG_OUTPUT, **_io(io_type, index))

@@ -1,0 +1,292 @@
+"""The names on the wire, in one table: command names, JSON keys, enum values, status fields.
+
+Client (:mod:`.commands`, :mod:`.status_stream`) and server (the emulator) both take their
+spelling from here, so a misspelt key cannot make them agree with each other and disagree with
+a real controller.
+
+Source: jaka_facts.md §2 — triangulated from several third-party clients, because JAKA's own
+TCP protocol document is not available. Each command carries a ``confidence``:
+
+* ``high``: every client that implements the command agrees on name and fields.
+* ``medium``: name and fields agree, but units or the value format of a reply come from one
+  client's doc strings only (for instance speed/accel units of ``joint_move``/``moveL``, the
+  ``get_robot_state`` values, the ``jog`` speed unit).
+* ``low``: seen in one client only; may not exist on every controller version.
+
+Confirm the medium and low entries against a real controller before relying on them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+from types import MappingProxyType
+from typing import Mapping, Tuple
+
+#: TCP ports of the controller.
+COMMAND_PORT = 10001
+STATUS_PORT = 10000
+
+#: ``errorCode`` of a successful reply (a string on the wire). Other codes seen: "1" (exception)
+#: and "2" (error) — meaning not verified (jaka_facts.md §2.1).
+ERROR_CODE_OK = "0"
+
+
+class Field:
+    """JSON keys of command requests and replies."""
+
+    CMD_NAME = "cmdName"
+    ERROR_CODE = "errorCode"
+    ERROR_MSG = "errorMsg"
+
+    JOINT_POSITION = "jointPosition"      # [6] deg
+    CART_POSITION = "cartPosition"        # [6] mm / deg RPY
+    SERVO_CART_POSITION = "catPosition"   # [6] mm / deg RPY; "cat" is the protocol's spelling
+    SPEED = "speed"
+    ACCEL = "accel"
+    REL_FLAG = "relFlag"                  # 0 absolute, 1 relative
+    TOL = "tol"
+    STEP_NUM = "stepNum"                  # servo period = stepNum × 8 ms
+
+    JOG_MODE = "jog_mode"
+    COORD_MAP = "coord_map"
+    JNUM = "jnum"
+    JOGVEL = "jogvel"
+    POSCMD = "poscmd"
+
+    FILTER_TYPE = "filter_type"
+    LPF_CF = "lpf_cf"                     # Hz
+    RATE_VALUE = "rate_value"             # 0..1
+
+    ENABLE = "enable"
+    POWER = "power"
+    EMERGENCY_STOP = "emergency_stop"
+    PROTECTIVE_STOP = "protective_stop"
+    IN_SERVOMOVE = "in_servomove"
+    DRAG_STATUS = "drag_status"
+    JOINT_POS = "joint_pos"               # [6] deg
+    TCP_POS = "tcp_pos"                   # [6] mm / deg RPY
+
+    TOOL_OFFSET = "tooloffset"            # [6] mm / deg RPY
+    USER_OFFSET = "useroffset"            # [6] mm / deg RPY
+    ID = "id"
+    NAME = "name"
+    TOOL_ID = "tool_id"
+    USER_FRAME_ID = "user_frame_id"
+    MASS = "mass"                         # kg
+    CENTROID = "centroid"                 # [3] mm
+    SENSITIVITY_VAL = "sensitivityVal"    # 0 off, 1..5
+    SENSITIVITY_LEVEL = "sensitivityLevel"
+
+    IO_TYPE = "type"
+    INDEX = "index"
+    VALUE = "value"
+    DIN_STATUS = "din_status"
+    VERSION = "version"
+
+
+class Cmd:
+    """``cmdName`` values."""
+
+    POWER_ON = "power_on"
+    POWER_OFF = "power_off"
+    ENABLE_ROBOT = "enable_robot"
+    DISABLE_ROBOT = "disable_robot"
+    GET_ROBOT_STATE = "get_robot_state"
+    EMERGENCY_STOP_STATUS = "emergency_stop_status"
+    PROTECTIVE_STOP_STATUS = "protective_stop_status"
+    CLEAR_ERROR = "clear_error"
+    JOINT_MOVE = "joint_move"
+    MOVE_L = "moveL"
+    JOG = "jog"
+    STOP_PROGRAM = "stop_program"
+    SERVO_MOVE = "servo_move"
+    IS_IN_SERVOMOVE = "is_in_servomove"
+    SERVO_J = "servo_j"
+    SERVO_P = "servo_p"
+    SET_SERVO_MOVE_FILTER = "set_servo_move_filter"
+    RAPID_RATE = "rapid_rate"
+    GET_JOINT_POS = "get_joint_pos"
+    GET_TCP_POS = "get_tcp_pos"
+    GET_DATA = "get_data"
+    KINE_FORWARD = "kine_forward"
+    KINE_INVERSE = "kine_inverse"
+    SET_TOOL_OFFSETS = "set_tool_offsets"
+    SET_TOOL_ID = "set_tool_id"
+    GET_CURR_TOOL_ID = "get_curr_tool_id"
+    SET_USER_OFFSETS = "set_user_offsets"
+    SET_USER_ID = "set_user_id"
+    GET_CURR_USER_ID = "get_curr_user_id"
+    SET_PAYLOAD = "set_payload"
+    GET_PAYLOAD = "get_payload"
+    SET_CLSN_SENSITIVITY = "set_clsn_sensitivity"
+    GET_CLSN_SENSITIVITY = "get_clsn_sensitivity"
+    SET_DIGITAL_OUTPUT = "set_digital_output"
+    SET_ANALOG_OUTPUT = "set_analog_output"
+    GET_DIGITAL_INPUT = "get_digital_input"
+    GET_DIGITAL_INPUT_STATUS = "get_digital_input_status"
+    GET_ANALOG_OUTPUT = "get_analog_output"
+    DRAG_STATUS = "drag_status"
+    GET_VERSION = "get_version"
+    QUIT = "quit"
+
+
+class JogMode(IntEnum):
+    """``jog_mode`` of the ``jog`` command."""
+    STOP = 0
+    CONTINUOUS = 1
+    INCREMENT = 2
+    ABSOLUTE = 3
+
+
+class CoordMap(IntEnum):
+    """``coord_map`` of ``jog``. Note: the official ROS jog service numbers 0 joint, 1 base;
+    the wire numbers 0 base, 1 joint (jaka_facts.md §1.4)."""
+    BASE = 0
+    JOINT = 1
+    TOOL = 2
+
+
+class IOType(IntEnum):
+    """``type`` of the IO commands."""
+    CABINET = 0
+    TOOL = 1
+    EXTEND = 2
+
+
+class ServoFilter(IntEnum):
+    """``filter_type`` of ``set_servo_move_filter`` (only the two the driver uses)."""
+    NONE = 0
+    JOINT_LPF = 1
+
+
+class TaskState(IntEnum):
+    """``task_state`` of the status stream (medium confidence: two third-party sources)."""
+    UNKNOWN = 0
+    POWER_OFF = 1
+    POWER_ON = 2
+    DISABLED = 3
+    ENABLED = 4
+
+
+class InterpState(IntEnum):
+    """``interp_state`` of the status stream (medium confidence)."""
+    IDLE = 0
+    LOADING = 1
+    PAUSED = 2
+    RUNNING = 3
+
+
+@dataclass(frozen=True)
+class CommandSpec:
+    """One row of the command table: the request keys a client may send (besides ``cmdName``),
+    the reply keys it reads (besides ``cmdName``/``errorCode``/``errorMsg``), and how sure we
+    are (see the module docstring)."""
+
+    name: str
+    request: Tuple[str, ...] = ()
+    reply: Tuple[str, ...] = ()
+    confidence: str = "high"
+    note: str = ""
+
+
+F = Field
+_SPECS = (
+    CommandSpec(Cmd.POWER_ON), CommandSpec(Cmd.POWER_OFF),
+    CommandSpec(Cmd.ENABLE_ROBOT), CommandSpec(Cmd.DISABLE_ROBOT),
+    CommandSpec(Cmd.GET_ROBOT_STATE, reply=(F.ENABLE, F.POWER), confidence="medium",
+                note='values "robot_enabled"/"powered_on" per one client, 1/"1" per another'),
+    CommandSpec(Cmd.EMERGENCY_STOP_STATUS, reply=(F.EMERGENCY_STOP,), confidence="medium"),
+    CommandSpec(Cmd.PROTECTIVE_STOP_STATUS, reply=(F.PROTECTIVE_STOP,), confidence="medium"),
+    CommandSpec(Cmd.CLEAR_ERROR),
+    CommandSpec(Cmd.JOINT_MOVE, request=(F.JOINT_POSITION, F.SPEED, F.ACCEL, F.REL_FLAG),
+                confidence="medium", note="speed deg/s, accel deg/s² per client doc strings; "
+                "reply comes when the motion is accepted, not when it ends"),
+    CommandSpec(Cmd.MOVE_L, request=(F.CART_POSITION, F.SPEED, F.ACCEL, F.REL_FLAG, F.TOL),
+                confidence="medium", note='some clients spell it "move_l"; speed mm/s, accel '
+                "mm/s²; tol optional"),
+    CommandSpec(Cmd.JOG, request=(F.JOG_MODE, F.COORD_MAP, F.JNUM, F.JOGVEL, F.POSCMD),
+                confidence="medium", note="jogvel deg/s or mm/s, poscmd deg or mm (inferred "
+                "from the deg/mm rule of the protocol)"),
+    CommandSpec(Cmd.STOP_PROGRAM),
+    CommandSpec(Cmd.SERVO_MOVE, request=(F.REL_FLAG,), note="relFlag 1 enter, 0 leave"),
+    CommandSpec(Cmd.IS_IN_SERVOMOVE, reply=(F.IN_SERVOMOVE,), confidence="medium"),
+    CommandSpec(Cmd.SERVO_J, request=(F.JOINT_POSITION, F.REL_FLAG, F.STEP_NUM),
+                note="stepNum optional; refused above 180°/s implied joint speed"),
+    CommandSpec(Cmd.SERVO_P, request=(F.SERVO_CART_POSITION, F.REL_FLAG, F.STEP_NUM),
+                note='key "catPosition" (sic)'),
+    CommandSpec(Cmd.SET_SERVO_MOVE_FILTER, request=(F.FILTER_TYPE, F.LPF_CF),
+                confidence="medium", note="only while not in servo mode"),
+    CommandSpec(Cmd.RAPID_RATE, request=(F.RATE_VALUE,), confidence="medium"),
+    CommandSpec(Cmd.GET_JOINT_POS, reply=(F.JOINT_POS,)),
+    CommandSpec(Cmd.GET_TCP_POS, reply=(F.TCP_POS,)),
+    CommandSpec(Cmd.GET_DATA, note="reply carries the status-stream fields (see STATUS_FIELDS)"),
+    CommandSpec(Cmd.KINE_FORWARD, request=(F.JOINT_POSITION,), reply=(F.CART_POSITION,),
+                confidence="medium"),
+    CommandSpec(Cmd.KINE_INVERSE, request=(F.JOINT_POSITION, F.CART_POSITION),
+                reply=(F.JOINT_POSITION,), confidence="medium",
+                note="request jointPosition is the reference (seed) configuration"),
+    CommandSpec(Cmd.SET_TOOL_OFFSETS, request=(F.TOOL_OFFSET, F.ID, F.NAME),
+                confidence="medium"),
+    CommandSpec(Cmd.SET_TOOL_ID, request=(F.TOOL_ID,), confidence="medium"),
+    CommandSpec(Cmd.GET_CURR_TOOL_ID, reply=(F.ID,), confidence="low"),
+    CommandSpec(Cmd.SET_USER_OFFSETS, request=(F.USER_OFFSET, F.ID, F.NAME),
+                confidence="medium", note="JAKA's doc has a typo in this key (libjaka)"),
+    CommandSpec(Cmd.SET_USER_ID, request=(F.USER_FRAME_ID,), confidence="medium"),
+    CommandSpec(Cmd.GET_CURR_USER_ID, reply=(F.ID,), confidence="low"),
+    CommandSpec(Cmd.SET_PAYLOAD, request=(F.MASS, F.CENTROID), confidence="medium",
+                note='one client uses "set_tool_payload" with the same fields'),
+    CommandSpec(Cmd.GET_PAYLOAD, reply=(F.MASS, F.CENTROID), confidence="medium"),
+    CommandSpec(Cmd.SET_CLSN_SENSITIVITY, request=(F.SENSITIVITY_VAL,), confidence="medium"),
+    CommandSpec(Cmd.GET_CLSN_SENSITIVITY, reply=(F.SENSITIVITY_LEVEL, F.SENSITIVITY_VAL),
+                confidence="low", note="clients disagree on the reply key; read either"),
+    CommandSpec(Cmd.SET_DIGITAL_OUTPUT, request=(F.IO_TYPE, F.INDEX, F.VALUE),
+                confidence="medium"),
+    CommandSpec(Cmd.SET_ANALOG_OUTPUT, request=(F.IO_TYPE, F.INDEX, F.VALUE),
+                confidence="medium"),
+    CommandSpec(Cmd.GET_DIGITAL_INPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,),
+                confidence="low"),
+    CommandSpec(Cmd.GET_DIGITAL_INPUT_STATUS, reply=(F.DIN_STATUS,), confidence="medium"),
+    CommandSpec(Cmd.GET_ANALOG_OUTPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,),
+                confidence="low", note="there is no get_analog_input: read ain from the "
+                "status stream"),
+    CommandSpec(Cmd.DRAG_STATUS, reply=(F.DRAG_STATUS,), confidence="medium"),
+    CommandSpec(Cmd.GET_VERSION, reply=(F.VERSION,)),
+    CommandSpec(Cmd.QUIT, note="the controller closes this connection"),
+)
+del F
+
+#: cmdName → :class:`CommandSpec`, for every command this library can encode.
+COMMANDS: Mapping[str, CommandSpec] = MappingProxyType({s.name: s for s in _SPECS})
+
+
+class StatusField:
+    """Keys of a port-10000 status packet (and of the ``get_data`` reply)."""
+
+    LEN = "len"
+    JOINT_ACTUAL_POSITION = "joint_actual_position"   # [6] deg, measured
+    JOINT_POSITION = "joint_position"                 # [6] deg, commanded
+    ACTUAL_POSITION = "actual_position"               # [6] mm / deg RPY, measured TCP
+    POSITION = "position"                             # [6] mm / deg RPY, commanded TCP
+    TASK_STATE = "task_state"
+    TASK_MODE = "task_mode"
+    INTERP_STATE = "interp_state"
+    POWERED_ON = "powered_on"
+    ENABLED = "enabled"
+    PAUSED = "paused"
+    INPOS = "inpos"
+    DRAG_STATUS = "drag_status"
+    EMERGENCY_STOP = "emergency_stop"
+    PROTECTIVE_STOP = "protective_stop"
+    ON_SOFT_LIMIT = "on_soft_limit"
+    ERRCODE = "errcode"                               # hex string, "0x0" = no error
+    ERRMSG = "errmsg"
+    RAPIDRATE = "rapidrate"                           # 1.0 = 100 %
+    CURRENT_TOOL_ID = "current_tool_id"
+    CURRENT_USER_ID = "current_user_id"
+    DIN = "din"
+    DOUT = "dout"
+    AIN = "ain"
+    AOUT = "aout"
+    TIO_DIN = "tio_din"
+    TIO_DOUT = "tio_dout"
+    TIO_AIN = "tio_ain"

@@ -1,0 +1,170 @@
+"""Replies of the JAKA TCP protocol (port 10001): decoding and typed accessors.
+
+:func:`parse_reply` turns a decoded JSON object into a :class:`Reply`. A reply with a non-zero
+``errorCode`` is a normal reply (``ok`` False, the controller's ``errorMsg`` kept verbatim); the
+``reply_*`` accessors raise :class:`~.errors.CommandRejected` for it, and otherwise read one
+field and convert it back to driver units (rad, mm + rotation vector).
+
+:mod:`.commands` re-exports everything here, so ``commands.get_joint_pos()`` and
+``commands.reply_joint_pos(reply)`` sit side by side for callers.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any, Mapping, NamedTuple, Tuple
+
+import numpy as np
+
+from . import units
+from .errors import CommandRejected, ProtocolError
+from .fields import ERROR_CODE_OK, Field
+from .wire import as_flag, clean_text
+
+
+@dataclass(frozen=True)
+class Reply:
+    """One controller reply. ``ok`` is ``error_code == "0"``; ``error_msg`` is the controller's
+    own text, kept verbatim; ``fields`` are the remaining keys, in wire units, read-only."""
+
+    cmd_name: str
+    ok: bool
+    error_code: str
+    error_msg: str
+    fields: Mapping[str, Any]
+
+
+_META = (Field.CMD_NAME, Field.ERROR_CODE, Field.ERROR_MSG)
+
+
+def parse_reply(obj: Any) -> Reply:
+    """A decoded JSON reply → :class:`Reply`. Raises :class:`~.errors.ProtocolError` when it is
+    not an object or has no ``errorCode``. A numeric ``errorCode`` is accepted as its string."""
+    if not isinstance(obj, Mapping):
+        raise ProtocolError(f"a reply must be a JSON object; got {type(obj).__name__}: "
+                            f"{str(obj)[:200]}")
+    if Field.ERROR_CODE not in obj:
+        raise ProtocolError(f"reply has no {Field.ERROR_CODE!r}: {str(dict(obj))[:200]}")
+    code = str(obj[Field.ERROR_CODE]).strip()
+    return Reply(cmd_name=clean_text(obj.get(Field.CMD_NAME)), ok=code == ERROR_CODE_OK,
+                 error_code=code, error_msg=clean_text(obj.get(Field.ERROR_MSG)),
+                 fields=MappingProxyType({k: v for k, v in obj.items() if k not in _META}))
+
+
+def command_names_match(sent: str, echoed: str) -> bool:
+    """Whether a reply's ``cmdName`` echo answers the request ``sent``. Case and underscores
+    are ignored: clients disagree on spellings like ``moveL``/``move_l``."""
+    def norm(name: str) -> str:
+        return name.replace("_", "").lower()
+    return norm(sent) == norm(echoed)
+
+
+def _field(reply: Reply, *keys: str) -> Any:
+    if not reply.ok:
+        raise CommandRejected(reply)
+    for key in keys:
+        if key in reply.fields:
+            return reply.fields[key]
+    raise ProtocolError(f"reply to {reply.cmd_name!r} has no {' or '.join(map(repr, keys))}; "
+                        f"its fields are {sorted(reply.fields)}")
+
+
+def _wire_vector(reply: Reply, key: str, n: int) -> np.ndarray:
+    raw = _field(reply, key)
+    try:
+        v = np.asarray(raw, dtype=float)
+    except (TypeError, ValueError):
+        v = np.empty(0)
+    if v.shape != (n,):
+        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} should be {n} numbers; "
+                            f"got {raw!r}")
+    return v
+
+
+def reply_joint_pos(reply: Reply) -> np.ndarray:
+    """``get_joint_pos`` → joint position, rad (6,)."""
+    return units.deg_to_rad(_wire_vector(reply, Field.JOINT_POS, 6))
+
+
+def reply_tcp_pos(reply: Reply) -> np.ndarray:
+    """``get_tcp_pos`` → TCP pose [x, y, z mm, rotation vector rad]."""
+    return units.pose_from_wire(_wire_vector(reply, Field.TCP_POS, 6))
+
+
+def reply_kine_forward(reply: Reply) -> np.ndarray:
+    """``kine_forward`` → TCP pose [x, y, z mm, rotation vector rad]."""
+    return units.pose_from_wire(_wire_vector(reply, Field.CART_POSITION, 6))
+
+
+def reply_kine_inverse(reply: Reply) -> np.ndarray:
+    """``kine_inverse`` → joint solution, rad (6,)."""
+    return units.deg_to_rad(_wire_vector(reply, Field.JOINT_POSITION, 6))
+
+
+def reply_flag(reply: Reply, key: str) -> bool:
+    """A 0/1 reply field as bool, e.g. ``reply_flag(r, Field.EMERGENCY_STOP)``."""
+    return as_flag(_field(reply, key), f"{key!r} in the reply to {reply.cmd_name!r}")
+
+
+class PowerState(NamedTuple):
+    powered: bool
+    enabled: bool
+
+
+def reply_robot_state(reply: Reply) -> PowerState:
+    """``get_robot_state`` → (powered, enabled). Both reported formats are accepted
+    (``"powered_on"``/``"robot_enabled"`` strings, or 0/1)."""
+    return PowerState(powered=reply_flag(reply, Field.POWER),
+                      enabled=reply_flag(reply, Field.ENABLE))
+
+
+def reply_value(reply: Reply) -> float:
+    """``get_digital_input`` / ``get_analog_output`` → value."""
+    raw = _field(reply, Field.VALUE)
+    try:
+        return float(raw)
+    except (TypeError, ValueError):
+        raise ProtocolError(f"'value' in the reply to {reply.cmd_name!r} is not a number: "
+                            f"{raw!r}") from None
+
+
+def reply_din_status(reply: Reply) -> Tuple[int, ...]:
+    """``get_digital_input_status`` → cabinet digital inputs as 0/1 ints."""
+    raw = _field(reply, Field.DIN_STATUS)
+    if not isinstance(raw, (list, tuple)):
+        raise ProtocolError(f"'din_status' should be a list; got {raw!r}")
+    return tuple(int(as_flag(v, "din_status entry")) for v in raw)
+
+
+def reply_id(reply: Reply) -> int:
+    """``get_curr_tool_id`` / ``get_curr_user_id`` → frame id."""
+    return _int_field(reply, Field.ID)
+
+
+def reply_clsn_sensitivity(reply: Reply) -> int:
+    """``get_clsn_sensitivity`` → level 0–5 (clients disagree on the key; both are read)."""
+    return _int_field(reply, Field.SENSITIVITY_LEVEL, Field.SENSITIVITY_VAL)
+
+
+def reply_payload(reply: Reply) -> Tuple[float, np.ndarray]:
+    """``get_payload`` → (mass kg, centroid mm (3,))."""
+    mass = _field(reply, Field.MASS)
+    try:
+        return float(mass), _wire_vector(reply, Field.CENTROID, 3)
+    except (TypeError, ValueError):
+        raise ProtocolError(f"'mass' in the reply to {reply.cmd_name!r} is not a number: "
+                            f"{mass!r}") from None
+
+
+def reply_version(reply: Reply) -> str:
+    """``get_version`` → the controller's version string."""
+    return str(_field(reply, Field.VERSION))
+
+
+def _int_field(reply: Reply, *keys: str) -> int:
+    raw = _field(reply, *keys)
+    try:
+        return int(raw)
+    except (TypeError, ValueError):
+        raise ProtocolError(f"{keys[0]!r} in the reply to {reply.cmd_name!r} is not an "
+                            f"integer: {raw!r}") from None

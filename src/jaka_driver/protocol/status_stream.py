@@ -1,0 +1,286 @@
+"""The status stream of port 10000: decoding (client side), encoding (server side), and the
+status record in driver units.
+
+The controller pushes JSON objects back to back with no delimiter, each starting with the
+token ``{"len":`` (jaka_facts.md §2.1); a packet can be several kB and arrives in any number of
+TCP reads. The decoder resynchronises on that token, so a lost or damaged byte costs at most one
+packet, and it never holds more than ``max_buffer`` bytes.
+"""
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Mapping, Tuple
+
+import numpy as np
+
+from . import units
+from .errors import ProtocolError
+from .fields import StatusField as S
+from .wire import as_flag, clean_text, decode_first_object, encode_json
+
+#: Every packet starts with these bytes (compact JSON, ``len`` first).
+PACKET_START = b'{"len":'
+_LEN_VALUE = re.compile(rb'\{"len":\s*(\d{1,9})')
+#: Default cap of the decoder's buffer: ~100 packets of the largest size observed (8979 B).
+MAX_BUFFER = 1 << 20
+#: A declared ``len`` above this is not believed (7× the largest packet observed).
+MAX_PACKET = 1 << 16
+
+
+class StatusStreamDecoder:
+    """Incremental decoder: bytes in, whole packets (dicts) out.
+
+    Not thread-safe: one reader feeds it. Counters (cumulative):
+
+    * ``packets`` — packets decoded;
+    * ``bytes_dropped`` — bytes thrown away (garbage between packets, broken packets, overflow);
+    * ``packets_dropped`` — packets lost: a broken object skipped at the next token, or the
+      buffer discarded because it grew past ``max_buffer`` without a decodable packet.
+
+    A packet is declared broken when it cannot be decoded although the next token has arrived
+    and the buffer holds at least the packet's declared ``len``; the ``len`` check keeps a
+    nested ``{"len":`` from being mistaken for the next packet. The decoder does not otherwise
+    rely on ``len``, whose exact meaning on real controllers is not verified.
+    """
+
+    def __init__(self, max_buffer: int = MAX_BUFFER):
+        if max_buffer < 2 * len(PACKET_START):
+            raise ValueError(f"max_buffer must be at least {2 * len(PACKET_START)} bytes")
+        self.max_buffer = int(max_buffer)
+        self.packets = 0
+        self.bytes_dropped = 0
+        self.packets_dropped = 0
+        self._buf = bytearray()
+        # Where to look for a '}' in the buffer before trying to decode again: a packet can only
+        # have completed if a '}' arrived since the last failed attempt.
+        self._scan_from = 0
+
+    @property
+    def buffered(self) -> int:
+        """Bytes held, waiting for the rest of a packet."""
+        return len(self._buf)
+
+    def reset(self) -> None:
+        """Forget buffered bytes (e.g. on a new connection); the counters are kept."""
+        self._buf.clear()
+        self._scan_from = 0
+
+    def feed(self, data: bytes) -> List[Dict[str, Any]]:
+        """Add received bytes; return the packets they completed, in order."""
+        self._buf += data
+        packets: List[Dict[str, Any]] = []
+        while self._buf:
+            start = self._buf.find(PACKET_START)
+            if start < 0:
+                self._drop_all_but_token_prefix()
+                break
+            if start > 0:
+                self._drop(start)
+            packet = self._try_decode()
+            if packet is not None:
+                packets.append(packet)
+                continue
+            following = self._buf.find(PACKET_START, 1)
+            if following < 0:
+                break   # incomplete: wait for more bytes
+            declared = self._declared_length()
+            if declared is not None and len(self._buf) < declared:
+                # The token may belong to a nested object ({"len": ...} inside the packet):
+                # only a packet that stays undecodable past its own length is broken.
+                break
+            # A new packet starts where this one cannot be decoded: this one is broken.
+            self._drop(following)
+            self.packets_dropped += 1
+        if len(self._buf) > self.max_buffer:
+            self._drop(len(self._buf))
+            self.packets_dropped += 1
+        self.packets += len(packets)
+        return packets
+
+    def _try_decode(self):
+        if self._buf.find(b"}", self._scan_from) < 0:
+            self._scan_from = len(self._buf)
+            return None
+        try:
+            obj, used = decode_first_object(self._buf)
+        except json.JSONDecodeError:
+            self._scan_from = len(self._buf)
+            return None
+        del self._buf[:used]
+        self._scan_from = 0
+        return obj
+
+    def _declared_length(self):
+        match = _LEN_VALUE.match(self._buf)
+        if match is None:
+            return None
+        n = int(match.group(1))
+        # A corrupt or oddly defined length must not hold the stream back for long.
+        return n if n <= MAX_PACKET else None
+
+    def _drop(self, n: int) -> None:
+        del self._buf[:n]
+        self.bytes_dropped += n
+        self._scan_from = 0
+
+    def _drop_all_but_token_prefix(self) -> None:
+        # Keep a tail that may be the beginning of a token split across reads.
+        keep = 0
+        for k in range(min(len(PACKET_START) - 1, len(self._buf)), 0, -1):
+            if self._buf.endswith(PACKET_START[:k]):
+                keep = k
+                break
+        self._drop(len(self._buf) - keep)
+
+
+def encode_status(fields: Mapping[str, Any]) -> bytes:
+    """Server side: one status packet with ``len`` first and equal to the packet's own length
+    in bytes, the ``len`` field included. Any ``len`` in ``fields`` is replaced. Numpy arrays
+    and scalars are accepted."""
+    body = {k: v for k, v in fields.items() if k != S.LEN}
+    length = 0
+    # len(packet) = base + digits(len): iterate to the fixed point; the digit count settles in
+    # at most a few rounds because it only grows.
+    for _ in range(10):
+        packet = encode_json({S.LEN: length, **body})
+        if len(packet) == length:
+            return packet
+        length = len(packet)
+    raise AssertionError("status packet length did not converge")  # pragma: no cover
+
+
+# ---- the status record -----------------------------------------------------------------------
+
+def _frozen_array(values) -> np.ndarray:
+    a = np.array(values, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+_NAN6 = (np.nan,) * 6
+
+
+@dataclass(frozen=True, eq=False)
+class RobotStatus:
+    """One status packet in driver units.
+
+    Positions whose field was missing are NaN, never zero: a made-up pose must not look real.
+    ``missing`` names the fields that were absent or malformed and got their default (an
+    absent ``errcode`` reads 0, an unreadable one -1).
+    IO lists are as on the wire (whether element 0 is a count, as in the SDK's arrays, is not
+    verified for the TCP stream).
+    """
+
+    joint_position: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
+    """measured joints, rad (6,) — from ``joint_actual_position`` (deg)"""
+    joint_command: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
+    """commanded joints, rad (6,) — from ``joint_position`` (deg)"""
+    tcp_pose: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
+    """measured TCP [x, y, z mm, rotation vector rad] — from ``actual_position`` (mm, RPY deg)"""
+    powered: bool = False
+    enabled: bool = False
+    emergency_stop: bool = False
+    protective_stop: bool = False
+    on_soft_limit: bool = False
+    inpos: bool = False
+    paused: bool = False
+    drag_status: bool = False
+    task_state: int = 0
+    """fields.TaskState: 1 power off, 2 power on, 3 disabled, 4 enabled (0 unknown)"""
+    task_mode: int = 0
+    interp_state: int = 0
+    """fields.InterpState: 0 idle, 1 loading, 2 paused, 3 running"""
+    errcode: int = 0
+    """controller error code, 0 = no error (wire: hex string "0x0")"""
+    errmsg: str = ""
+    rapidrate: float = 1.0
+    current_tool_id: int = 0
+    current_user_id: int = 0
+    din: Tuple[float, ...] = ()
+    dout: Tuple[float, ...] = ()
+    ain: Tuple[float, ...] = ()
+    aout: Tuple[float, ...] = ()
+    tio_din: Tuple[float, ...] = ()
+    tio_dout: Tuple[float, ...] = ()
+    tio_ain: Tuple[float, ...] = ()
+    missing: Tuple[str, ...] = ()
+
+    @property
+    def has_error(self) -> bool:
+        return self.errcode != 0
+
+
+def parse_errcode(value: Any) -> int:
+    """``errcode`` → int. The wire sends a hex string (``"0x0"``, ``"0x0F0034"``); a bare
+    number or decimal string is taken as is, a prefix-less hex string as hex."""
+    if isinstance(value, bool):
+        raise ValueError("errcode is a bool")
+    if isinstance(value, (int, float)):
+        return int(value)
+    text = str(value).strip()
+    try:
+        return int(text, 0)
+    except ValueError:
+        return int(text, 16)
+
+
+def parse_status(packet: Mapping[str, Any]) -> RobotStatus:
+    """A decoded status packet (or ``get_data`` reply fields) → :class:`RobotStatus`.
+
+    Never raises for a missing or malformed field: it takes the default and lists the field in
+    ``missing``. Raises :class:`~.errors.ProtocolError` only if ``packet`` is not a mapping."""
+    if not isinstance(packet, Mapping):
+        raise ProtocolError(f"a status packet must be a JSON object; got {type(packet).__name__}")
+    missing: List[str] = []
+    values: Dict[str, Any] = {}
+
+    def take(attr: str, key: str, convert) -> None:
+        if key not in packet:
+            missing.append(key)
+            return
+        try:
+            values[attr] = convert(packet[key])
+        except (TypeError, ValueError, ProtocolError):
+            missing.append(key)
+
+    def joints(raw) -> np.ndarray:
+        return _frozen_array(_six(units.joints_from_wire(raw)))
+
+    def pose(raw) -> np.ndarray:
+        return _frozen_array(units.pose_from_wire(_six(raw)))
+
+    def flag(key):
+        return lambda raw: as_flag(raw, key)
+
+    def io(raw) -> Tuple[float, ...]:
+        return tuple(float(v) for v in raw)
+
+    take("joint_position", S.JOINT_ACTUAL_POSITION, joints)
+    take("joint_command", S.JOINT_POSITION, joints)
+    take("tcp_pose", S.ACTUAL_POSITION, pose)
+    for attr, key in (("powered", S.POWERED_ON), ("enabled", S.ENABLED),
+                      ("emergency_stop", S.EMERGENCY_STOP),
+                      ("protective_stop", S.PROTECTIVE_STOP), ("on_soft_limit", S.ON_SOFT_LIMIT),
+                      ("inpos", S.INPOS), ("paused", S.PAUSED), ("drag_status", S.DRAG_STATUS)):
+        take(attr, key, flag(key))
+    for attr, key in (("task_state", S.TASK_STATE), ("task_mode", S.TASK_MODE),
+                      ("interp_state", S.INTERP_STATE), ("current_tool_id", S.CURRENT_TOOL_ID),
+                      ("current_user_id", S.CURRENT_USER_ID)):
+        take(attr, key, int)
+    take("errcode", S.ERRCODE, parse_errcode)
+    if S.ERRCODE in packet and S.ERRCODE in missing:
+        values["errcode"] = -1   # unreadable is not "no error": keep the robot in error
+    take("errmsg", S.ERRMSG, clean_text)
+    take("rapidrate", S.RAPIDRATE, float)
+    for key in (S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN):
+        take(key, key, io)
+    return RobotStatus(**values, missing=tuple(missing))
+
+
+def _six(values) -> np.ndarray:
+    v = np.asarray(values, dtype=float)
+    if v.shape != (6,):
+        raise ValueError(f"expected 6 numbers, got shape {v.shape}")
+    return v

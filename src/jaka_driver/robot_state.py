@@ -1,0 +1,67 @@
+"""The state snapshot every backend publishes, and the motion states of ``robot_states``."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+import numpy as np
+
+
+class MotionState(IntEnum):
+    """``robot_states.motion_state`` (doc §3.3)."""
+
+    STOP = 0
+    PAUSE = 1
+    EMERGENCY_STOP = 2
+    RUNNING = 3
+    ERROR = 4
+
+
+def _zeros6() -> np.ndarray:
+    return np.zeros(6)
+
+
+@dataclass(frozen=True)
+class RobotState:
+    """One sample of the arm, taken at ``stamp``.
+
+    Units: joints rad, rad/s, N·m. ``tcp_pose`` is the 4x4 pose (metres) of the active tool
+    expressed in the active user frame. ``stamp`` is wall-clock time (``time.time()``, s) of
+    the sample — the node stamps its messages with it, so it is when the physics (or the
+    controller's status packet) produced the data, not when it was published.
+    """
+
+    stamp: float
+    joint_position: np.ndarray = field(default_factory=_zeros6)
+    joint_velocity: np.ndarray = field(default_factory=_zeros6)
+    joint_effort: np.ndarray = field(default_factory=_zeros6)
+    tcp_pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+    tool_id: int = 0
+    user_id: int = 0
+    connected: bool = True
+    powered: bool = False
+    enabled: bool = False
+    servo_mode: bool = False
+    drag_mode: bool = False
+    emergency_stop: bool = False
+    protective_stop: bool = False
+    collision: bool = False
+    moving: bool = False
+    error_code: int = 0
+    error_message: str = ""
+
+    @property
+    def in_error(self) -> bool:
+        """A stop that needs ``clear_err`` before the arm moves again."""
+        return self.collision or self.protective_stop or self.error_code != 0
+
+    @property
+    def motion_state(self) -> MotionState:
+        """Derived like JAKA's driver: e-stop beats error beats running."""
+        if self.emergency_stop:
+            return MotionState.EMERGENCY_STOP
+        if self.in_error or not self.connected:
+            return MotionState.ERROR
+        if self.moving or self.drag_mode:
+            return MotionState.RUNNING
+        return MotionState.STOP

@@ -1,0 +1,52 @@
+"""``/diagnostics`` at 1 Hz: backend, connection, publish rate, last error, servo mode and
+what the backend describes of itself (version, physics steps, ...)."""
+from __future__ import annotations
+
+import threading
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+from ..driver import RobotDriver
+
+
+class Diagnostics:
+    def __init__(self, driver: RobotDriver, publisher_stats, name: str = "jaka_driver"):
+        self._driver = driver
+        self._stats = publisher_stats
+        self._name = name
+        self._pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=5)
+        threading.Thread(target=self._run, name="diagnostics", daemon=True).start()
+
+    def status(self) -> DiagnosticStatus:
+        st = self._driver.state()
+        info = self._driver.backend.describe()
+        rate = self._stats()
+        level, message = DiagnosticStatus.OK, "ready"
+        if not st.connected:
+            level, message = DiagnosticStatus.ERROR, "not connected to the controller"
+        elif st.emergency_stop:
+            level, message = DiagnosticStatus.ERROR, "emergency stop pressed"
+        elif st.in_error:
+            level, message = DiagnosticStatus.WARN, st.error_message or "error"
+        elif not (st.powered and st.enabled):
+            level, message = DiagnosticStatus.WARN, "not powered / enabled"
+        values = {"publish rate (Hz)": f"{rate:.1f}", "connected": str(st.connected),
+                  "powered": str(st.powered), "enabled": str(st.enabled),
+                  "servo mode": str(st.servo_mode), "drag mode": str(st.drag_mode),
+                  "collision": str(st.collision), "last error": st.error_message or "none"}
+        values.update({k: str(v) for k, v in info.items()})
+        return DiagnosticStatus(level=level, name=f"{self._name}: {info.get('backend')}",
+                                message=message, hardware_id=f"JAKA {self._driver.model.name}",
+                                values=[KeyValue(k, v) for k, v in values.items()])
+
+    def _run(self) -> None:
+        while not rospy.is_shutdown():
+            try:
+                msg = DiagnosticArray(status=[self.status()])
+                msg.header.stamp = rospy.Time.now()
+                self._pub.publish(msg)
+            except Exception as exc:  # noqa: BLE001
+                rospy.logerr_throttle(10.0, f"diagnostics failed: {exc!r}")
+            time.sleep(1.0)

@@ -1,0 +1,157 @@
+"""``jaka_driver_node``: the ROS adapter around a backend.
+
+Parameters (private, ``~name``):
+  ``backend``        ``sim`` (MuJoCo twin, default) or ``controller`` (JAKA TCP protocol)
+  ``model``          ``zu3``, ``zu5`` (default), ``zu7``, ``zu12``, ``zu18``
+  ``rate``           state publishing rate, Hz (default 125, the controller's cycle)
+  ``ip``             controller address (controller backend; default 10.5.5.100)
+  ``command_port``   controller command port (default 10001)
+  ``status_port``    controller status port (default 10000)
+  ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
+  ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
+  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``trajectory_action``  name of the FollowJointTrajectory action (default
+                     ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
+
+Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
+from one publisher thread that nothing blocks; blocking moves wait in their service threads.
+"""
+from __future__ import annotations
+
+import sys
+import threading
+import time
+
+import rospy
+from geometry_msgs.msg import TwistStamped
+from sensor_msgs.msg import JointState
+
+from jaka_msgs.msg import RobotMsg
+
+from ..driver import RobotDriver
+from ..models import MODEL_NAMES, load_model
+from . import messages
+from .diagnostics import Diagnostics
+from .frames_tf import FrameBroadcaster
+from .services import advertise, advertise_faults
+from .trajectory_action import TrajectoryActionServer
+
+
+def make_backend(kind: str, model_name: str, params: dict):
+    """The backend named by ``~backend``; imported lazily so the twin's MuJoCo is not loaded
+    for a real controller and vice versa."""
+    model = load_model(model_name)
+    if kind == "sim":
+        from ..sim.backend import SimBackend
+        return SimBackend(model, scene=params.get("scene") or None)
+    if kind == "controller":
+        from ..controller.backend import ControllerBackend
+        return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
+                                 status_port=params["status_port"])
+    raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
+
+
+class StatePublisher:
+    """Publishes the latest state at a fixed rate from its own thread.
+
+    Deadlines are absolute (``next += period``) so the rate does not drift with the time the
+    publishing itself takes; after a stall it resynchronises instead of bursting.
+    """
+
+    def __init__(self, driver: RobotDriver, rate: float):
+        self._driver = driver
+        self._period = 1.0 / rate
+        self._names = driver.model.joint_names
+        self._tool = rospy.Publisher("~tool_position", TwistStamped, queue_size=10)
+        self._joints = rospy.Publisher("~joint_position", JointState, queue_size=10)
+        self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=10)
+        self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=10)
+        self._count = 0
+        self._window = (time.monotonic(), 0)
+        self._rate = 0.0
+        self._thread = threading.Thread(target=self._run, name="state-publisher", daemon=True)
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def _publish_once(self) -> None:
+        st = self._driver.state()
+        stamp = rospy.Time.from_sec(st.stamp)
+        joints = messages.joint_state(st, self._names, stamp)
+        self._tool.publish(messages.tool_position(st, stamp))
+        self._joints.publish(joints)
+        self._states.publish(messages.robot_msg(st))
+        self._joint_states.publish(joints)
+        self._count += 1
+
+    def measured_rate(self) -> float:
+        """Messages per second per topic since the previous call (diagnostics, 1 Hz)."""
+        t0, n0 = self._window
+        now = time.monotonic()
+        if now - t0 > 0.5:
+            self._rate = (self._count - n0) / (now - t0)
+            self._window = (now, self._count)
+        return self._rate
+
+    def _run(self) -> None:
+        deadline = time.monotonic()
+        while not rospy.is_shutdown():
+            try:
+                self._publish_once()
+            except Exception as exc:  # noqa: BLE001 — a bad sample must not stop the stream
+                rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
+            deadline += self._period
+            delay = deadline - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+            elif delay < -self._period:
+                deadline = time.monotonic()
+
+
+def _params() -> dict:
+    return {
+        "backend": rospy.get_param("~backend", "sim"),
+        "model": str(rospy.get_param("~model", "zu5")).lower(),
+        "rate": float(rospy.get_param("~rate", 125.0)),
+        "ip": rospy.get_param("~ip", rospy.get_param("ip", "10.5.5.100")),
+        "command_port": int(rospy.get_param("~command_port", 10001)),
+        "status_port": int(rospy.get_param("~status_port", 10000)),
+        "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
+        "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
+        "scene": rospy.get_param("~scene", ""),
+    }
+
+
+def main() -> int:
+    rospy.init_node("jaka_driver")
+    p = _params()
+    if p["model"] not in MODEL_NAMES:
+        rospy.logfatal(f"unknown model {p['model']!r}; expected one of {', '.join(MODEL_NAMES)}")
+        return 2
+    if not 1.0 <= p["rate"] <= 1000.0:
+        rospy.logfatal(f"~rate {p['rate']} Hz is outside 1–1000 Hz")
+        return 2
+    try:
+        backend = make_backend(p["backend"], p["model"], p)
+    except ValueError as exc:
+        rospy.logfatal(str(exc))
+        return 2
+    driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"])
+    driver.start()
+    rospy.on_shutdown(driver.shutdown)
+    publisher = StatePublisher(driver, p["rate"])
+    publisher.start()
+    advertise(driver)
+    advertise_faults(backend)
+    TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
+                                                   "~follow_joint_trajectory"))
+    FrameBroadcaster(driver)
+    Diagnostics(driver, publisher.measured_rate)
+    rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "
+                  f"{p['rate']:g} Hz")
+    rospy.spin()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,155 @@
+"""The driver's services: request message → RobotDriver call → response message.
+
+Names are private to the node (``~joint_move`` → ``/jaka_driver/joint_move``, or
+``/<ns>/jaka_driver/joint_move`` in a namespace). Every handler answers; failures are in
+``ret``/``message`` (or ``success``, or the official driver's -999999 / 9999 markers), never in
+a failed ROS call.
+"""
+from __future__ import annotations
+
+import logging
+
+import rospy
+from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
+
+from jaka_msgs import srv as jaka
+
+from ..driver import RobotDriver
+from ..results import Result
+
+log = logging.getLogger(__name__)
+
+GET_IO_FAILED = -999999.0   # the official driver's marker for a failed get_io
+KINEMATICS_FAILED = [9999.0] * 6
+
+
+def _ret(response_type):
+    def answer(result: Result):
+        return response_type(ret=int(result.code), message=result.message)
+    return answer
+
+
+def _logged(name: str, handler):
+    """Log refusals once per call, at the level a user would want to see them."""
+    def serve(request):
+        response = handler(request)
+        ret = getattr(response, "ret", None)
+        if ret is not None and ret != 1:
+            rospy.logwarn("%s refused (%d): %s", name, ret, response.message)
+        return response
+    return serve
+
+
+def advertise(driver: RobotDriver) -> list[rospy.Service]:
+    """Advertise every service of contract.md; returns them so the node can shut them down."""
+    d = driver
+    move = _ret(jaka.MoveResponse)
+    servo = _ret(jaka.ServoMoveResponse)
+
+    def get_io(req):
+        result = d.get_io(req.signal, req.path, req.type, req.index)
+        if result.ok:
+            return jaka.GetIOResponse(value=float(result.value), message=result.message)
+        return jaka.GetIOResponse(value=GET_IO_FAILED, message=f"error: {result.message}")
+
+    def get_fk(req):
+        result = d.get_fk(req.joint)
+        if result.ok:
+            return jaka.GetFKResponse(cartesian_pose=result.value, message=result.message)
+        return jaka.GetFKResponse(cartesian_pose=KINEMATICS_FAILED,
+                                  message=f"error: {result.message}")
+
+    def get_ik(req):
+        result = d.get_ik(req.ref_joint, req.cartesian_pose)
+        if result.ok:
+            return jaka.GetIKResponse(joint=result.value, message=result.message)
+        return jaka.GetIKResponse(joint=KINEMATICS_FAILED, message=f"error: {result.message}")
+
+    def set_bool(method):
+        def serve(req):
+            result = method(req.data)
+            if not result.ok:
+                rospy.logwarn("refused (%d): %s", result.code, result.message)
+            return SetBoolResponse(success=result.ok, message=result.message)
+        return serve
+
+    def stop_move(_req):
+        result = d.stop_move()
+        rospy.loginfo("stop_move: %s", result.message)
+        return EmptyResponse()
+
+    table = [
+        ("joint_move", jaka.Move, lambda r: move(d.joint_move(r.pose, r.mvvelo, r.mvacc,
+                                                              r.mvtime))),
+        ("linear_move", jaka.Move, lambda r: move(d.linear_move(
+            r.pose, r.mvvelo, r.mvacc, r.coord_mode, r.has_ref, r.ref_joint))),
+        ("jog", jaka.Move, lambda r: move(d.jog(r.coord_mode, r.index, r.mvvelo, r.mvacc))),
+        ("servo_move_enable", jaka.ServoMoveEnable,
+         lambda r: _ret(jaka.ServoMoveEnableResponse)(d.servo_move_enable(r.enable))),
+        ("servo_j", jaka.ServoMove, lambda r: servo(d.servo_j(r.pose))),
+        ("servo_p", jaka.ServoMove, lambda r: servo(d.servo_p(r.pose))),
+        ("set_toolframe", jaka.SetTcpFrame,
+         lambda r: _ret(jaka.SetTcpFrameResponse)(d.set_toolframe(r.pose, r.tool_num))),
+        ("set_userframe", jaka.SetUserFrame,
+         lambda r: _ret(jaka.SetUserFrameResponse)(d.set_userframe(r.pose, r.user_num))),
+        ("set_payload", jaka.SetPayload, lambda r: _ret(jaka.SetPayloadResponse)(
+            d.set_payload(r.tool_num, r.mass, r.xc, r.yc, r.zc))),
+        ("set_collisionlevel", jaka.SetCollision, lambda r: _ret(jaka.SetCollisionResponse)(
+            d.set_collisionlevel(r.is_enable, r.value))),
+        ("set_io", jaka.SetIO, lambda r: _ret(jaka.SetIOResponse)(
+            d.set_io(r.signal, r.type, r.index, r.value))),
+        ("clear_err", jaka.ClearErr, lambda r: _ret(jaka.ClearErrResponse)(d.clear_err())),
+        ("clear_error", jaka.ClearError, lambda r: _ret(jaka.ClearErrorResponse)(d.clear_err())),
+    ]
+    services = [rospy.Service(f"~{name}", srv_type, _logged(name, handler))
+                for name, srv_type, handler in table]
+    services += [
+        rospy.Service("~get_io", jaka.GetIO, get_io),
+        rospy.Service("~get_fk", jaka.GetFK, get_fk),
+        rospy.Service("~get_ik", jaka.GetIK, get_ik),
+        rospy.Service("~stop_move", Empty, stop_move),
+        rospy.Service("~drag_mode", SetBool, set_bool(d.drag_mode)),
+        rospy.Service("~drag_move", SetBool, set_bool(d.drag_mode)),
+        rospy.Service("~power", SetBool, set_bool(d.set_power)),
+        rospy.Service("~enable", SetBool, set_bool(d.set_enabled)),
+    ]
+    return services
+
+
+def advertise_faults(backend) -> list[rospy.Service]:
+    """Fault injection under ``~sim/`` for backends that can fake the world (the twin):
+    ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop`` (Trigger),
+    ``set_input`` (jaka_msgs/SetIO on inputs: signal, type, index, value)."""
+    from std_srvs.srv import Trigger, TriggerResponse
+
+    from .. import validation as check
+    from ..results import CommandRefused
+
+    if not hasattr(backend, "press_emergency_stop"):
+        return []
+
+    def emergency_stop(req):
+        result = backend.press_emergency_stop() if req.data else backend.release_emergency_stop()
+        rospy.logwarn("sim: %s", result.message)
+        return SetBoolResponse(success=result.ok, message=result.message)
+
+    def protective_stop(_req):
+        result = backend.trigger_protective_stop()
+        rospy.logwarn("sim: %s", result.message)
+        return TriggerResponse(success=result.ok, message=result.message)
+
+    def set_input(req):
+        try:
+            signal = check.io_signal(req.signal)
+            check.io_address(backend.model, signal, 0, req.type, req.index)
+            value = check.finite("value", req.value)
+            if signal == "digital":
+                value = 1.0 if value else 0.0
+            result = backend.set_input(signal, req.type, req.index, value)
+        except CommandRefused as refusal:
+            result = refusal.result()
+        return jaka.SetIOResponse(ret=int(result.code), message=result.message)
+
+    return [rospy.Service("~sim/emergency_stop", SetBool, emergency_stop),
+            rospy.Service("~sim/protective_stop", Trigger, protective_stop),
+            rospy.Service("~sim/set_input", jaka.SetIO, set_input)]

@@ -1,0 +1,430 @@
+"""The ``sim`` backend: a MuJoCo twin of the arm behind the backend contract.
+
+Powered and enabled at start. Motion is real: planners produce joint trajectories, the
+physics thread feeds them to the servo drives every 8 ms, and the state reported is what
+MuJoCo computed. Kinematics (FK for the TCP, IK for linear moves, jogs and servo_p) is
+Pinocchio on the same URDF.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Optional
+
+import numpy as np
+
+from ..backend import Backend
+from ..kinematics import Kinematics
+from ..models import RobotModel
+from ..motion.linear_path import PlanningError, plan_linear_move
+from ..motion.profiles import SyncJointProfile
+from ..motion.trajectory import JointTrajectory
+from ..results import Code, Result
+from ..robot_state import RobotState
+from ..transforms import matrix_to_pose
+from . import jog_steps
+from .collisions import CollisionMonitor
+from .io_board import IoBoard
+from ..completion import Completion
+from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
+from .physics import PhysicsLoop
+from .servo import JointServo
+from .twin_model import Payload, build_twin_model
+
+CYCLE = 0.008                 # s, controller cycle
+IN_POSITION = 1e-3            # rad
+SETTLE_MARGIN = 2.0           # s a blocking move may take beyond its plan before it fails
+STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
+HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])  # JAKA "pose_1"
+JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
+
+
+class SimBackend(Backend):
+    kind = "sim"
+
+    def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
+                 q0: Optional[np.ndarray] = None, io_loopback: bool = False):
+        super().__init__(model)
+        self.kin = Kinematics(model)
+        self.mj_model = build_twin_model(model, scene)
+        self.scene = scene
+        q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
+        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, CYCLE)
+        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=CYCLE)
+        self.payload = Payload(self.mj_model)
+        self.collisions = CollisionMonitor(self.mj_model, self._collided)
+        self.physics.on_step.append(self.collisions.check)
+        self.io = IoBoard(model.io_sizes, loopback=io_loopback)
+        self._lock = threading.RLock()
+        self._tools = {0: np.eye(4)}
+        self._users = {0: np.eye(4)}
+        self.tool_id = 0
+        self.user_id = 0
+        self.powered = True
+        self.enabled = True
+        self.servo_mode = False
+        self.drag_mode = False
+        self.emergency_stop = False
+        self.protective_stop = False
+        self.collision = False
+        self.error_code = 0
+        self.error_message = ""
+        self.collision_level = 2
+        self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
+        self._cache: tuple[tuple, np.ndarray] | None = None
+
+    # ---- life cycle -------------------------------------------------------------------
+    def start(self) -> None:
+        self.physics.start()
+
+    def shutdown(self) -> None:
+        self.physics.stop()
+
+    def describe(self) -> dict:
+        info = super().describe()
+        info.update(physics_steps=self.physics.steps_total, overruns=self.physics.overruns,
+                    timestep_s=self.mj_model.opt.timestep)
+        return info
+
+    def state(self) -> RobotState:
+        sample = self.physics.sample()
+        tool, user = self.frames()
+        # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
+        # flags are read fresh, a mode may change between two physics samples.
+        key = (sample.stamp, self.tool_id, self.user_id)
+        cached = self._cache
+        if cached is not None and cached[0] == key:
+            tcp = cached[1]
+        else:
+            tcp = self.kin.tcp_pose(sample.q, tool, user)
+            self._cache = (key, tcp)
+        return RobotState(
+            stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
+            joint_effort=sample.tau, tcp_pose=tcp, tool_id=self.tool_id, user_id=self.user_id,
+            powered=self.powered, enabled=self.enabled, servo_mode=self.servo_mode,
+            drag_mode=self.drag_mode, emergency_stop=self.emergency_stop,
+            protective_stop=self.protective_stop, collision=self.collision,
+            moving=sample.moving, error_code=self.error_code, error_message=self.error_message)
+
+    # ---- power ----------------------------------------------------------------------------
+    def set_power(self, on: bool) -> Result:
+        with self._lock:
+            if not on:
+                # Brakes: the arm holds where it is, servo mode and drag end.
+                self._halt(stopped("stopped: power off"))
+                self.enabled = self.servo_mode = self.drag_mode = False
+                self.physics.servo.released = False
+            self.powered = on
+        return Result.success("powered on" if on else "powered off")
+
+    def set_enabled(self, on: bool) -> Result:
+        with self._lock:
+            if not on:
+                self._halt(stopped("stopped: robot disabled"))
+                self.servo_mode = self.drag_mode = False
+                self.physics.servo.released = False
+            self.enabled = on
+        return Result.success("enabled" if on else "disabled")
+
+    def _halt(self, reason: Result) -> None:
+        """Halt within one cycle where the arm is; tell a waiting move why."""
+        self.physics.hold_here().abort(reason)
+
+    # ---- faults (sim only: /jaka_driver/sim/...) ------------------------------------------------
+    def _collided(self, message: str) -> None:
+        """Protective stop on a contact above the threshold (runs in the physics thread)."""
+        self.collision = True
+        self.error_message = message
+        self.physics.hold_here().abort(stopped(message))
+        self.servo_mode = False
+
+    def press_emergency_stop(self) -> Result:
+        """The red button: power is cut, the arm halts on its brakes."""
+        with self._lock:
+            self.emergency_stop = True
+            self.physics.servo.released = False
+            self._halt(stopped("stopped: emergency stop"))
+            self.powered = self.enabled = self.servo_mode = self.drag_mode = False
+        return Result.success("emergency stop pressed: power cut")
+
+    def release_emergency_stop(self) -> Result:
+        with self._lock:
+            self.emergency_stop = False
+        return Result.success("emergency stop released: power on and enable to move again")
+
+    def trigger_protective_stop(self, reason: str = "protective stop (injected)") -> Result:
+        with self._lock:
+            self.protective_stop = True
+            self.error_message = reason
+            self._halt(stopped(reason))
+            self.servo_mode = False
+        return Result.success(reason)
+
+    def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
+        """Drive an input as the outside world would."""
+        self.io.write_input(signal, io_type, index, value)
+        return Result.success(f"{signal} input {index} of type {io_type} = {value:g}")
+
+    # ---- motion ---------------------------------------------------------------------------------
+    def _start_run(self, trajectory: JointTrajectory, label: str) -> Result:
+        """Hand a planned trajectory to the physics thread; ``Result.value`` is the
+        :class:`Completion` to wait on (the emulator replies at once, like a controller)."""
+        completion = Completion()
+        run = TrajectoryRun(trajectory, CYCLE, IN_POSITION, completion, label)
+        with self._lock:
+            if self.physics.motion.active:
+                return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
+                                      "(stopping)")
+            if trajectory.duration == 0:
+                completion.finish(Result.success(f"{label}: already in position"))
+            else:
+                self.physics.switch(run)
+        return Result.success(f"{label} started", (completion, trajectory.duration))
+
+    def _wait_run(self, started: Result, label: str) -> Result:
+        if not started.ok:
+            return started
+        completion, duration = started.value
+        result = completion.wait(duration + SETTLE_MARGIN)
+        if result is None:
+            self._stop_motion(stopped(f"{label} did not settle within {IN_POSITION:g} rad"))
+            return Result.failure(Code.MOTION_STOPPED, f"{label} did not reach the target "
+                                  f"within {duration + SETTLE_MARGIN:.2f} s")
+        return result
+
+    def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
+        """Plan and start a joint move without waiting (see :meth:`joint_move`)."""
+        q0 = self.physics.servo.setpoint.copy()
+        v = np.minimum(speed, self.model.max_velocity)
+        a = np.minimum(accel, self.model.max_acceleration)
+        try:
+            profile = SyncJointProfile(q0, q_target, v, a, duration=duration)
+        except ValueError as exc:
+            return Result.failure(Code.INVALID_PARAMETER, str(exc))
+        return self._start_run(JointTrajectory.from_profile(profile, CYCLE), "joint_move")
+
+    def joint_move(self, q_target, speed, accel, duration=None) -> Result:
+        return self._wait_run(self.start_joint_move(q_target, speed, accel, duration),
+                              "joint_move")
+
+    def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
+        """Plan the whole line and start it without waiting (see :meth:`linear_move`)."""
+        tool, user = self.frames()
+        q0 = self.physics.servo.setpoint.copy()
+        start = self.kin.tcp_pose(q0, tool, user)
+
+        def ik(pose, seed):
+            solution = self.kin.ik(pose, seed=seed, tool=tool, user=user)
+            return solution.q if solution.success else None
+
+        try:
+            trajectory = plan_linear_move(start, target, speed, accel, q0, ik, self.model.lower,
+                                          self.model.upper, self.model.max_velocity,
+                                          cycle=CYCLE, ref_q=ref_q)
+        except PlanningError as exc:
+            return Result.failure(exc.code, str(exc))
+        return self._start_run(trajectory, "linear_move")
+
+    def linear_move(self, target, speed, accel, ref_q=None) -> Result:
+        return self._wait_run(self.start_linear_move(target, speed, accel, ref_q), "linear_move")
+
+    def start_trajectory(self, trajectory: JointTrajectory) -> Result:
+        return self._start_run(trajectory, "trajectory")
+
+    def jog(self, coord, axis, direction, speed) -> Result:
+        with self._lock:
+            current = self.physics.motion
+            label = (coord, axis, direction)
+            if isinstance(current, Jog) and current.active and current.label == label:
+                current.target_speed = speed
+                return Result.success("jogging")
+            if current.active and not isinstance(current, Jog):
+                return Result.failure(Code.BUSY, "jog refused: the arm is moving")
+            jog = self._make_jog(coord, axis, direction, speed)
+            if isinstance(current, Jog) and current.active:
+                # Switching direction: brake the old axis first, then start the new one.
+                self.physics.switch(Stopping(self._stop_decel, CYCLE,
+                                             on_rest=lambda: self.physics.switch(jog)))
+            else:
+                self.physics.switch(jog)
+        return Result.success("jogging")
+
+    def _make_jog(self, coord, axis, direction, speed) -> Jog:
+        jog: Jog
+        if coord == 0:
+            accel = float(self.model.max_acceleration[axis])
+            step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel)
+        else:
+            accel = self.model.max_tcp_accel_mm_s2 / 1000.0 if axis < 3 else JOG_ROTATION_ACCEL
+            tool, _ = self.frames()
+            step = jog_steps.cartesian_step(self.kin, self.model, axis, direction, coord == 2,
+                                            tool, CYCLE)
+        jog = Jog(speed, accel, CYCLE, step, (coord, axis, direction))
+        return jog
+
+    def jog_stop(self) -> Result:
+        with self._lock:
+            current = self.physics.motion
+            if isinstance(current, Jog) and current.active:
+                current.stop()
+        return Result.success("jog stopping")
+
+    def servo_enable(self, on: bool) -> Result:
+        with self._lock:
+            if on == self.servo_mode:
+                return Result.success(f"servo mode already {'on' if on else 'off'}")
+            if on:
+                if self.physics.motion.active:
+                    return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
+                self.physics.switch(ServoTarget(self.physics.servo.setpoint))
+            else:
+                self.physics.switch(Hold())
+            self.servo_mode = on
+        return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    def _servo_target(self) -> Optional[ServoTarget]:
+        motion = self.physics.motion
+        return motion if isinstance(motion, ServoTarget) else None
+
+    def servo_j(self, q_target) -> Result:
+        target = self._servo_target()
+        if target is None:
+            return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
+        target.set(np.asarray(q_target, float))
+        return Result.success("servo_j target accepted")
+
+    def servo_p(self, target_pose) -> Result:
+        target = self._servo_target()
+        if target is None:
+            return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
+        tool, user = self.frames()
+        seed = target.target
+        solution = self.kin.ik(target_pose, seed=seed, tool=tool, user=user)
+        if not solution.success:
+            return Result.failure(Code.IK_FAILED, f"servo_p target has no IK solution near the "
+                                  f"current joints: {solution.message}")
+        q = solution.q
+        outside = (q < self.model.lower) | (q > self.model.upper)
+        if outside.any():
+            i = int(np.argmax(outside))
+            return Result.failure(Code.IK_FAILED, f"servo_p target needs "
+                                  f"{self.model.joint_names[i]} = {q[i]:.3f} rad, outside its "
+                                  "limits")
+        step = np.abs(q - seed) / CYCLE
+        worst = int(np.argmax(step / self.model.max_velocity))
+        if step[worst] > self.model.max_velocity[worst]:
+            return Result.failure(Code.INVALID_PARAMETER, f"servo_p target needs "
+                                  f"{self.model.joint_names[worst]} at {step[worst]:.2f} rad/s, "
+                                  f"limit {self.model.max_velocity[worst]:.2f} rad/s; the arm "
+                                  "holds")
+        target.set(q)
+        return Result.success("servo_p target accepted")
+
+    def stop_move(self) -> Result:
+        with self._lock:
+            current = self.physics.motion
+            if isinstance(current, ServoTarget):
+                current.set(self.physics.servo.setpoint)
+                return Result.success("servo target held where the arm is")
+            if not current.active:
+                return Result.success("nothing was moving")
+            self._stop_motion(stopped("stopped by stop_move"))
+        return Result.success("stopping")
+
+    def _stop_motion(self, reason: Result) -> None:
+        with self._lock:
+            self.physics.switch(Stopping(self._stop_decel, CYCLE)).abort(reason)
+
+    # ---- frames, payload, settings ---------------------------------------------------------------
+    def frames(self):
+        with self._lock:
+            return self._tools.get(self.tool_id, np.eye(4)), self._users.get(self.user_id,
+                                                                              np.eye(4))
+
+    def set_tool_frame(self, tool_id, pose) -> Result:
+        with self._lock:
+            if tool_id:
+                self._tools[tool_id] = pose.copy()
+            self.tool_id = tool_id
+        return Result.success(f"tool {tool_id} set {_mm(pose)} and active")
+
+    def set_user_frame(self, user_id, pose) -> Result:
+        with self._lock:
+            if user_id:
+                self._users[user_id] = pose.copy()
+            self.user_id = user_id
+        return Result.success(f"user frame {user_id} set {_mm(pose)} and active")
+
+    def set_payload(self, tool_id, mass, centroid) -> Result:
+        with self._lock:
+            with self.physics.lock:
+                self.payload.set(self.physics.d, mass, centroid)
+            self.tool_id = tool_id
+        c = centroid * 1000
+        return Result.success(f"payload {mass:g} kg at ({c[0]:.1f}, {c[1]:.1f}, {c[2]:.1f}) mm "
+                              f"on the flange; tool {tool_id} active")
+
+    def set_drag_mode(self, on: bool) -> Result:
+        with self._lock:
+            if on == self.drag_mode:
+                return Result.success(f"drag mode already {'on' if on else 'off'}")
+            if on:
+                if self.servo_mode:
+                    return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
+                if self.physics.motion.active:
+                    return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
+                self.physics.switch(Hold())
+                self.physics.servo.released = True
+            else:
+                with self.physics.lock:
+                    self.physics.servo.released = False
+                    self.physics.hold_here()
+            self.drag_mode = on
+        return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def set_collision_level(self, level) -> Result:
+        with self._lock:
+            self.collision_level = self.collisions.level = level
+        if level == 0:
+            return Result.success("collision detection off")
+        return Result.success(f"collision level {level} ({25 * level} N)")
+
+    def set_io(self, signal, io_type, index, value) -> Result:
+        self.io.write_output(signal, io_type, index, value)
+        return Result.success(f"{signal} output {index} of type {io_type} = {value:g}")
+
+    def get_io(self, signal, path, io_type, index) -> Result:
+        value = self.io.read(signal, path, io_type, index)
+        return Result.success(f"{signal} {'output' if path else 'input'} {index} of type "
+                              f"{io_type} = {value:g}", value)
+
+    def clear_error(self) -> Result:
+        with self._lock:
+            was = [name for name, flag in (("collision", self.collision),
+                                           ("protective stop", self.protective_stop),
+                                           ("error", self.error_code != 0)) if flag]
+            self.collision = self.protective_stop = False
+            self.error_code, self.error_message = 0, ""
+            self.collisions.armed = True
+        return Result.success(f"cleared {', '.join(was)}" if was else "no error to clear")
+
+    # ---- kinematics -------------------------------------------------------------------------------------
+    def forward_kinematics(self, q) -> Result:
+        tool, user = self.frames()
+        return Result.success("forward kinematics of the active tool in the active user frame",
+                              self.kin.tcp_pose(np.asarray(q, float), tool, user))
+
+    def inverse_kinematics(self, target, ref_q) -> Result:
+        tool, user = self.frames()
+        solution = self.kin.ik(target, seed=np.asarray(ref_q, float), tool=tool, user=user)
+        if not solution.success:
+            return Result.failure(Code.IK_FAILED, f"no IK solution: {solution.message}")
+        q = solution.q
+        outside = (q < self.model.lower) | (q > self.model.upper)
+        if outside.any():
+            return Result.failure(Code.IK_FAILED, "the IK solution leaves the joint limits")
+        return Result.success("inverse kinematics nearest ref_joint", q)
+
+
+def _mm(pose: np.ndarray) -> str:
+    p = matrix_to_pose(pose, rotation="rotvec", length_scale=1e-3)
+    return f"to ({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm, ({p[3]:.4f}, {p[4]:.4f}, {p[5]:.4f}) rad"

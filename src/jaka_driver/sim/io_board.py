@@ -1,0 +1,41 @@
+"""The twin's IO: cabinet, tool and extension, digital and analog, inputs and outputs.
+
+Sizes come from ``config/<model>.yaml`` (``RobotModel.io_sizes``). Outputs are set by
+``set_io``; inputs only by fault injection (``/jaka_driver/sim/set_input``) or by the optional
+loopback wiring, where output n drives input n of the same signal and type.
+"""
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+INPUT, OUTPUT = 0, 1
+
+
+class IoBoard:
+    def __init__(self, sizes: dict, loopback: bool = False):
+        self._lock = threading.Lock()
+        self._points = {key: np.zeros(count) for key, count in sizes.items()}
+        self.loopback = loopback
+
+    def read(self, signal: str, path: int, io_type: int, index: int) -> float:
+        with self._lock:
+            return float(self._points[(signal, io_type, path)][index])
+
+    def write_output(self, signal: str, io_type: int, index: int, value: float) -> None:
+        with self._lock:
+            self._points[(signal, io_type, OUTPUT)][index] = value
+            if self.loopback:
+                inputs = self._points.get((signal, io_type, INPUT))
+                if inputs is not None and index < len(inputs):
+                    inputs[index] = value
+
+    def write_input(self, signal: str, io_type: int, index: int, value: float) -> None:
+        with self._lock:
+            self._points[(signal, io_type, INPUT)][index] = value
+
+    def snapshot(self) -> dict:
+        """Copies of every array, keyed (signal, type, path)."""
+        with self._lock:
+            return {key: values.copy() for key, values in self._points.items()}

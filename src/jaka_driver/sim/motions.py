@@ -1,0 +1,157 @@
+"""What the twin's controller does each 8 ms cycle: one motion source produces the next servo
+setpoint. Exactly one source is active; the physics thread swaps them.
+
+Sources: :class:`Hold` (stand still), :class:`TrajectoryRun` (joint_move / linear_move),
+:class:`Jog`, :class:`ServoTarget` (servo mode), :class:`Stopping` (decelerate to rest).
+A source that a blocking call waits on carries a :class:`Completion`.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..completion import Completion
+from ..motion.trajectory import JointTrajectory
+from ..results import Code, Result
+
+#: rad/s; with the position inside its tolerance, slower than this counts as arrived
+SETTLED_SPEED = 0.05
+
+
+class Motion:
+    """A source of setpoints. ``next(q_sp, qd_sp, q_meas, qd_meas)`` returns the setpoint (rad)
+    for the end of the coming cycle; ``active`` is False once the source only holds."""
+
+    completion: Optional[Completion] = None
+    active = True
+    moving = True
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas) -> np.ndarray:
+        raise NotImplementedError
+
+    def abort(self, result: Result) -> None:
+        """Replaced before finishing: tell whoever waits."""
+        if self.completion is not None:
+            self.completion.finish(result)
+
+
+class Hold(Motion):
+    """Keep the last setpoint."""
+
+    active = False
+    moving = False
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        return q_sp
+
+
+class TrajectoryRun(Motion):
+    """Play a planned joint trajectory, then settle: success once every joint is within
+    ``tolerance`` rad of the goal and almost at rest."""
+
+    def __init__(self, trajectory: JointTrajectory, cycle: float, tolerance: float,
+                 completion: Completion, label: str):
+        self.trajectory = trajectory
+        self.cycle = cycle
+        self.tolerance = tolerance
+        self.completion = completion
+        self.label = label
+        self.t = 0.0
+        self.goal = trajectory.q[-1]
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        self.t += self.cycle
+        q, _ = self.trajectory.sample(self.t)
+        if self.t >= self.trajectory.duration:
+            self.moving = False
+            error = np.max(np.abs(q_meas - self.goal))
+            if error <= self.tolerance and np.max(np.abs(qd_meas)) < SETTLED_SPEED:
+                self.active = False
+                self.completion.finish(Result.success(
+                    f"{self.label} done in {self.t:.3f} s (planned "
+                    f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
+        return np.asarray(q, float)
+
+
+class Stopping(Motion):
+    """Decelerate every joint to rest at its stop deceleration (rad/s²), along the current
+    direction of travel."""
+
+    def __init__(self, decel: np.ndarray, cycle: float, on_rest: Optional[Callable] = None):
+        self.decel = decel
+        self.cycle = cycle
+        self.velocity: Optional[np.ndarray] = None
+        self._on_rest = on_rest
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        if self.velocity is None:
+            self.velocity = qd_sp.copy()
+        dv = self.decel * self.cycle
+        self.velocity = np.sign(self.velocity) * np.maximum(np.abs(self.velocity) - dv, 0.0)
+        if not self.velocity.any():
+            self.active = self.moving = False
+            if self._on_rest is not None:
+                self._on_rest()
+                self._on_rest = None
+        return q_sp + self.velocity * self.cycle
+
+
+class ServoTarget(Motion):
+    """Servo mode: the latest servo_j / servo_p target, reached within one cycle."""
+
+    moving = False
+
+    def __init__(self, q: np.ndarray):
+        self.target = q.copy()
+        self._lock = threading.Lock()
+
+    def set(self, q: np.ndarray) -> None:
+        with self._lock:
+            self.target = q.copy()
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        with self._lock:
+            target = self.target
+        self.moving = bool(np.any(target != q_sp))
+        return target
+
+
+class Jog(Motion):
+    """Continuous jog: ramp the speed of one axis up to ``speed`` and hold it until told to
+    stop, then ramp down. ``step(q_sp, displacement)`` maps an axis displacement to the next
+    joint setpoint (identity on one joint, or Cartesian + IK); it returns None when the move
+    cannot continue (joint limit, no IK), which ends the jog at once."""
+
+    def __init__(self, speed: float, accel: float, cycle: float,
+                 step: Callable[[np.ndarray, float], Optional[np.ndarray]], label: str):
+        self.speed = speed
+        self.accel = accel
+        self.cycle = cycle
+        self.step = step
+        self.label = label
+        self.v = 0.0
+        self.target_speed = speed
+        self.stop_reason: Optional[str] = None
+
+    def stop(self) -> None:
+        self.target_speed = 0.0
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        dv = self.accel * self.cycle
+        self.v = min(self.v + dv, self.target_speed) if self.v < self.target_speed \
+            else max(self.v - dv, self.target_speed)
+        if self.v <= 0.0 and self.target_speed == 0.0:
+            self.active = self.moving = False
+            return q_sp
+        q = self.step(q_sp, self.v * self.cycle)
+        if q is None:
+            self.stop_reason = "limit"
+            self.active = self.moving = False
+            return q_sp
+        return q
+
+
+def stopped(reason: str) -> Result:
+    return Result.failure(Code.MOTION_STOPPED, reason)

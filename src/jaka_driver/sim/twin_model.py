@@ -1,0 +1,84 @@
+"""The twin's MuJoCo model, built from the same URDF as Pinocchio and rviz.
+
+MuJoCo imports the URDF directly; what the URDF cannot say is added here: the time step,
+joint damping and rotor inertia (armature), the floor and workcell, and the payload (mass
+folded into link_6, the flange body). Joint torques come from :mod:`servo` through ``qfrc_applied``, so the model has
+no actuators.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import mujoco
+import numpy as np
+
+from ..models import RobotModel
+from .collisions import add_environment
+
+TIMESTEP = 0.001          # s; 1 kHz physics under an 8 ms controller cycle
+JOINT_DAMPING = 2.0       # N·m·s/rad, gearbox viscous friction
+ARMATURE = 0.05           # kg·m², reflected rotor inertia; also steadies the integrator
+FLANGE_BODY = "link_6"
+
+
+def build_twin_model(model: RobotModel, scene: Optional[str] = None) -> mujoco.MjModel:
+    """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
+    (see :mod:`collisions`)."""
+    spec = mujoco.MjSpec.from_string(model.urdf_xml)
+    spec.compiler.discardvisual = True
+    add_environment(spec, scene)
+    m = spec.compile()
+    if m.nv != 6:
+        raise ValueError(f"{model.urdf_path} compiles to {m.nv} degrees of freedom, expected 6")
+    m.opt.timestep = TIMESTEP
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER   # mj_step1/2 split needs Euler
+    m.dof_damping[:] = JOINT_DAMPING
+    m.dof_armature[:] = ARMATURE
+    return m
+
+
+class Payload:
+    """Folds a point-mass payload into the flange body and restores it.
+
+    The flange body's own mass properties are kept so that setting a new payload replaces the
+    old one instead of adding to it.
+    """
+
+    def __init__(self, m: mujoco.MjModel):
+        self._m = m
+        self._body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, FLANGE_BODY)
+        if self._body < 0:
+            raise ValueError(f"the twin has no body {FLANGE_BODY!r}")
+        self._mass = float(m.body_mass[self._body])
+        self._com = m.body_ipos[self._body].copy()
+        rot = np.zeros(9)
+        mujoco.mju_quat2Mat(rot, m.body_iquat[self._body])
+        rot = rot.reshape(3, 3)
+        self._inertia = rot @ np.diag(m.body_inertia[self._body]) @ rot.T   # body frame
+        self.mass = 0.0
+        self.centroid = np.zeros(3)
+
+    def set(self, d: mujoco.MjData, mass: float, centroid: np.ndarray) -> None:
+        """``mass`` kg at ``centroid`` (m, flange frame = link_6 frame in our URDFs)."""
+        m, b = self._m, self._body
+        total = self._mass + mass
+        com = (self._mass * self._com + mass * centroid) / total
+        inertia = self._inertia + self._mass * _shift(self._com - com)
+        inertia = inertia + mass * _shift(centroid - com)
+        principal, axes = np.linalg.eigh(inertia)
+        if np.linalg.det(axes) < 0:
+            axes[:, 0] = -axes[:, 0]
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, axes.flatten())
+        m.body_mass[b] = total
+        m.body_ipos[b] = com
+        m.body_iquat[b] = quat
+        m.body_inertia[b] = np.maximum(principal, 1e-9)
+        # mj_setConst evaluates the model at qpos0 in the data it is given: never the live one.
+        mujoco.mj_setConst(m, mujoco.MjData(m))
+        self.mass, self.centroid = mass, np.asarray(centroid, float).copy()
+
+
+def _shift(r: np.ndarray) -> np.ndarray:
+    """Parallel-axis term for a unit mass at offset ``r``."""
+    return float(r @ r) * np.eye(3) - np.outer(r, r)

@@ -1,0 +1,181 @@
+"""Rotations and poses in numpy: rotation vectors, JAKA RPY, ROS quaternions, 4x4 matrices.
+
+Conventions (the JAKA controller's and ROS's):
+
+* A rotation matrix ``R`` maps vectors of the rotated frame into the reference frame; a 4x4
+  homogeneous ``T = [[R, p], [0, 1]]`` is the pose of a frame in a reference frame.
+* RPY ``(rx, ry, rz)`` in rad means ``R = Rz(rz) · Ry(ry) · Rx(rx)`` (fixed-axis X, then Y, then Z),
+  which is what the JAKA API calls RPY and what ``tf`` calls RPY.
+* A rotation vector is ``angle · axis`` (rad), angle in [0, π].
+* Quaternions are ``(x, y, z, w)``, the ROS order, returned with ``w >= 0``.
+* A 6-vector pose is ``(x, y, z, r1, r2, r3)``: translation then rotation vector or RPY.
+  ``length_scale`` is the size of one translation unit in metres (1e-3: the pose is in mm,
+  the matrix always in m).
+
+Rotation functions accept a single value or a stack (leading dimensions); the output has the same
+leading dimensions.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+_SMALL = 1e-6  # below this angle (rad) the series expansions are exact to double precision
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """(..., 3) → (..., 3, 3) with skew(v) @ u == cross(v, u)."""
+    z = np.zeros_like(v[..., 0])
+    x, y, w = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1),
+                     np.stack([-y, x, z], -1)], -2)
+
+
+def rotvec_to_matrix(rotvec) -> np.ndarray:
+    """Rotation vector(s) (rad, ``(..., 3)``) → rotation matrix (``(..., 3, 3)``), Rodrigues."""
+    v = np.asarray(rotvec, dtype=float)
+    theta2 = np.einsum("...i,...i->...", v, v)
+    theta = np.sqrt(theta2)
+    small = theta < _SMALL
+    safe = np.where(small, 1.0, theta)
+    # sin(t)/t and (1-cos t)/t² with their Taylor series near 0, where the quotients lose digits.
+    a = np.where(small, 1.0 - theta2 / 6.0, np.sin(safe) / safe)
+    b = np.where(small, 0.5 - theta2 / 24.0, (1.0 - np.cos(safe)) / (safe * safe))
+    K = _skew(v)
+    return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
+
+
+def matrix_to_quat(R) -> np.ndarray:
+    """Rotation matrix(es) → unit quaternion(s) ``(x, y, z, w)`` with ``w >= 0``.
+
+    Uses the largest of the four diagonal combinations (Shepperd), so it is accurate at every
+    angle, including 0 and π.
+    """
+    R = np.asarray(R, dtype=float)
+    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    # 4·q_i² for i = w, x, y, z; the largest one gives a well-conditioned division.
+    cand = np.stack([1 + m00 + m11 + m22, 1 + m00 - m11 - m22,
+                     1 - m00 + m11 - m22, 1 - m00 - m11 + m22], -1)
+    k = np.argmax(cand, axis=-1)
+    s = np.sqrt(np.maximum(np.take_along_axis(cand, k[..., None], -1)[..., 0], 1e-300))
+    d21, d02, d10 = R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]
+    s21, s02, s10 = R[..., 2, 1] + R[..., 1, 2], R[..., 0, 2] + R[..., 2, 0], R[..., 1, 0] + R[..., 0, 1]
+    q = np.stack([
+        np.stack([d21, d02, d10, s * s], -1),   # k = 0: w largest
+        np.stack([s * s, s10, s02, d21], -1),   # k = 1: x largest
+        np.stack([s10, s * s, s21, d02], -1),   # k = 2: y largest
+        np.stack([s02, s21, s * s, d10], -1),   # k = 3: z largest
+    ], -2)
+    q = np.take_along_axis(q, k[..., None, None], -2)[..., 0, :] / (2.0 * s[..., None])
+    q = np.where(q[..., 3:4] < 0, -q, q)
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def quat_to_matrix(quat) -> np.ndarray:
+    """Quaternion(s) ``(x, y, z, w)`` (normalised here) → rotation matrix(es)."""
+    q = np.asarray(quat, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+        np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+        np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+    ], -2)
+
+
+def matrix_to_rotvec(R) -> np.ndarray:
+    """Rotation matrix(es) → rotation vector(s) (rad), angle in [0, π].
+
+    Goes through the quaternion, so it stays accurate near 0 and near π (where ``arccos`` of the
+    trace loses half the digits). At exactly π the sign of the axis is arbitrary.
+    """
+    q = matrix_to_quat(R)
+    v, w = q[..., :3], q[..., 3]
+    n = np.linalg.norm(v, axis=-1)
+    # angle/ sin(angle/2) = 2·atan2(n, w)/n → 2/w for tiny n (w ≈ 1 there).
+    scale = np.where(n < _SMALL, 2.0 / np.where(w == 0, 1.0, w),
+                     2.0 * np.arctan2(n, w) / np.where(n == 0, 1.0, n))
+    return v * scale[..., None]
+
+
+def rpy_to_matrix(rx, ry, rz) -> np.ndarray:
+    """JAKA/ROS RPY angles (rad) → ``Rz(rz) · Ry(ry) · Rx(rx)``."""
+    rx, ry, rz = (np.asarray(a, dtype=float) for a in (rx, ry, rz))
+    cx, sx, cy, sy, cz, sz = np.cos(rx), np.sin(rx), np.cos(ry), np.sin(ry), np.cos(rz), np.sin(rz)
+    return np.stack([
+        np.stack([cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx], -1),
+        np.stack([sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx], -1),
+        np.stack([-sy, cy * sx, cy * cx], -1),
+    ], -2)
+
+
+def matrix_to_rpy(R) -> np.ndarray:
+    """Rotation matrix(es) → ``(rx, ry, rz)`` rad with ry in [-π/2, π/2], rx, rz in (-π, π].
+
+    At gimbal lock (ry = ±π/2) only rz ∓ rx is defined; rx is then set to 0.
+    """
+    R = np.asarray(R, dtype=float)
+    cy = np.hypot(R[..., 0, 0], R[..., 1, 0])
+    ry = np.arctan2(-R[..., 2, 0], cy)
+    lock = cy < 1e-9
+    rx = np.where(lock, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    rz = np.where(lock, np.arctan2(-R[..., 0, 1], R[..., 1, 1]), np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    return np.stack([rx, ry, rz], -1)
+
+
+def _rotation_from(r3: np.ndarray, rotation: str) -> np.ndarray:
+    if rotation == "rotvec":
+        return rotvec_to_matrix(r3)
+    if rotation == "rpy":
+        return rpy_to_matrix(r3[..., 0], r3[..., 1], r3[..., 2])
+    raise ValueError(f"rotation must be 'rotvec' or 'rpy', got {rotation!r}")
+
+
+def pose_to_matrix(pose6, *, rotation: str = "rotvec", length_scale: float = 1.0) -> np.ndarray:
+    """6-vector pose ``(x, y, z, r1, r2, r3)`` → 4x4 homogeneous matrix in metres.
+
+    ``rotation``: ``"rotvec"`` (rad) or ``"rpy"`` (rad, JAKA order). ``length_scale``: metres per
+    translation unit of ``pose6`` (1e-3 for mm).
+    """
+    p = np.asarray(pose6, dtype=float)
+    if p.shape[-1] != 6:
+        raise ValueError(f"a pose has 6 values, got shape {p.shape}")
+    T = np.zeros(p.shape[:-1] + (4, 4))
+    T[..., :3, :3] = _rotation_from(p[..., 3:], rotation)
+    T[..., :3, 3] = p[..., :3] * length_scale
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def matrix_to_pose(T, *, rotation: str = "rotvec", length_scale: float = 1.0) -> np.ndarray:
+    """4x4 homogeneous matrix (m) → 6-vector pose; inverse of :func:`pose_to_matrix`."""
+    T = np.asarray(T, dtype=float)
+    if rotation == "rotvec":
+        r = matrix_to_rotvec(T[..., :3, :3])
+    elif rotation == "rpy":
+        r = matrix_to_rpy(T[..., :3, :3])
+    else:
+        raise ValueError(f"rotation must be 'rotvec' or 'rpy', got {rotation!r}")
+    return np.concatenate([T[..., :3, 3] / length_scale, r], -1)
+
+
+def rotation_angle_between(R0, R1) -> np.ndarray | float:
+    """Angle (rad, [0, π]) of the rotation taking ``R0`` to ``R1``, accurate at 0 and π."""
+    D = np.swapaxes(np.asarray(R0, dtype=float), -1, -2) @ np.asarray(R1, dtype=float)
+    # atan2(sin, cos) stays accurate where arccos((tr-1)/2) alone would not.
+    s = 0.5 * np.linalg.norm(np.stack([D[..., 2, 1] - D[..., 1, 2], D[..., 0, 2] - D[..., 2, 0],
+                                       D[..., 1, 0] - D[..., 0, 1]], -1), axis=-1)
+    c = 0.5 * (D[..., 0, 0] + D[..., 1, 1] + D[..., 2, 2] - 1.0)
+    angle = np.arctan2(s, c)
+    return float(angle) if angle.ndim == 0 else angle
+
+
+def slerp(R0, R1, s) -> np.ndarray:
+    """Rotation a fraction ``s`` (0 → R0, 1 → R1) of the shortest way from ``R0`` to ``R1``.
+
+    ``s`` may be a scalar or an array; an array gives a stack ``s.shape + (3, 3)``. The rotation
+    axis is fixed in the R0 frame, the angle grows linearly with ``s``.
+    """
+    R0 = np.asarray(R0, dtype=float)
+    rv = matrix_to_rotvec(R0.T @ np.asarray(R1, dtype=float))
+    s = np.asarray(s, dtype=float)
+    return R0 @ rotvec_to_matrix(s[..., None] * rv)

@@ -1,0 +1,103 @@
+"""Watchdogs shared by both backends: the jog keep-alive and the servo stream.
+
+A jog runs only while its client keeps calling: 3.0 s after the last call it is stopped
+(doc §1.3). A servo stream that stops leaves the arm holding its last target, and the next
+servo call is told how long the stream had stopped.
+"""
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+
+@dataclass
+class JogSession:
+    """The jog being kept alive: what moves and when the client last asked for it."""
+
+    coord: int
+    index: int
+    speed: float
+    last_call: float
+
+
+class JogWatchdog:
+    """Stops a jog ``timeout`` seconds after its last call, checked every ``period`` s.
+
+    ``stop`` is called from the watchdog's own thread; it must be thread-safe.
+    """
+
+    def __init__(self, stop: Callable[[], object], timeout: float = 3.0, period: float = 0.005):
+        self._stop = stop
+        self.timeout = timeout
+        self._period = period
+        self._lock = threading.Lock()
+        self._session: Optional[JogSession] = None
+        self._quit = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="jog-watchdog", daemon=True)
+        self._thread.start()
+
+    @property
+    def session(self) -> Optional[JogSession]:
+        with self._lock:
+            return self._session
+
+    def kick(self, coord: int, index: int, speed: float) -> Optional[JogSession]:
+        """Record a jog call; returns the session it replaces (None if none was running)."""
+        with self._lock:
+            previous = self._session
+            self._session = JogSession(coord, index, speed, time.monotonic())
+            return previous
+
+    def clear(self) -> Optional[JogSession]:
+        """Forget the session without stopping (the caller stops the arm itself)."""
+        with self._lock:
+            previous, self._session = self._session, None
+            return previous
+
+    def close(self) -> None:
+        self._quit.set()
+        self._thread.join(timeout=1.0)
+
+    def _run(self) -> None:
+        while not self._quit.wait(self._period):
+            with self._lock:
+                expired = (self._session is not None
+                           and time.monotonic() - self._session.last_call >= self.timeout)
+                if expired:
+                    self._session = None
+            if expired:
+                self._stop()
+
+
+class ServoStream:
+    """Tracks the servo target stream: the last target and when it came.
+
+    The reference for the over-speed check of the next target is the last target while the
+    stream is alive, else the measured joints (after a pause the arm is where it held).
+    """
+
+    def __init__(self, timeout: float = 0.1):
+        self.timeout = timeout
+        self._lock = threading.Lock()
+        self._last_target = None
+        self._last_time: Optional[float] = None
+
+    def reset(self) -> None:
+        with self._lock:
+            self._last_target, self._last_time = None, None
+
+    def reference(self, measured):
+        """(reference joints for the next step, seconds the stream had stopped or None)."""
+        with self._lock:
+            if self._last_time is None:
+                return measured, None
+            gap = time.monotonic() - self._last_time
+            if gap > self.timeout:
+                return measured, gap
+            return self._last_target, None
+
+    def accepted(self, target) -> None:
+        with self._lock:
+            self._last_target, self._last_time = target, time.monotonic()

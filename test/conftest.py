@@ -1,0 +1,68 @@
+"""Shared fixtures: one rosmaster and one rospy node for the whole run; a driver node per
+test module that asks for one."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ros_harness import DriverProcess, Recorder, RosMaster, Services
+
+
+@pytest.fixture(scope="session")
+def ros_master():
+    master = RosMaster()
+    yield master
+    master.stop()
+
+
+@pytest.fixture(scope="session")
+def rospy_node(ros_master):
+    import rospy
+    rospy.init_node("jaka_driver_tests", anonymous=True, disable_signals=True)
+    yield rospy
+
+
+def start_driver(request, **params):
+    driver = DriverProcess(log_name=request.module.__name__, **params)
+    request.addfinalizer(driver.stop)
+    driver.wait_ready()
+    return driver
+
+
+@pytest.fixture(scope="module")
+def sim_driver(request, rospy_node):
+    """The real node on the zu5 twin (module-scoped: a module's tests share one arm)."""
+    return start_driver(request, backend="sim", model="zu5")
+
+
+@pytest.fixture(scope="module")
+def call(sim_driver):
+    services = Services(sim_driver)
+    yield services
+    services.close()
+
+
+@pytest.fixture(scope="module")
+def joints(sim_driver, rospy_node):
+    from sensor_msgs.msg import JointState
+    recorder = Recorder(sim_driver.name("joint_position"), JointState)
+    yield recorder
+    recorder.close()
+
+
+def position(recorder, timeout=2.0) -> np.ndarray:
+    """Latest joint position (rad) from a JointState recorder."""
+    from ros_harness import wait_until
+    msg = wait_until(recorder.latest, timeout)
+    assert msg is not None, "no joint_position message"
+    return np.array(msg.position)
+
+
+def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
+    """Joint position once every joint is slower than ``speed`` rad/s (the end of a move's
+    settling), so a later comparison sees only new motion."""
+    from ros_harness import wait_until
+    msg = wait_until(lambda: (m := recorder.latest()) is not None
+                     and np.max(np.abs(m.velocity)) < speed and m, timeout)
+    assert msg, "the arm did not come to rest"
+    return np.array(msg.position)

@@ -1,0 +1,175 @@
+"""Real parts for integration tests: a rosmaster on a free port, the driver node as a
+subprocess, service calls and topic capture. Every process started here is stopped here."""
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import xmlrpc.client
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+NODE = ROOT / "scripts" / "jaka_driver_node"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_until(predicate, timeout: float, period: float = 0.02):
+    """Poll ``predicate`` until it returns a truthy value or ``timeout`` s pass."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value or time.monotonic() > deadline:
+            return value
+        time.sleep(period)
+
+
+class RosMaster:
+    """``rosmaster --core`` on a free port, with ROS_* variables pointing at it."""
+
+    def __init__(self):
+        self.port = free_port()
+        self.uri = f"http://localhost:{self.port}/"
+        self.home = tempfile.mkdtemp(prefix="jaka_ros_home_")
+        os.environ.update(ROS_MASTER_URI=self.uri, ROS_HOSTNAME="localhost",
+                          ROS_HOME=self.home, ROS_LOG_DIR=os.path.join(self.home, "log"))
+        os.environ.pop("ROS_IP", None)
+        self.proc = subprocess.Popen(["rosmaster", "--core", "-p", str(self.port)],
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                     start_new_session=True)
+        proxy = xmlrpc.client.ServerProxy(self.uri)
+
+        def up():
+            try:
+                proxy.getSystemState("/test")
+                return True
+            except OSError:
+                return False
+
+        if not wait_until(up, 15.0, 0.05):
+            self.stop()
+            raise RuntimeError("rosmaster did not come up in 15 s")
+
+    def stop(self):
+        stop_process(self.proc)
+
+
+def stop_process(proc: subprocess.Popen, timeout: float = 10.0) -> None:
+    """SIGINT (clean ROS shutdown), then SIGKILL the whole process group."""
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.wait(timeout=timeout)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            pass
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    proc.wait()
+
+
+class DriverProcess:
+    """The real node, started as ``rosrun`` would, with private params ``_name:=value``."""
+
+    def __init__(self, ns: str = "", log_name: str = "driver", **params):
+        args = [str(NODE)] + [f"_{k}:={v}" for k, v in params.items()]
+        if ns:
+            args.append(f"__ns:={ns}")
+        self.ns = ns
+        self.prefix = f"/{ns}/jaka_driver" if ns else "/jaka_driver"
+        self.log_path = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir())) / f"{log_name}.log"
+        self.log_path.parent.mkdir(parents=True, exist_ok=True)
+        self._log = open(self.log_path, "wb")
+        self.proc = subprocess.Popen(args, stdout=self._log, stderr=subprocess.STDOUT,
+                                     start_new_session=True, env=os.environ.copy())
+
+    def name(self, leaf: str) -> str:
+        return f"{self.prefix}/{leaf}"
+
+    def wait_ready(self, timeout: float = 60.0) -> None:
+        import rospy
+        try:
+            rospy.wait_for_service(self.name("clear_err"), timeout=timeout)
+        except rospy.ROSException:
+            raise RuntimeError(f"driver not ready in {timeout} s; log:\n{self.log()}") from None
+
+    def log(self) -> str:
+        self._log.flush()
+        return self.log_path.read_text(errors="replace")[-4000:]
+
+    def alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def stop(self) -> None:
+        stop_process(self.proc)
+        self._log.close()
+
+
+class Services:
+    """Persistent proxies to the driver's services, created on first use."""
+
+    def __init__(self, driver: DriverProcess):
+        self._driver = driver
+        self._proxies = {}
+
+    def __call__(self, leaf: str, srv_type, *args, **fields):
+        import rospy
+        proxy = self._proxies.get(leaf)
+        if proxy is None:
+            proxy = rospy.ServiceProxy(self._driver.name(leaf), srv_type, persistent=True)
+            self._proxies[leaf] = proxy
+        try:
+            return proxy(*args, **fields)
+        except (rospy.ServiceException, OSError):
+            # a persistent connection does not survive everything; retry once fresh
+            proxy.close()
+            proxy = rospy.ServiceProxy(self._driver.name(leaf), srv_type, persistent=True)
+            self._proxies[leaf] = proxy
+            return proxy(*args, **fields)
+
+    def close(self):
+        for proxy in self._proxies.values():
+            proxy.close()
+
+
+class Recorder:
+    """Subscribes to a topic and keeps (receipt time, message) pairs."""
+
+    def __init__(self, topic: str, msg_type, keep: int = 100000):
+        import rospy
+        self._lock = threading.Lock()
+        self.samples: list = []
+        self._keep = keep
+        self._sub = rospy.Subscriber(topic, msg_type, self._on, queue_size=1000,
+                                     tcp_nodelay=True)
+
+    def _on(self, msg):
+        with self._lock:
+            self.samples.append((time.time(), msg))
+            if len(self.samples) > self._keep:
+                del self.samples[: len(self.samples) - self._keep]
+
+    def latest(self):
+        with self._lock:
+            return self.samples[-1][1] if self.samples else None
+
+    def since(self, t0: float) -> list:
+        with self._lock:
+            return [(t, m) for t, m in self.samples if t >= t0]
+
+    def clear(self):
+        with self._lock:
+            self.samples.clear()
+
+    def close(self):
+        self._sub.unregister()

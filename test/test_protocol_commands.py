@@ -1,0 +1,208 @@
+"""Command encoding (driver units in, wire units and field names out) and reply decoding."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from jaka_driver.protocol import commands as c
+from jaka_driver.protocol.errors import (CommandRejected, InvalidArgument, JakaProtocolError,
+                                         ProtocolError)
+from jaka_driver.protocol.fields import COMMANDS, Cmd, CoordMap, Field, JogMode
+
+Q = [0.1, -0.2, 0.3, -0.4, 0.5, -0.6]          # rad
+Q_DEG = list(np.degrees(Q))
+POSE = [400.0, -50.0, 300.0, 0.0, 0.0, math.pi / 2]   # mm + rotation vector
+POSE_WIRE = [400.0, -50.0, 300.0, 0.0, 0.0, 90.0]     # mm + RPY deg
+
+# every encoder with sample arguments, to check all of them against the field table
+ALL_REQUESTS = [
+    c.power_on(), c.power_off(), c.enable_robot(), c.disable_robot(), c.get_robot_state(),
+    c.emergency_stop_status(), c.protective_stop_status(), c.clear_error(), c.get_data(),
+    c.get_version(), c.quit(),
+    c.joint_move(Q, 1.0, 2.0), c.moveL(POSE, 100, 500, tol_mm=0.5),
+    c.jog(JogMode.CONTINUOUS, CoordMap.JOINT, 2, 0.1), c.jog(JogMode.STOP, CoordMap.BASE, 0),
+    c.stop_program(), c.rapid_rate(0.5),
+    c.servo_move(True), c.is_in_servomove(), c.servo_j(Q, step_num=2), c.servo_p(POSE, True, 3),
+    c.set_servo_move_filter(0), c.set_servo_move_filter(1, 0.5),
+    c.get_joint_pos(), c.get_tcp_pos(), c.kine_forward(Q), c.kine_inverse(Q, POSE),
+    c.set_tool_offsets(1, POSE, "gripper"), c.set_tool_id(1), c.get_curr_tool_id(),
+    c.set_user_offsets(2, POSE, "table"), c.set_user_id(2), c.get_curr_user_id(),
+    c.set_payload(1.5, [0, 0, 50]), c.get_payload(),
+    c.set_clsn_sensitivity(3), c.get_clsn_sensitivity(), c.drag_status(),
+    c.set_digital_output(0, 3, True), c.set_analog_output(0, 1, 2.5),
+    c.get_digital_input(1, 0), c.get_digital_input_status(), c.get_analog_output(0, 1),
+]
+
+
+def test_every_command_in_the_table_has_an_encoder_and_vice_versa():
+    encoded = {r[Field.CMD_NAME] for r in ALL_REQUESTS}
+    assert encoded == set(COMMANDS)
+    names = {v for k, v in vars(Cmd).items() if not k.startswith("_")}
+    assert names == set(COMMANDS)
+
+
+@pytest.mark.parametrize("request_", ALL_REQUESTS, ids=lambda r: r[Field.CMD_NAME])
+def test_encoders_use_only_the_tabled_field_names(request_):
+    spec = COMMANDS[request_[Field.CMD_NAME]]
+    assert set(request_) - {Field.CMD_NAME} <= set(spec.request)
+    assert spec.confidence in ("high", "medium", "low")
+    wire = c.encode(request_)
+    assert json.loads(wire.decode("utf-8")) == request_
+    assert b" " not in wire.replace(b'"gripper"', b"")   # compact
+
+
+def test_joint_move_goes_out_in_degrees():
+    r = c.joint_move(Q, speed_rad_s=math.pi / 2, accel_rad_s2=math.pi, relative=True)
+    assert r[Field.JOINT_POSITION] == pytest.approx(Q_DEG)
+    assert r[Field.SPEED] == pytest.approx(90.0)
+    assert r[Field.ACCEL] == pytest.approx(180.0)
+    assert r[Field.REL_FLAG] == 1
+    assert c.joint_move(Q, 1, 1)[Field.REL_FLAG] == 0
+
+
+def test_move_l_goes_out_in_mm_and_rpy_degrees():
+    r = c.moveL(POSE, speed_mm_s=100, accel_mm_s2=500)
+    assert r[Field.CMD_NAME] == "moveL"
+    assert r[Field.CART_POSITION] == pytest.approx(POSE_WIRE)
+    assert (r[Field.SPEED], r[Field.ACCEL], r[Field.REL_FLAG]) == (100, 500, 0)
+    assert Field.TOL not in r
+
+
+def test_servo_commands():
+    j = c.servo_j(Q)
+    assert j[Field.JOINT_POSITION] == pytest.approx(Q_DEG)
+    assert j[Field.REL_FLAG] == 0 and Field.STEP_NUM not in j
+    assert c.servo_j(Q, relative=True, step_num=4)[Field.STEP_NUM] == 4
+    p = c.servo_p(POSE, relative=True)
+    assert p[Field.SERVO_CART_POSITION] == pytest.approx(POSE_WIRE)
+    assert "catPosition" in p and p[Field.REL_FLAG] == 1
+    assert c.servo_move(True)[Field.REL_FLAG] == 1
+    assert c.servo_move(False)[Field.REL_FLAG] == 0
+
+
+def test_jog_converts_only_angular_axes():
+    joint = c.jog(JogMode.INCREMENT, CoordMap.JOINT, 0, jogvel=math.pi / 4, poscmd=-math.pi / 2)
+    assert (joint[Field.JOGVEL], joint[Field.POSCMD]) == pytest.approx((45.0, -90.0))
+    linear = c.jog(JogMode.CONTINUOUS, CoordMap.BASE, 2, jogvel=-20.0)
+    assert (linear[Field.JOGVEL], linear[Field.POSCMD]) == (-20.0, 0.0)
+    rotation = c.jog(JogMode.CONTINUOUS, CoordMap.TOOL, 5, jogvel=math.pi)
+    assert rotation[Field.JOGVEL] == pytest.approx(180.0)
+    stop = c.jog(JogMode.STOP, CoordMap.JOINT, 4)
+    assert set(stop) == {Field.CMD_NAME, Field.JOG_MODE, Field.COORD_MAP, Field.JNUM}
+
+
+def test_frames_payload_io():
+    t = c.set_tool_offsets(3, POSE, "gripper")
+    assert t[Field.TOOL_OFFSET] == pytest.approx(POSE_WIRE)
+    assert (t[Field.ID], t[Field.NAME]) == (3, "gripper")
+    assert c.set_user_offsets(2, POSE)[Field.USER_OFFSET] == pytest.approx(POSE_WIRE)
+    assert c.set_user_id(2)[Field.USER_FRAME_ID] == 2
+    assert c.set_tool_id(np.int64(4))[Field.TOOL_ID] == 4
+    assert c.set_payload(1.5, np.array([1, 2, 3])) == {
+        Field.CMD_NAME: "set_payload", Field.MASS: 1.5, Field.CENTROID: [1.0, 2.0, 3.0]}
+    assert c.set_digital_output(1, 2, 5)[Field.VALUE] == 1
+    assert c.set_digital_output(1, 2, 0)[Field.VALUE] == 0
+    assert c.set_clsn_sensitivity(0)[Field.SENSITIVITY_VAL] == 0
+
+
+@pytest.mark.parametrize("make", [
+    lambda: c.joint_move(Q[:5], 1, 1),
+    lambda: c.joint_move([math.nan] * 6, 1, 1),
+    lambda: c.joint_move(Q, 0.0, 1),
+    lambda: c.joint_move(Q, 1, -1),
+    lambda: c.joint_move("abc", 1, 1),
+    lambda: c.moveL(POSE + [0], 10, 10),
+    lambda: c.moveL(POSE, math.inf, 10),
+    lambda: c.servo_j(Q, step_num=0),
+    lambda: c.jog(7, 0, 0),
+    lambda: c.jog(1, 0, 6, 1.0),
+    lambda: c.set_tool_id(-1),
+    lambda: c.set_tool_id(1.5),
+    lambda: c.set_clsn_sensitivity(6),
+    lambda: c.set_payload(-1, [0, 0, 0]),
+    lambda: c.set_payload(1, [0, 0]),
+    lambda: c.rapid_rate(1.5),
+    lambda: c.set_servo_move_filter(1),
+    lambda: c.set_servo_move_filter(9, 1.0),
+    lambda: c.encode({"speed": 1}),
+    lambda: c.encode({Field.CMD_NAME: "x", "v": object()}),
+])
+def test_bad_arguments_are_refused_before_anything_is_sent(make):
+    with pytest.raises(InvalidArgument) as info:
+        make()
+    assert isinstance(info.value, ValueError) and isinstance(info.value, JakaProtocolError)
+
+
+# ---- replies -------------------------------------------------------------------------------
+
+def test_parse_ok_reply():
+    r = c.parse_reply({"cmdName": "get_joint_pos", "errorCode": "0", "errorMsg": "",
+                       "joint_pos": [90, 0, 0, 0, 0, -90]})
+    assert (r.cmd_name, r.ok, r.error_code, r.error_msg) == ("get_joint_pos", True, "0", "")
+    assert dict(r.fields) == {"joint_pos": [90, 0, 0, 0, 0, -90]}
+    np.testing.assert_allclose(c.reply_joint_pos(r), [math.pi / 2, 0, 0, 0, 0, -math.pi / 2])
+    with pytest.raises(TypeError):
+        r.fields["x"] = 1   # read-only
+
+
+def test_parse_error_reply_keeps_the_message():
+    r = c.parse_reply({"cmdName": "joint_move", "errorCode": "2",
+                       "errorMsg": "robot is not enabled"})
+    assert not r.ok and r.error_code == "2" and r.error_msg == "robot is not enabled"
+    with pytest.raises(CommandRejected, match="robot is not enabled") as info:
+        c.reply_joint_pos(r)
+    assert info.value.reply is r
+
+
+def test_numeric_error_code_and_missing_message():
+    r = c.parse_reply({"errorCode": 0})
+    assert r.ok and r.error_code == "0" and r.error_msg == "" and r.cmd_name == ""
+
+
+@pytest.mark.parametrize("obj", [[1, 2], "x", {"cmdName": "power_on"}])
+def test_malformed_replies(obj):
+    with pytest.raises(ProtocolError):
+        c.parse_reply(obj)
+
+
+def ok(**fields):
+    return c.parse_reply({"cmdName": "x", "errorCode": "0", "errorMsg": "", **fields})
+
+
+def test_typed_accessors():
+    np.testing.assert_allclose(c.reply_tcp_pos(ok(tcp_pos=POSE_WIRE)), POSE, atol=1e-12)
+    np.testing.assert_allclose(c.reply_kine_forward(ok(cartPosition=POSE_WIRE)), POSE, atol=1e-12)
+    np.testing.assert_allclose(c.reply_kine_inverse(ok(jointPosition=Q_DEG)), Q, atol=1e-12)
+    assert c.reply_robot_state(ok(power="powered_on", enable="robot_enabled")) == (True, True)
+    assert c.reply_robot_state(ok(power=1, enable="0")) == (True, False)
+    assert c.reply_robot_state(ok(power="powered_off", enable=0)) == (False, False)
+    assert c.reply_flag(ok(emergency_stop=1), Field.EMERGENCY_STOP) is True
+    assert c.reply_flag(ok(in_servomove=False), Field.IN_SERVOMOVE) is False
+    assert c.reply_value(ok(value="2.5")) == 2.5
+    assert c.reply_din_status(ok(din_status=[0, 1, True])) == (0, 1, 1)
+    assert c.reply_id(ok(id=3)) == 3
+    assert c.reply_clsn_sensitivity(ok(sensitivityLevel=2)) == 2
+    assert c.reply_clsn_sensitivity(ok(sensitivityVal=4)) == 4
+    mass, centroid = c.reply_payload(ok(mass=1.5, centroid=[0, 0, 50]))
+    assert mass == 1.5 and centroid.tolist() == [0, 0, 50]
+    assert c.reply_version(ok(version="1.7.2.16")) == "1.7.2.16"
+
+
+@pytest.mark.parametrize("reply, read", [
+    (ok(), c.reply_joint_pos),
+    (ok(joint_pos=[1, 2, 3]), c.reply_joint_pos),
+    (ok(tcp_pos="none"), c.reply_tcp_pos),
+    (ok(power="maybe", enable=1), c.reply_robot_state),
+    (ok(value=None), c.reply_value),
+    (ok(id="three"), c.reply_id),
+])
+def test_accessors_report_bad_fields(reply, read):
+    with pytest.raises(ProtocolError):
+        read(reply)
+
+
+def test_command_name_echo_matching():
+    assert c.command_names_match("moveL", "move_l")
+    assert c.command_names_match("get_joint_pos", "get_joint_pos")
+    assert not c.command_names_match("get_joint_pos", "get_tcp_pos")

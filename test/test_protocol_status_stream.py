@@ -1,0 +1,209 @@
+"""The port-10000 stream: packets come out whole whatever the read boundaries, garbage and broken
+packets are skipped and counted, the buffer stays bounded, ``len`` is self-consistent, and a
+packet becomes a RobotStatus in driver units."""
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from jaka_driver.protocol import RobotStatus, StatusStreamDecoder, encode_status, parse_status
+from jaka_driver.protocol.status_stream import PACKET_START
+
+# ---- packets -------------------------------------------------------------------------------
+
+json_scalars = st.one_of(st.none(), st.booleans(), st.integers(-10**9, 10**9),
+                         st.floats(allow_nan=False, allow_infinity=False), st.text(max_size=12))
+json_values = st.recursive(
+    json_scalars,
+    lambda inner: st.one_of(st.lists(inner, max_size=5),
+                            st.dictionaries(st.text(max_size=6), inner, max_size=4)),
+    max_leaves=8)
+# keys may be anything (also a nested "len": the decoder must not take it for a new packet)
+packets = st.dictionaries(st.text(min_size=1, max_size=10).filter(lambda k: k != "len"),
+                          json_values, max_size=6).map(lambda d: json.loads(encode_status(d)))
+
+
+def sample_packet(i=0):
+    return {"joint_actual_position": [i, 90.0, -45.5, 0, 0, 180], "errcode": "0x0",
+            "errmsg": "机器人", "din": [0, 1] * 20}
+
+
+def feed_in_pieces(decoder, data, cuts):
+    out = []
+    bounds = [0, *sorted(set(cuts)), len(data)]
+    for a, b in zip(bounds, bounds[1:]):
+        out += decoder.feed(data[a:b])
+    return out
+
+
+@settings(max_examples=120, deadline=None)
+@given(st.lists(packets, min_size=1, max_size=5), st.data())
+def test_any_split_yields_the_same_packets(pkts, data):
+    stream = b"".join(encode_status(p) for p in pkts)
+    cuts = data.draw(st.lists(st.integers(0, len(stream)), max_size=40))
+    decoder = StatusStreamDecoder()
+    assert feed_in_pieces(decoder, stream, cuts) == pkts
+    assert (decoder.bytes_dropped, decoder.packets_dropped, decoder.buffered) == (0, 0, 0)
+    assert decoder.packets == len(pkts)
+
+
+def test_byte_by_byte_and_all_at_once():
+    stream = b"".join(encode_status(sample_packet(i)) for i in range(3))
+    one_by_one = StatusStreamDecoder()
+    got = [p for i in range(len(stream)) for p in one_by_one.feed(stream[i:i + 1])]
+    assert [p["joint_actual_position"][0] for p in got] == [0, 1, 2]
+    assert [p["joint_actual_position"][0] for p in StatusStreamDecoder().feed(stream)] == [0, 1, 2]
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.binary(max_size=30).filter(lambda b: b"{" not in b), min_size=3, max_size=3),
+       st.data())
+def test_garbage_between_packets_is_skipped_and_counted(garbage, data):
+    pkts = [encode_status(sample_packet(i)) for i in range(2)]
+    stream = garbage[0] + pkts[0] + garbage[1] + pkts[1] + garbage[2]
+    cuts = data.draw(st.lists(st.integers(0, len(stream)), max_size=10))
+    decoder = StatusStreamDecoder()
+    got = feed_in_pieces(decoder, stream, cuts)
+    assert [p["joint_actual_position"][0] for p in got] == [0, 1]
+    assert decoder.packets_dropped == 0
+    # trailing garbage is counted once the next packet (or more garbage) shows it is not a token
+    decoder.feed(encode_status(sample_packet(9)))
+    assert decoder.bytes_dropped == sum(map(len, garbage))
+
+
+def test_truncated_packet_is_dropped_and_the_stream_resyncs():
+    a, b, c = (encode_status(sample_packet(i)) for i in range(3))
+    decoder = StatusStreamDecoder()
+    assert decoder.feed(a[: len(a) // 2]) == []   # could still complete
+    got = decoder.feed(b + c)
+    assert [p["joint_actual_position"][0] for p in got] == [1, 2]
+    assert decoder.packets_dropped == 1
+    assert decoder.bytes_dropped == len(a) // 2
+
+
+def test_corrupted_packet_is_dropped():
+    a, b = (encode_status(sample_packet(i)) for i in range(2))
+    broken = a.replace(b'"errcode"', b'"errcode" ]]')
+    decoder = StatusStreamDecoder()
+    got = decoder.feed(broken + b)
+    assert [p["joint_actual_position"][0] for p in got] == [1]
+    assert (decoder.packets_dropped, decoder.bytes_dropped) == (1, len(broken))
+
+
+def test_token_split_across_reads_is_kept():
+    pkt = encode_status(sample_packet())
+    decoder = StatusStreamDecoder()
+    assert decoder.feed(b"junk" + pkt[:3]) == []
+    assert decoder.buffered == 3 and decoder.bytes_dropped == 4
+    assert len(decoder.feed(pkt[3:])) == 1
+
+
+def test_buffer_is_bounded():
+    decoder = StatusStreamDecoder(max_buffer=1000)
+    # a packet that never ends
+    decoder.feed(PACKET_START + b'1,"x":"' + b"a" * 600)
+    decoder.feed(b"a" * 600)
+    assert decoder.buffered == 0
+    assert decoder.packets_dropped == 1 and decoder.bytes_dropped > 1000
+    # and the decoder still works afterwards
+    assert len(decoder.feed(encode_status(sample_packet()))) == 1
+    # garbage without any token is never held
+    decoder.feed(b"x" * 5000)
+    assert decoder.buffered == 0
+
+
+def test_nested_len_key_does_not_break_an_incomplete_packet():
+    pkt = encode_status({"a": {"len": 3, "b": [1, 2]}, "c": "x" * 50})
+    decoder = StatusStreamDecoder()
+    assert decoder.feed(pkt[:30]) == []
+    assert decoder.feed(pkt[30:]) == [json.loads(pkt)]
+    assert decoder.packets_dropped == 0
+
+
+# ---- encode_status -------------------------------------------------------------------------
+
+@settings(max_examples=100)
+@given(packets)
+def test_len_is_the_packet_length_in_bytes(packet):
+    wire = encode_status(packet)
+    assert wire.startswith(PACKET_START)
+    assert json.loads(wire)["len"] == len(wire)
+
+
+@pytest.mark.parametrize("size", [0, 1, 80, 90, 981, 990, 9979, 9990, 99980])
+def test_len_across_digit_boundaries(size):
+    wire = encode_status({"x": "a" * size, "len": 12345})
+    assert json.loads(wire)["len"] == len(wire)
+
+
+def test_encode_status_takes_numpy_and_utf8():
+    wire = encode_status({"joint_actual_position": np.zeros(6), "task_state": np.int64(4),
+                          "errmsg": "碰撞"})
+    packet = json.loads(wire.decode("utf-8"))
+    assert packet["joint_actual_position"] == [0.0] * 6 and packet["task_state"] == 4
+    assert packet["len"] == len(wire)
+
+
+# ---- parse_status --------------------------------------------------------------------------
+
+FULL = {
+    "joint_actual_position": [0, 90, -90, 45, 0, 180],
+    "joint_position": [0, 90, -90, 45, 0, 179],
+    "actual_position": [500.0, 10.0, 300.0, 180.0, 0.0, -90.0],
+    "powered_on": 1, "enabled": True, "emergency_stop": 0, "protective_stop": 1,
+    "on_soft_limit": 0, "inpos": True, "paused": False, "drag_status": False,
+    "task_state": 4, "task_mode": 2, "interp_state": 3,
+    "errcode": "0x0F0034", "errmsg": "collision detected", "rapidrate": 0.5,
+    "current_tool_id": 2, "current_user_id": 1,
+    "din": [0, 1, 0], "dout": [1, 0], "ain": [0.5], "aout": [1.5, 2.5],
+    "tio_din": [0] * 8, "tio_dout": [1] * 8, "tio_ain": [0.1, 0.2],
+}
+
+
+def test_parse_status_converts_to_driver_units():
+    s = parse_status(json.loads(encode_status(FULL)))
+    np.testing.assert_allclose(s.joint_position, np.radians(FULL["joint_actual_position"]))
+    np.testing.assert_allclose(s.joint_command[5], math.radians(179))
+    np.testing.assert_allclose(s.tcp_pose[:3], [500, 10, 300])
+    # rpy (180, 0, -90) → a half turn: rotation vector of length π
+    assert np.linalg.norm(s.tcp_pose[3:]) == pytest.approx(math.pi)
+    assert (s.powered, s.enabled, s.emergency_stop, s.protective_stop) == (True, True, False, True)
+    assert (s.inpos, s.paused, s.drag_status, s.on_soft_limit) == (True, False, False, False)
+    assert (s.task_state, s.task_mode, s.interp_state) == (4, 2, 3)
+    assert s.errcode == 0x0F0034 and s.has_error and s.errmsg == "collision detected"
+    assert (s.current_tool_id, s.current_user_id, s.rapidrate) == (2, 1, 0.5)
+    assert s.din == (0, 1, 0) and s.aout == (1.5, 2.5) and len(s.tio_dout) == 8
+    assert s.tio_ain == (0.1, 0.2)
+    assert s.missing == ()
+    with pytest.raises(ValueError):
+        s.joint_position[0] = 1.0   # the record is immutable, arrays included
+
+
+@pytest.mark.parametrize("raw, code", [("0x0", 0), ("0", 0), (0, 0), ("0x10030", 0x10030),
+                                       ("0F0034", 0x0F0034)])
+def test_errcode_formats(raw, code):
+    s = parse_status({**FULL, "errcode": raw})
+    assert s.errcode == code and "errcode" not in s.missing
+
+
+def test_missing_and_malformed_fields_get_defaults_and_are_noted():
+    s = parse_status({"len": 10, "joint_actual_position": [1, 2, 3], "powered_on": 1,
+                      "errcode": "oops", "enabled": "perhaps"})
+    assert isinstance(s, RobotStatus)
+    assert np.all(np.isnan(s.joint_position)) and np.all(np.isnan(s.tcp_pose))
+    assert s.powered is True and s.enabled is False and s.din == ()
+    assert s.errcode == -1 and s.has_error   # unreadable is not "no error"
+    assert parse_status({}).errcode == 0
+    for key in ("joint_actual_position", "actual_position", "errcode", "enabled", "din",
+                "task_state"):
+        assert key in s.missing
+    assert "powered_on" not in s.missing
+
+
+def test_parse_status_refuses_a_non_object():
+    from jaka_driver.protocol import ProtocolError
+    with pytest.raises(ProtocolError):
+        parse_status([1, 2])

@@ -1,0 +1,15 @@
+"""The rostest suites a user runs with `rostest jaka_driver <name>.test` pass (each starts its
+own master, the launch file and its test nodes)."""
+import os
+import subprocess
+
+import pytest
+
+
+@pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test"])
+def test_rostest_suite_passes(suite, tmp_path):
+    env = dict(os.environ, ROS_HOME=str(tmp_path), ROS_LOG_DIR=str(tmp_path / "log"))
+    env.pop("ROS_MASTER_URI", None)
+    out = subprocess.run(["rostest", "jaka_driver", suite], capture_output=True, text=True,
+                         env=env, timeout=300)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-2000:]

@@ -1,0 +1,118 @@
+"""Servo mode and stop_move through ROS on the zu5 twin: servo_j / servo_p targets are reached
+in one cycle, over-speed targets are refused while the arm holds, modes exclude each other,
+and stop_move brings any motion to rest within 0.2 s (a blocking move returns -12)."""
+import threading
+import time
+
+import numpy as np
+import pytest
+from geometry_msgs.msg import TwistStamped
+from std_srvs.srv import Empty
+
+from conftest import at_rest, position
+from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
+from ros_harness import Recorder, wait_until
+
+START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+
+
+@pytest.fixture(autouse=True)
+def at_start(call):
+    call("servo_move_enable", ServoMoveEnable, enable=False)
+    call("stop_move", Empty)
+    wait_until(lambda: call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1, 3.0,
+               0.2)
+    yield
+    call("servo_move_enable", ServoMoveEnable, enable=False)
+
+
+def moving(recorder):
+    msg = recorder.latest()
+    return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
+
+
+def test_servo_j_streams_absolute_targets_reached_within_a_cycle(call, joints):
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    q = np.array(START)
+    lags = []
+    for k in range(125):                       # 1 s of a 125 Hz stream
+        q = q + np.array([0.004, -0.002, 0.003, 0.0, 0.0, 0.005])
+        reply = call("servo_j", ServoMove, pose=q.tolist(), speed=[])
+        assert reply.ret == 1, reply.message
+        time.sleep(0.008)
+    time.sleep(0.05)
+    assert np.max(np.abs(position(joints) - q)) < 1e-3
+
+
+def test_over_speed_servo_target_is_refused_and_the_arm_holds(call, joints):
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    before = at_rest(joints)
+    far = np.array(START) + np.array([0.2, 0, 0, 0, 0, 0])   # 25 rad/s in one cycle
+    reply = call("servo_j", ServoMove, pose=far.tolist(), speed=[])
+    assert reply.ret == -2
+    assert "joint_1" in reply.message and "rad/s" in reply.message
+    time.sleep(0.1)
+    assert np.max(np.abs(position(joints) - before)) < 1e-4
+
+
+def test_servo_p_follows_a_cartesian_target_in_metres_and_rpy(call, sim_driver, rospy_node):
+    tcp = Recorder(sim_driver.name("tool_position"), TwistStamped)
+    try:
+        assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+        msg = wait_until(tcp.latest, 2.0)
+        from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
+        p = np.array([msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z])
+        rpy = matrix_to_rpy(rotvec_to_matrix([msg.twist.angular.x, msg.twist.angular.y,
+                                              msg.twist.angular.z]))
+        for k in range(50):                    # 50 mm up at 125 mm/s
+            p = p + np.array([0, 0, 0.001])
+            reply = call("servo_p", ServoMove, pose=list(p) + list(rpy), speed=[])
+            assert reply.ret == 1, reply.message
+            time.sleep(0.008)
+        time.sleep(0.1)
+        last = tcp.latest()
+        reached = np.array([last.twist.linear.x, last.twist.linear.y, last.twist.linear.z])
+        assert np.linalg.norm(reached - p) < 2e-4
+    finally:
+        tcp.close()
+
+
+def test_modes_exclude_each_other(call):
+    assert call("servo_j", ServoMove, pose=START, speed=[]).ret == -8
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    assert call("joint_move", Move, pose=START, mvvelo=1.0, mvacc=1.0).ret == -9
+    assert call("jog", Move, coord_mode=0, index=0, mvvelo=0.1).ret == -9
+    assert call("linear_move", Move, pose=[400, 0, 400, 3.14, 0, 0], mvvelo=10,
+                mvacc=100).ret == -9
+
+
+def test_stop_move_returns_a_blocking_move_with_minus_12_and_rests_within_0_2_s(call, joints):
+    replies = []
+    target = [1.5, 1.0, -1.0, 1.0, 2.0, 1.0]
+    mover = threading.Thread(target=lambda: replies.append(
+        call("joint_move", Move, pose=target, mvvelo=3.0, mvacc=10.0)))
+    mover.start()
+    assert wait_until(lambda: moving(joints), 2.0)
+    time.sleep(0.4)                               # at cruise speed
+    t_stop = time.time()
+    call("stop_move", Empty)
+    mover.join(5.0)
+    assert replies and replies[0].ret == -12, replies
+    assert "stop_move" in replies[0].message
+    time.sleep(0.5)
+    at_rest = [t for t, m in joints.since(t_stop) if np.max(np.abs(m.velocity)) < 1e-2]
+    assert at_rest and at_rest[0] - t_stop <= 0.2 + 0.05, at_rest[:1]
+
+
+def test_a_second_motion_during_a_blocking_move_is_busy(call, joints):
+    replies = []
+    mover = threading.Thread(target=lambda: replies.append(
+        call("joint_move", Move, pose=[1.0, 1.2, -1.2, 1.2, 1.2, 1.0], mvvelo=0.5, mvacc=2.0)))
+    mover.start()
+    assert wait_until(lambda: moving(joints), 2.0)
+    import rospy
+    second_client = rospy.ServiceProxy("/jaka_driver/joint_move", Move)
+    reply = second_client(pose=START, mvvelo=1.0, mvacc=1.0)
+    assert reply.ret == -10, reply.message
+    call("stop_move", Empty)
+    mover.join(5.0)
