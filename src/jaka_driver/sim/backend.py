@@ -252,7 +252,8 @@ class SimBackend(Backend):
         jog: Jog
         if coord == 0:
             accel = float(self.model.max_acceleration[axis])
-            step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel)
+            step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel,
+                                        CYCLE)
         else:
             accel = self.model.max_tcp_accel_mm_s2 / 1000.0 if axis < 3 else JOG_ROTATION_ACCEL
             tool, _ = self.frames()
@@ -357,7 +358,7 @@ class SimBackend(Backend):
     def set_payload(self, tool_id, mass, centroid) -> Result:
         with self._lock:
             with self.physics.lock:
-                self.payload.set(self.physics.d, mass, centroid)
+                self.payload.set(mass, centroid)
             self.tool_id = tool_id
         c = centroid * 1000
         return Result.success(f"payload {mass:g} kg at ({c[0]:.1f}, {c[1]:.1f}, {c[2]:.1f}) mm "

@@ -18,14 +18,14 @@ Step = Callable[[np.ndarray, float], Optional[np.ndarray]]
 
 
 def joint_step(model: RobotModel, axis: int, direction: int, brake: Callable[[], None],
-               accel: float) -> Step:
+               accel: float, cycle: float) -> Step:
     """Move one joint; start braking when the remaining distance to the limit is the braking
     distance, so the jog comes to rest at the limit instead of hitting it."""
     limit = model.upper[axis] if direction > 0 else model.lower[axis]
 
     def step(q_sp: np.ndarray, distance: float) -> Optional[np.ndarray]:
         remaining = (limit - q_sp[axis]) * direction
-        speed = distance / 0.008
+        speed = distance / cycle
         if remaining <= speed * speed / (2 * accel) + distance:
             brake()
         if remaining <= 1e-9:

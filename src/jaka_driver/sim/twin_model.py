@@ -58,7 +58,7 @@ class Payload:
         self.mass = 0.0
         self.centroid = np.zeros(3)
 
-    def set(self, d: mujoco.MjData, mass: float, centroid: np.ndarray) -> None:
+    def set(self, mass: float, centroid: np.ndarray) -> None:
         """``mass`` kg at ``centroid`` (m, flange frame = link_6 frame in our URDFs)."""
         m, b = self._m, self._body
         total = self._mass + mass
