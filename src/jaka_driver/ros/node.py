@@ -18,6 +18,7 @@ from one publisher thread that nothing blocks; blocking moves wait in their serv
 """
 from __future__ import annotations
 
+import logging
 import sys
 import threading
 import time
@@ -108,6 +109,27 @@ class StatePublisher:
                 deadline = time.monotonic()
 
 
+class _ToRosout(logging.Handler):
+    """The backends log with ``logging`` (they know nothing of ROS); show it where ROS users
+    look: rosout and the console."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        message = self.format(record)
+        if record.levelno >= logging.ERROR:
+            rospy.logerr(message)
+        elif record.levelno >= logging.WARNING:
+            rospy.logwarn(message)
+        else:
+            rospy.loginfo(message)
+
+
+def _forward_logging() -> None:
+    logger = logging.getLogger("jaka_driver")
+    logger.setLevel(logging.INFO)
+    logger.addHandler(_ToRosout())
+    logger.propagate = False
+
+
 def _params() -> dict:
     return {
         "backend": rospy.get_param("~backend", "sim"),
@@ -124,6 +146,7 @@ def _params() -> dict:
 
 def main() -> int:
     rospy.init_node("jaka_driver")
+    _forward_logging()
     p = _params()
     if p["model"] not in MODEL_NAMES:
         rospy.logfatal(f"unknown model {p['model']!r}; expected one of {', '.join(MODEL_NAMES)}")

@@ -1,0 +1,491 @@
+"""The ``controller`` backend: a real JAKA controller (or ``jaka_emulator``) over the TCP
+protocol, behind the same :class:`~jaka_driver.backend.Backend` contract as the twin.
+
+Mapping (issue 4): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
+servo → ``servo_move`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
+``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id``, payload →
+``set_tool_id`` + ``set_payload``, collision → ``set_clsn_sensitivity``, IO → the set/get
+commands and the status stream, clear_error → ``clear_error``, FK/IK →
+``kine_forward``/``kine_inverse``, trajectories → a ``servo_j`` stream (:mod:`.servo_stream`).
+Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
+active tool in the active user frame) like every backend.
+
+Blocking moves wait on the status stream (:mod:`.move_watch`); state comes from the stream
+(:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
+reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
+reading extension outputs) is answered -9 with the reason.
+"""
+from __future__ import annotations
+
+import logging
+import threading
+from typing import Optional
+
+import numpy as np
+
+from ..backend import Backend
+from ..models import RobotModel
+from ..protocol import commands, errors
+from ..protocol.fields import CoordMap, JogMode
+from ..results import Code, CommandRefused, Result
+from ..robot_state import RobotState
+from ..transforms import matrix_to_pose, rotation_angle_between
+from .commander import Commander, answers
+from .connection import ControllerLink
+from .frame_table import FrameTable
+from .move_watch import (MoveWatch, joints_at, move_timeout, stretched_speed, tcp_at,
+                         trapezoid_time)
+from .servo_stream import TrajectoryStreamer
+from .status_view import StatusView, tcp_matrix
+
+log = logging.getLogger(__name__)
+
+#: ROS jog coord (0 joint, 1 base, 2 tool) → the wire's coord_map (0 base, 1 joint, 2 tool).
+JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
+UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
+LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
+DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
+                    "for it); use the teach pendant or the button on the arm")
+#: (signal, path, io_type) → the status field that carries it; no command reads these.
+STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
+             ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
+
+
+def _mm_rotvec(pose: np.ndarray) -> np.ndarray:
+    """4x4 pose (m) → [x, y, z mm, rotation vector rad]."""
+    return np.asarray(matrix_to_pose(pose, rotation="rotvec", length_scale=1e-3), float)
+
+
+class ControllerBackend(Backend):
+    """A JAKA controller at ``host``: commands on ``command_port``, status on ``status_port``.
+
+    Timeouts, s: ``connect_timeout`` per TCP connect attempt, ``call_timeout`` for a reply,
+    ``stall_timeout`` of status silence that counts as a lost link, ``power_timeout`` for
+    power-on and enable. ``trajectory_step_num`` decimates trajectory streams (set-points every
+    ``trajectory_step_num`` × 8 ms).
+    """
+
+    kind = "controller"
+
+    def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
+                 status_port: int = 10000, *, connect_timeout: float = 1.0,
+                 call_timeout: float = 1.0, stall_timeout: float = 0.5,
+                 power_timeout: float = 15.0, trajectory_step_num: int = 1):
+        super().__init__(model)
+        self.host = host
+        self.trajectory_step_num = int(trajectory_step_num)
+        self.view = StatusView()
+        self.link = ControllerLink(host, command_port, status_port,
+                                   connect_timeout=connect_timeout, call_timeout=call_timeout,
+                                   stall_timeout=stall_timeout, on_status=self._on_status,
+                                   on_up=self._on_up, on_down=self._on_down)
+        self.send = Commander(self.link, power_timeout)
+        self.frame_table = FrameTable()
+        self._lock = threading.RLock()
+        self._send_lock = threading.Lock()   # orders sending a move against stop_move
+        self._watch: Optional[MoveWatch] = None
+        self._streamer: Optional[TrajectoryStreamer] = None
+        self._servo_mode = False
+        self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
+        self._ids = (0, 0)                               # (tool, user) last set, until a packet
+        self._brought_up = threading.Event()
+        self.version = ""
+
+    # ---- life cycle -------------------------------------------------------------------
+    def start(self) -> None:
+        """Connect, then power on and enable if needed (like JAKA's driver). If the controller
+        cannot be reached the backend still starts: it reports ``connected`` False, answers -1
+        and keeps trying in the background."""
+        link = self.link
+        if link.start(wait=link.connect_timeout + link.first_packet_timeout + 0.5):
+            self._brought_up.wait(2 * self.send.confirm_timeout + 3 * link.call_timeout)
+        else:
+            log.warning("starting without the controller at %s: %s", self.host,
+                        link.down_message())
+
+    def shutdown(self) -> None:
+        self._abort_motion(Result.failure(Code.MOTION_STOPPED,
+                                          "stopped: the driver is shutting down"))
+        self.link.stop()
+
+    def state(self) -> RobotState:
+        return self.view.state(self.link.connected, self._servo_mode)
+
+    def describe(self) -> dict:
+        info = super().describe()
+        info.update({"controller": self.host, "command port": self.link.command_port,
+                     "status port": self.link.status_port,
+                     "connected": self.link.connected, "controller version": self.version,
+                     "reconnects": self.link.reconnects})
+        if not self.link.connected:
+            info["link"] = self.link.down_message()
+        info.update(self.link.receiver_counters())
+        return info
+
+    # ---- link hooks -------------------------------------------------------------------------
+    def _on_status(self, status, received: float) -> None:
+        self.view.feed(status, received)
+        if status.emergency_stop or status.protective_stop or not status.enabled:
+            self._servo_mode = False   # the controller leaves servo mode on any of these
+        watch = self._watch
+        if watch is not None:
+            watch.on_status(status, received)
+
+    def _on_up(self, first: bool) -> None:
+        self.view.reset()
+        try:
+            self._servo_mode = commands.reply_flag(
+                self.link.call(commands.is_in_servomove()), "in_servomove")
+        except (errors.JakaProtocolError, ValueError) as exc:
+            log.debug("is_in_servomove unavailable (%s); assuming servo mode is off", exc)
+            self._servo_mode = False
+        if first:
+            try:
+                self.version = commands.reply_version(self.link.call(commands.get_version()))
+            except errors.JakaProtocolError as exc:
+                log.debug("get_version unavailable: %s", exc)
+            try:
+                self._bring_up()
+            finally:
+                self._brought_up.set()
+
+    def _on_down(self, reason: str) -> None:
+        with self._lock:
+            self._jog = None
+        self._abort_motion(Result.failure(
+            Code.NOT_CONNECTED, f"connection to the controller lost ({reason}); the motion is "
+            "not resumed after reconnecting"))
+        self._servo_mode = False   # unknown until is_in_servomove after the reconnect
+
+    def _abort_motion(self, result: Result) -> None:
+        with self._lock:
+            watch, streamer = self._watch, self._streamer
+        if watch is not None:
+            watch.abort(Result(result.code, f"{watch.label}: {result.message}"))
+        if streamer is not None:
+            streamer.stop(result)
+
+    def _bring_up(self) -> None:
+        """Power on and enable, each only if needed, each confirmed on the status stream. Done
+        once, at the first connection (after a reconnect the operator decides)."""
+        try:
+            powered, enabled = self._power_state()
+            if not powered:
+                log.info("powering on the arm")
+                self.send.confirmed(commands.power_on(), lambda s: s.powered, "power on")
+            if not enabled:
+                log.info("enabling the arm")
+                self.send.confirmed(commands.enable_robot(), lambda s: s.enabled, "enable")
+        except CommandRefused as refusal:
+            log.warning("bring-up incomplete: %s; use the power and enable services",
+                        refusal.message)
+        else:
+            log.info("controller ready (version %s)", self.version or "unknown")
+
+    def _power_state(self) -> tuple[bool, bool]:
+        """(powered, enabled) from ``get_robot_state``, or from the status stream on a
+        controller that does not know that command (its reply format is not verified)."""
+        try:
+            return self.send.read(commands.get_robot_state(), commands.reply_robot_state)
+        except CommandRefused as refusal:
+            latest = self.link.latest
+            if refusal.code == Code.NOT_CONNECTED or latest is None:
+                raise
+            log.info("get_robot_state failed (%s); reading power and enable from the status "
+                     "stream", refusal.message)
+            return latest[0].powered, latest[0].enabled
+
+    # ---- power ----------------------------------------------------------------------------------
+    @answers
+    def set_power(self, on: bool) -> Result:
+        request = commands.power_on() if on else commands.power_off()
+        self.send.confirmed(request, lambda s: s.powered == on, "power")
+        return Result.success("powered on" if on else "powered off")
+
+    @answers
+    def set_enabled(self, on: bool) -> Result:
+        request = commands.enable_robot() if on else commands.disable_robot()
+        self.send.confirmed(request, lambda s: s.enabled == on, "enable")
+        return Result.success("enabled" if on else "disabled")
+
+    # ---- blocking moves -------------------------------------------------------------------------
+    def _blocking(self, request, watch: MoveWatch, timeout: float) -> Result:
+        """Send a move, then wait on the status stream until it ends (see move_watch)."""
+        self.send.require_link()
+        with self._lock:
+            if self._streamer is not None and self._streamer.running:
+                raise CommandRefused(Code.BUSY, f"{watch.label} refused: a trajectory runs")
+            self._watch = watch
+        try:
+            watch.arm()
+            with self._send_lock:
+                if watch.completion.done:   # stop_move came first: the move is not sent
+                    return watch.completion.result
+                self.send.accepted(request)
+            outcome = watch.completion.wait(timeout)
+            if outcome is None:
+                self._stop_quietly()
+                return Result.failure(Code.MOTION_STOPPED, f"{watch.label} did not reach its "
+                                      f"target within {timeout:.1f} s; stopped")
+            return outcome
+        finally:
+            with self._lock:
+                if self._watch is watch:
+                    self._watch = None
+
+    def _stop_quietly(self) -> None:
+        try:
+            self.link.call(commands.stop_program())
+        except errors.JakaProtocolError as exc:
+            log.warning("stop_program failed: %s", exc)
+
+    @answers
+    def joint_move(self, q_target, speed, accel, duration=None) -> Result:
+        q_target = np.asarray(q_target, float)
+        latest = self.link.latest
+        estimate = UNKNOWN_MOVE_TIME
+        if latest is not None and np.all(np.isfinite(latest[0].joint_position)):
+            # The controller synchronises the joints: the longest travel sets the time.
+            longest = float(np.max(np.abs(q_target - latest[0].joint_position)))
+            estimate = trapezoid_time(longest, speed, accel)
+            if duration:
+                if estimate > duration + 1e-6:
+                    raise CommandRefused(Code.INVALID_PARAMETER,
+                                         f"mvtime {duration:g} s is too short: the move needs "
+                                         f"at least {estimate:.3f} s at the allowed speed")
+                # The wire has no duration: lower the peak speed so the move takes that long.
+                speed, estimate = stretched_speed(longest, accel, duration), duration
+        result = self._blocking(commands.joint_move(q_target, speed, accel),
+                                MoveWatch("joint_move", joints_at(q_target)),
+                                move_timeout(estimate))
+        latest = self.link.latest
+        if result.ok and latest is not None:
+            error = float(np.max(np.abs(latest[0].joint_position - q_target)))
+            return Result.success(f"{result.message}, final error {error:.1e} rad")
+        return result
+
+    @answers
+    def linear_move(self, target, speed, accel, ref_q=None) -> Result:
+        pose = _mm_rotvec(target)
+        speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
+        latest = self.link.latest
+        estimate = UNKNOWN_MOVE_TIME
+        if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
+            here = tcp_matrix(latest[0].tcp_pose)
+            distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
+            angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
+            estimate = trapezoid_time(distance, speed_mm, accel_mm) + angle / LINEAR_ROTATION_SPEED
+        result = self._blocking(commands.moveL(pose, speed_mm, accel_mm),
+                                MoveWatch("linear_move", tcp_at(pose)), move_timeout(estimate))
+        if result.ok and ref_q is not None:
+            return Result.success(f"{result.message} (ref_joint is not sent: moveL chooses the "
+                                  "configuration itself)")
+        return result
+
+    # ---- trajectories ---------------------------------------------------------------------------
+    @answers
+    def start_trajectory(self, trajectory) -> Result:
+        self.send.require_link()
+        with self._lock:
+            if self._streamer is not None and self._streamer.running:
+                raise CommandRefused(Code.BUSY, "a trajectory is already running")
+        entered = False
+        if not self._servo_mode:
+            self.send.accepted(commands.servo_move(True))
+            self._servo_mode = entered = True
+        streamer = TrajectoryStreamer(trajectory, self.link.call,
+                                      self._leave_servo if entered else None,
+                                      step_num=self.trajectory_step_num)
+        with self._lock:
+            self._streamer = streamer
+            self._watch = streamer.watch
+        streamer.start()
+        return Result.success(f"trajectory of {streamer.duration:.3f} s started",
+                              (streamer.completion, streamer.duration))
+
+    def _leave_servo(self) -> None:
+        """End of a trajectory that entered servo mode itself (streamer thread)."""
+        with self._lock:
+            streamer = self._streamer
+            if streamer is not None and self._watch is streamer.watch:
+                self._watch = None
+        if not self.link.connected:
+            self._servo_mode = False
+            return
+        try:
+            reply = self.link.call(commands.servo_move(False))
+        except errors.JakaProtocolError as exc:
+            log.warning("leaving servo mode after a trajectory failed: %s", exc)
+            return
+        if reply.ok:
+            self._servo_mode = False
+        else:
+            log.warning("leaving servo mode after a trajectory was refused: %s", reply.error_msg)
+
+    # ---- jog ------------------------------------------------------------------------------------
+    @answers
+    def jog(self, coord, axis, direction, speed) -> Result:
+        coord_map = int(JOG_COORD_MAP[int(coord)])
+        angular = coord_map == CoordMap.JOINT or axis >= 3
+        jogvel = direction * (speed if angular else speed * 1000.0)   # rad/s, or m/s → mm/s
+        with self._lock:
+            previous = self._jog
+        if previous is not None and previous != (coord_map, axis):
+            # Another axis: stop the old one first so that two axes never run at once.
+            self.send.accepted(commands.jog(JogMode.STOP, *previous))
+        self.send.accepted(commands.jog(JogMode.CONTINUOUS, coord_map, axis, jogvel))
+        with self._lock:
+            self._jog = (coord_map, axis)
+        unit = "rad/s" if angular else "mm/s"
+        return Result.success(f"jogging axis {axis} of coord_map {coord_map} at {jogvel:g} {unit}")
+
+    @answers
+    def jog_stop(self) -> Result:
+        with self._lock:
+            running, self._jog = self._jog, None
+        if running is None:
+            self.send.require_link()
+            return Result.success("no jog was running")
+        self.send.accepted(commands.jog(JogMode.STOP, *running))
+        return Result.success("jog stopping")
+
+    # ---- servo ----------------------------------------------------------------------------------
+    @answers
+    def servo_enable(self, on: bool) -> Result:
+        self.send.accepted(commands.servo_move(bool(on)))
+        self._servo_mode = bool(on)
+        return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    @answers
+    def servo_j(self, q_target) -> Result:
+        self.send.accepted(commands.servo_j(np.asarray(q_target, float)))
+        return Result.success("servo_j target sent")
+
+    @answers
+    def servo_p(self, target) -> Result:
+        self.send.accepted(commands.servo_p(_mm_rotvec(target)))
+        return Result.success("servo_p target sent")
+
+    @answers
+    def stop_move(self) -> Result:
+        self.send.require_link()
+        with self._lock:
+            self._jog = None
+        with self._send_lock:   # a move being sent goes out before stop_program, or not at all
+            self._abort_motion(Result.failure(Code.MOTION_STOPPED, "stopped by stop_move"))
+            self.send.accepted(commands.stop_program())
+        return Result.success("stop_program sent: the arm decelerates to rest")
+
+    # ---- frames, payload, settings --------------------------------------------------------------
+    def frames(self) -> tuple[np.ndarray, np.ndarray]:
+        latest = self.view.latest
+        ids = (latest.current_tool_id, latest.current_user_id) if latest is not None \
+            else self._ids
+        return self.frame_table.active(*ids)
+
+    @answers
+    def set_tool_frame(self, tool_id, pose) -> Result:
+        tool_id = int(tool_id)
+        self._set_frame("tool", tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
+        self._ids = (tool_id, self._ids[1])
+        return Result.success(f"tool {tool_id} set and active")
+
+    @answers
+    def set_user_frame(self, user_id, pose) -> Result:
+        user_id = int(user_id)
+        self._set_frame("user frame", user_id, pose, commands.set_user_offsets,
+                        commands.set_user_id)
+        self._ids = (self._ids[0], user_id)
+        return Result.success(f"user frame {user_id} set and active")
+
+    def _set_frame(self, kind: str, frame_id: int, pose, store, activate) -> None:
+        """Store the offset (not for id 0, the flange / base itself), then activate the id."""
+        if frame_id:
+            name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
+            self.send.accepted(store(frame_id, _mm_rotvec(pose), name))
+            self.frame_table.store(kind, frame_id, pose)
+        self.send.accepted(activate(frame_id))
+
+    @answers
+    def set_payload(self, tool_id, mass, centroid) -> Result:
+        c_mm = np.asarray(centroid, float) * 1000.0
+        self.send.accepted(commands.set_tool_id(int(tool_id)))
+        self._ids = (int(tool_id), self._ids[1])
+        self.send.accepted(commands.set_payload(float(mass), c_mm))
+        return Result.success(f"payload {mass:g} kg at ({c_mm[0]:.1f}, {c_mm[1]:.1f}, "
+                              f"{c_mm[2]:.1f}) mm; tool {tool_id} active")
+
+    @answers
+    def set_drag_mode(self, on: bool) -> Result:
+        self.send.require_link()
+        if bool(on) == self.state().drag_mode:
+            return Result.success(f"drag mode already {'on' if on else 'off'}")
+        if on:
+            return Result.failure(Code.WRONG_MODE, DRAG_UNSUPPORTED)
+        return Result.failure(Code.WRONG_MODE, "drag mode was entered on the controller and "
+                              "cannot be left over JAKA's TCP protocol; use the teach pendant")
+
+    @answers
+    def set_collision_level(self, level) -> Result:
+        self.send.accepted(commands.set_clsn_sensitivity(int(level)))
+        if level == 0:
+            return Result.success("collision detection off")
+        return Result.success(f"collision sensitivity level {level}")
+
+    @answers
+    def set_io(self, signal, io_type, index, value) -> Result:
+        if signal == "digital":
+            self.send.accepted(commands.set_digital_output(io_type, index, value))
+        else:
+            self.send.accepted(commands.set_analog_output(io_type, index, value))
+        return Result.success(f"{signal} output {index} of type {io_type} = {value:g}")
+
+    @answers
+    def get_io(self, signal, path, io_type, index) -> Result:
+        what = f"{signal} {'output' if path else 'input'} {index} of type {io_type}"
+        if signal == "digital" and path == 0:
+            value = self.send.read(commands.get_digital_input(io_type, index),
+                                   commands.reply_value)
+        elif signal == "analog" and path == 1:
+            value = self.send.read(commands.get_analog_output(io_type, index),
+                                   commands.reply_value)
+        else:
+            value = self._status_io(STATUS_IO.get((signal, path, io_type)), index, what)
+        return Result.success(f"{what} = {value:g}", value)
+
+    def _status_io(self, name: Optional[str], index: int, what: str) -> float:
+        self.send.require_link()
+        if name is None:
+            raise CommandRefused(Code.WRONG_MODE, f"{what} cannot be read over JAKA's TCP "
+                                 "protocol (no command, and the status stream carries only "
+                                 "cabinet and tool IO)")
+        status = self.view.latest
+        values = getattr(status, name, ()) if status is not None else ()
+        if not 0 <= index < len(values):
+            raise CommandRefused(Code.COMMUNICATION_ERROR, f"{what}: the status stream's "
+                                 f"'{name}' has {len(values)} entries")
+        return float(values[index])
+
+    @answers
+    def clear_error(self) -> Result:
+        self.send.accepted(commands.clear_error())
+        return Result.success("clear_error sent")
+
+    # ---- kinematics -----------------------------------------------------------------------------
+    @answers
+    def forward_kinematics(self, q) -> Result:
+        pose = self.send.read(commands.kine_forward(np.asarray(q, float)),
+                              commands.reply_kine_forward)
+        return Result.success("controller's forward kinematics (active tool, active user "
+                              "frame)", tcp_matrix(pose))
+
+    @answers
+    def inverse_kinematics(self, target, ref_q) -> Result:
+        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rotvec(target))
+        reply = self.send.call(request)
+        if not reply.ok:
+            # The controller's IK refusal means "unreachable": the contract's -4.
+            raise CommandRefused(Code.IK_FAILED, "controller found no IK solution: "
+                                 f"{reply.error_msg or reply.error_code}")
+        q = self.send.parse(reply, commands.reply_kine_inverse)
+        return Result.success("controller's inverse kinematics nearest ref_joint", q)

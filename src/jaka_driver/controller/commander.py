@@ -1,0 +1,105 @@
+"""Requests to the controller, answered in the contract's terms.
+
+:class:`Commander` sends one request over a :class:`~.connection.ControllerLink` and turns what
+can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the contract's code
+(contract.md, "Result codes"):
+
+* link down, or lost during the call → -1 at once (nothing waits for a link that is not there);
+* no reply within the call timeout, or a reply that is not a valid one → -3 (the link then
+  reconnects, since without request ids a late reply could not be matched);
+* a value the protocol cannot encode → -2;
+* ``errorCode`` other than ``"0"`` → 2, with the controller's ``errorMsg``.
+
+:func:`answers` turns such a refusal back into the method's :class:`~jaka_driver.results.Result`,
+so backend methods never raise.
+"""
+from __future__ import annotations
+
+import functools
+import time
+from typing import Any, Callable, Mapping, Optional, TypeVar
+
+from ..protocol import errors
+from ..protocol.replies import Reply
+from ..protocol.status_stream import RobotStatus
+from ..results import Code, CommandRefused, Result
+from .connection import ControllerLink
+
+T = TypeVar("T")
+
+
+def answers(method: Callable) -> Callable:
+    """A refusal raised inside ``method`` becomes its Result."""
+    @functools.wraps(method)
+    def wrapper(*args, **kwargs) -> Result:
+        try:
+            return method(*args, **kwargs)
+        except CommandRefused as refusal:
+            return refusal.result()
+    return wrapper
+
+
+class Commander:
+    """Sends requests over ``link``; ``confirm_timeout`` (s) bounds :meth:`confirmed`."""
+
+    def __init__(self, link: ControllerLink, confirm_timeout: float):
+        self.link = link
+        self.confirm_timeout = float(confirm_timeout)
+
+    def require_link(self) -> None:
+        if not self.link.connected:
+            raise CommandRefused(Code.NOT_CONNECTED, self.link.down_message())
+
+    def call(self, request: Mapping[str, Any], timeout: Optional[float] = None) -> Reply:
+        """The reply, which may be a rejection; protocol failures become refusals."""
+        name = request.get("cmdName")
+        try:
+            return self.link.call(request, timeout)
+        except errors.ConnectionLost as exc:   # NotConnected included
+            raise CommandRefused(Code.NOT_CONNECTED, f"{name}: {exc}") from None
+        except errors.TimeoutError:
+            wait = timeout or self.link.call_timeout
+            raise CommandRefused(Code.COMMUNICATION_ERROR, f"{name}: no reply from the "
+                                 f"controller within {wait:.2f} s; reconnecting") from None
+        except errors.InvalidArgument as exc:
+            raise CommandRefused(Code.INVALID_PARAMETER, f"{name}: {exc}") from None
+        except errors.JakaProtocolError as exc:
+            raise CommandRefused(Code.COMMUNICATION_ERROR, f"{name}: {exc}") from None
+
+    def accepted(self, request: Mapping[str, Any], timeout: Optional[float] = None) -> Reply:
+        """:meth:`call`, and a rejection becomes a refusal with code 2."""
+        reply = self.call(request, timeout)
+        if not reply.ok:
+            text = reply.error_msg or f"errorCode {reply.error_code}"
+            raise CommandRefused(Code.CONTROLLER_REJECTED,
+                                 f"controller rejected {request.get('cmdName')}: {text}")
+        return reply
+
+    def read(self, request: Mapping[str, Any], accessor: Callable[[Reply], T]) -> T:
+        """An accepted reply's value through ``accessor`` (a ``commands.reply_*``); a reply
+        without the expected field is a communication error (-3)."""
+        return self.parse(self.accepted(request), accessor)
+
+    @staticmethod
+    def parse(reply: Reply, accessor: Callable[[Reply], T]) -> T:
+        """``accessor(reply)``; a reply without the expected field is a refusal (-3)."""
+        try:
+            return accessor(reply)
+        except errors.ProtocolError as exc:
+            raise CommandRefused(Code.COMMUNICATION_ERROR, str(exc)) from None
+
+    def confirmed(self, request: Mapping[str, Any], arrived: Callable[[RobotStatus], bool],
+                  what: str) -> None:
+        """Send ``request`` and wait until a status packet satisfies ``arrived`` (power and
+        enable: the reply says accepted, the stream says done)."""
+        self.accepted(request, timeout=self.confirm_timeout)
+        deadline = time.monotonic() + self.confirm_timeout
+        while time.monotonic() < deadline:
+            latest = self.link.latest
+            if latest is not None and arrived(latest[0]):
+                return
+            self.require_link()
+            time.sleep(0.01)
+        raise CommandRefused(Code.COMMUNICATION_ERROR, f"{what}: the controller accepted it but "
+                             f"the status stream did not show it within "
+                             f"{self.confirm_timeout:g} s")

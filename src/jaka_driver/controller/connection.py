@@ -1,0 +1,286 @@
+"""The link to one JAKA controller: both TCP connections, kept up by a supervisor thread.
+
+A :class:`ControllerLink` owns a :class:`~jaka_driver.protocol.CommandClient` (port 10001) and a
+:class:`~jaka_driver.protocol.StatusReceiver` (port 10000) and treats them as one thing: the
+link is *up* when both are open and a first status packet has arrived, and *down* as soon as
+either of them fails (peer closed, socket error, a call timed out, or no status packet for
+``stall_timeout`` s). Going down closes both, so the two never disagree about the controller.
+
+Policy (issue 4, "Reconnect"):
+
+* While down, :meth:`call` raises :class:`NotConnected` at once: a service never waits for a
+  link that is not there.
+* The supervisor retries with exponential backoff, 0.5 s doubling to 10 s. A *refused*
+  connection means the controller host is up and its server is (re)starting; those retries are
+  capped at :data:`REFUSED_RETRY_MAX` so the link is back within a few seconds of the server
+  returning, while an unreachable host (SYNs into the void, each costing a connect timeout)
+  backs off all the way.
+* Nothing is resent after a reconnect: the link carries only what callers send from then on.
+* Each change of state is logged once (``logging``; the node routes it to rosout).
+
+Threads: the supervisor thread connects and reconnects; the status receiver's thread delivers
+packets to ``on_status``; any thread may :meth:`call`.
+"""
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from typing import Any, Callable, Mapping, Optional, Tuple
+
+from ..protocol import CommandClient, StatusReceiver, errors
+from ..protocol.replies import Reply
+from ..protocol.status_stream import RobotStatus
+
+log = logging.getLogger(__name__)
+
+BACKOFF_START = 0.5      # s, first retry interval after a failed attempt
+BACKOFF_MAX = 10.0       # s, the interval doubles up to this
+REFUSED_RETRY_MAX = 2.0  # s, retry interval cap while the host refuses (its server restarts)
+
+
+class NotConnected(errors.ConnectionLost):
+    """The link is down; nothing was sent."""
+
+
+StatusHook = Callable[[RobotStatus, float], None]
+
+
+class ControllerLink:
+    """Both connections to the controller at ``host``, and the reconnect supervisor.
+
+    ``on_status(status, received)`` gets every status packet (receiver thread; ``received`` is
+    ``time.time()`` at the read). ``on_up(first)`` runs in the supervisor thread each time the
+    link comes up (``first`` True the first time); ``on_down(reason)`` runs once per loss, in
+    whichever thread noticed it. Hooks must not block for long; exceptions are logged.
+
+    Timeouts, s: ``connect_timeout`` per TCP connect, ``call_timeout`` default wait for a reply,
+    ``stall_timeout`` silence on the status port that counts as a lost link,
+    ``first_packet_timeout`` wait for the first status packet of a new connection.
+    """
+
+    def __init__(self, host: str, command_port: int, status_port: int, *,
+                 connect_timeout: float = 1.0, call_timeout: float = 1.0,
+                 stall_timeout: float = 0.5, first_packet_timeout: float = 1.0,
+                 on_status: Optional[StatusHook] = None,
+                 on_up: Optional[Callable[[bool], None]] = None,
+                 on_down: Optional[Callable[[str], None]] = None):
+        self.host = host
+        self.command_port = int(command_port)
+        self.status_port = int(status_port)
+        self.connect_timeout = float(connect_timeout)
+        self.call_timeout = float(call_timeout)
+        self.stall_timeout = float(stall_timeout)
+        self.first_packet_timeout = float(first_packet_timeout)
+        self._on_status = on_status
+        self._on_up = on_up
+        self._on_down = on_down
+        self._lock = threading.Lock()
+        self._client: Optional[CommandClient] = None
+        self._receiver: Optional[StatusReceiver] = None
+        self._generation = 0          # bumps on every new connection; stale callbacks see it
+        self._up = threading.Event()
+        self._wake = threading.Event()  # tells the supervisor a link went down (or to quit)
+        self._quit = threading.Event()
+        self._thread: Optional[threading.Thread] = None
+        self._first_packet = threading.Event()
+        self._attempted = threading.Event()   # the first connection attempt has ended
+        self._latest: Optional[Tuple[RobotStatus, float]] = None
+        self._ever_up = False
+        self.down_since: Optional[float] = time.monotonic()
+        self.down_reason = "not connected yet"
+        self.next_attempt: Optional[float] = None   # monotonic time of the next retry
+        self.reconnects = 0
+
+    # ---- facts -------------------------------------------------------------------------
+    @property
+    def address(self) -> str:
+        return f"{self.host}:{self.command_port}/{self.status_port}"
+
+    @property
+    def connected(self) -> bool:
+        return self._up.is_set()
+
+    @property
+    def latest(self) -> Optional[Tuple[RobotStatus, float]]:
+        """The last (status, received) pair of any connection, or None before the first."""
+        return self._latest
+
+    def receiver_counters(self) -> dict:
+        receiver = self._receiver
+        if receiver is None:
+            return {}
+        d = receiver.decoder
+        return {"status packets": d.packets, "status bytes dropped": d.bytes_dropped,
+                "status packets dropped": d.packets_dropped}
+
+    def down_message(self) -> str:
+        """Why a request cannot be sent now, for a -1 answer."""
+        retry = ""
+        if self.next_attempt is not None:
+            retry = f"; next attempt in {max(0.0, self.next_attempt - time.monotonic()):.1f} s"
+        return (f"not connected to the controller at {self.host} ({self.down_reason}); "
+                f"reconnecting by itself{retry}")
+
+    # ---- life cycle ----------------------------------------------------------------------
+    def start(self, wait: float) -> bool:
+        """Start the supervisor; return whether its first attempt brought the link up (waits
+        for that attempt, at most ``wait`` s)."""
+        if self._thread is None:
+            self._quit.clear()
+            self._thread = threading.Thread(target=self._supervise, daemon=True,
+                                            name=f"jaka-link-{self.host}")
+            self._thread.start()
+        self._attempted.wait(wait)
+        return self._up.is_set()
+
+    def stop(self) -> None:
+        """Close both connections and end the supervisor. Idempotent; no ``on_down``."""
+        self._quit.set()
+        self._wake.set()
+        thread, self._thread = self._thread, None
+        self._close_connections()
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(self.connect_timeout + self.first_packet_timeout + 2.0)
+
+    # ---- requests ---------------------------------------------------------------------------
+    def call(self, request: Mapping[str, Any], timeout: Optional[float] = None) -> Reply:
+        """Send one request and return its reply (which may be a rejection).
+
+        Raises :class:`NotConnected` (nothing sent), :class:`~jaka_driver.protocol.errors.
+        ConnectionLost` or ``TimeoutError`` (the link is then down and reconnecting),
+        :class:`~jaka_driver.protocol.errors.ProtocolError`, or ``InvalidArgument``.
+        """
+        with self._lock:
+            client, generation = self._client, self._generation
+        if client is None or not self._up.is_set():
+            raise NotConnected(self.down_message())
+        try:
+            return client.call(request, timeout)
+        except errors.TimeoutError:
+            self.lost(f"no reply to {request.get('cmdName')!r} within "
+                      f"{timeout or self.call_timeout:.2f} s", generation)
+            raise
+        except errors.ConnectionLost as exc:
+            self.lost(str(exc), generation)
+            raise
+        except errors.ProtocolError as exc:
+            if not client.connected:   # the client closed a connection it could not trust
+                self.lost(str(exc), generation)
+            raise
+
+    def lost(self, reason: str, generation: Optional[int] = None) -> None:
+        """Declare the link down (from any thread). A report about an older connection than
+        the current one is ignored."""
+        with self._lock:
+            if generation is not None and generation != self._generation:
+                return
+            if not self._up.is_set():
+                return
+            self._up.clear()
+            self.down_since = time.monotonic()
+            self.down_reason = reason
+        log.warning("connection to the JAKA controller at %s lost: %s; reconnecting "
+                    "(backoff %.1f s doubling to %.0f s)", self.host, reason, BACKOFF_START,
+                    BACKOFF_MAX)
+        self._close_connections()
+        self._hook(self._on_down, reason)
+        self._wake.set()
+
+    # ---- internals ----------------------------------------------------------------------------
+    def _hook(self, hook, *args) -> None:
+        if hook is None:
+            return
+        try:
+            hook(*args)
+        except Exception:  # noqa: BLE001 - a hook must not kill the link
+            log.exception("controller link hook %s failed", getattr(hook, "__name__", hook))
+
+    def _close_connections(self) -> None:
+        with self._lock:
+            client, receiver = self._client, self._receiver
+            self._client = self._receiver = None
+        if receiver is not None:
+            receiver.stop()
+        if client is not None:
+            client.close()
+
+    def _supervise(self) -> None:
+        interval = BACKOFF_START
+        failures = 0
+        while not self._quit.is_set():
+            if self._up.is_set():
+                self._wake.wait()
+                self._wake.clear()
+                interval, failures = BACKOFF_START, 0
+                # The first retry waits too: a controller that just closed on us (restarting,
+                # or handing the port to another client) is not hammered at once.
+                self.next_attempt = time.monotonic() + interval
+                if self._quit.wait(interval):
+                    break
+                interval = min(interval * 2.0, BACKOFF_MAX)
+                continue
+            try:
+                self._connect()
+            except (errors.JakaProtocolError, OSError) as exc:
+                self._close_connections()
+                self._attempted.set()
+                failures += 1
+                refused = isinstance(exc.__context__, ConnectionRefusedError)
+                delay = min(interval, REFUSED_RETRY_MAX) if refused else interval
+                if failures == 1 and not self._ever_up:   # after a loss, "lost" said it
+                    log.warning("cannot connect to the JAKA controller at %s: %s; retrying in "
+                                "the background", self.address, exc)
+                else:
+                    log.debug("reconnect attempt %d to %s failed: %s", failures, self.address,
+                              exc)
+                self.next_attempt = time.monotonic() + delay
+                if self._quit.wait(delay):
+                    break
+                interval = min(interval * 2.0, BACKOFF_MAX)
+                continue
+            self.next_attempt = None
+            self._attempted.set()
+            first = not self._ever_up
+            self._ever_up = True
+            if not first:
+                self.reconnects += 1
+                log.warning("reconnected to the JAKA controller at %s after %.1f s; no motion "
+                            "was resumed", self.address, time.monotonic() - self.down_since)
+            else:
+                log.info("connected to the JAKA controller at %s", self.address)
+            self._hook(self._on_up, first)
+
+    def _connect(self) -> None:
+        """Open both connections and wait for a first status packet; raises on failure."""
+        with self._lock:
+            self._generation += 1
+            generation = self._generation
+        client = CommandClient(self.host, self.command_port, timeout=self.call_timeout,
+                               connect_timeout=self.connect_timeout)
+        receiver = StatusReceiver(
+            self.host, self.status_port,
+            on_status=lambda status, received: self._status(status, received, generation),
+            on_connection_lost=lambda reason: self.lost(reason, generation),
+            connect_timeout=self.connect_timeout, stall_timeout=self.stall_timeout)
+        with self._lock:
+            self._client, self._receiver = client, receiver
+        self._first_packet.clear()
+        client.connect()
+        receiver.start()
+        if not self._first_packet.wait(self.first_packet_timeout):
+            raise errors.ConnectFailed(
+                f"the status port {self.host}:{self.status_port} accepted the connection but "
+                f"sent no status packet within {self.first_packet_timeout:.1f} s")
+        with self._lock:
+            if (generation != self._generation or self._client is not client
+                    or not receiver.running or not client.connected):
+                raise errors.ConnectionLost("the new connection was lost while starting")
+            self._up.set()
+
+    def _status(self, status: RobotStatus, received: float, generation: int) -> None:
+        if generation != self._generation:
+            return
+        self._latest = (status, received)
+        self._first_packet.set()
+        self._hook(self._on_status, status, received)

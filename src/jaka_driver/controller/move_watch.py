@@ -1,0 +1,137 @@
+"""Knowing from the status stream when a move the controller accepted has ended.
+
+A JAKA controller replies to ``joint_move``/``moveL`` as soon as it accepts the move
+(jaka_facts.md §2.2); the end of the move is visible only in the status stream, as ``inpos``
+turning true again. A packet read before the command went out, or produced before the
+controller started the move, still says ``inpos`` — so a watch counts a move as done only when
+
+* ``inpos`` is true after it has been seen false since the command, or
+* ``inpos`` is true and the arm is already at the target (a move too short to show up in a
+  packet, or no move at all).
+
+A fault in the stream (e-stop, protective stop, controller error, power or enable lost) ends
+the watch with -12; :meth:`MoveWatch.abort` ends it from outside (stop_move: -12; link lost:
+-1). The caller waits on ``completion``, at most :func:`move_timeout` of the move's estimated
+duration (the controller does not say how long a move will take).
+"""
+from __future__ import annotations
+
+import math
+import time
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..completion import Completion
+from ..protocol.status_stream import RobotStatus
+from ..results import Code, Result
+from ..transforms import rotation_angle_between, rotvec_to_matrix
+
+IN_POSITION = 1e-3        # rad, contract.md: a joint move is in position within 1e-3 rad
+TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
+TCP_IN_POSITION_RAD = 2e-3
+TIMEOUT_FACTOR = 1.5      # a move may take this × its estimated duration ...
+TIMEOUT_MARGIN = 2.0      # ... plus this many seconds, before it counts as failed
+
+
+def move_timeout(estimate: float) -> float:
+    """How long (s) to wait for a move estimated to take ``estimate`` s."""
+    return TIMEOUT_FACTOR * estimate + TIMEOUT_MARGIN
+
+
+def trapezoid_time(distance: float, speed: float, accel: float) -> float:
+    """Duration (s) of a rest-to-rest trapezoidal move over ``distance`` at peak ``speed`` and
+    ``accel`` (any consistent units)."""
+    distance = abs(distance)
+    if speed <= 0 or accel <= 0:
+        return math.inf
+    if distance * accel > speed * speed:
+        return distance / speed + speed / accel
+    return 2.0 * math.sqrt(distance / accel)
+
+
+def stretched_speed(distance: float, accel: float, duration: float) -> float:
+    """The peak speed at which a trapezoidal move over ``distance`` with ``accel`` takes
+    ``duration`` s (the slower root of d/v + v/a = T); the move must be possible that fast."""
+    disc = max(0.0, duration * duration - 4.0 * abs(distance) / accel)
+    return max(1e-6, 0.5 * accel * (duration - math.sqrt(disc)))
+
+
+def fault_of(status: RobotStatus) -> Optional[str]:
+    """Why the controller cannot be moving a commanded motion any more, or None."""
+    if status.emergency_stop:
+        return "emergency stop"
+    if status.protective_stop:
+        return f"protective stop ({status.errmsg})" if status.errmsg else "protective stop"
+    if status.errcode != 0:
+        return f"controller error {status.errcode:#x} {status.errmsg}".strip()
+    if not status.powered:
+        return "robot powered off"
+    if not status.enabled:
+        return "robot disabled"
+    return None
+
+
+def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[RobotStatus], bool]:
+    """Predicate: every measured joint within ``tolerance`` rad of ``target`` (rad)."""
+    goal = np.asarray(target, float)
+
+    def at(status: RobotStatus) -> bool:
+        q = status.joint_position
+        return bool(np.all(np.isfinite(q)) and np.max(np.abs(q - goal)) <= tolerance)
+    return at
+
+
+def tcp_at(target_mm_rotvec: np.ndarray) -> Callable[[RobotStatus], bool]:
+    """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + rotvec)."""
+    goal = np.asarray(target_mm_rotvec, float)
+    goal_rotation = rotvec_to_matrix(goal[3:])
+
+    def at(status: RobotStatus) -> bool:
+        p = status.tcp_pose
+        if not np.all(np.isfinite(p)):
+            return False
+        return bool(np.linalg.norm(p[:3] - goal[:3]) <= TCP_IN_POSITION_MM
+                    # Compare rotations, not vectors: near π one rotation has two rotation vectors.
+                and rotation_angle_between(rotvec_to_matrix(p[3:]), goal_rotation)
+                <= TCP_IN_POSITION_RAD)
+    return at
+
+
+class MoveWatch:
+    """Watches one accepted move. ``at_target(status)`` recognises the goal; with
+    ``need_inpos`` False (servo streams, where ``inpos`` is not documented) arriving at the
+    target is enough. Feed it every packet with :meth:`on_status`."""
+
+    def __init__(self, label: str, at_target: Callable[[RobotStatus], bool],
+                 need_inpos: bool = True):
+        self.label = label
+        self.completion = Completion()
+        self._at_target = at_target
+        self._need_inpos = need_inpos
+        self._seen_moving = False
+        self._armed_at = time.time()
+        self.started = time.monotonic()
+
+    def arm(self) -> None:
+        """Judge only packets read from now on (call just before sending the command)."""
+        self._armed_at = time.time()
+        self._seen_moving = False
+
+    def on_status(self, status: RobotStatus, received: float) -> None:
+        if self.completion.done or received < self._armed_at:
+            return
+        fault = fault_of(status)
+        if fault is not None:
+            self.completion.finish(Result.failure(Code.MOTION_STOPPED,
+                                                  f"{self.label} stopped: {fault}"))
+            return
+        if self._need_inpos and not status.inpos:
+            self._seen_moving = True
+            return
+        if self._seen_moving or self._at_target(status):
+            self.completion.finish(Result.success(
+                f"{self.label} done in {time.monotonic() - self.started:.3f} s"))
+
+    def abort(self, result: Result) -> None:
+        self.completion.finish(result)

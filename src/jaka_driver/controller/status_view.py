@@ -1,0 +1,106 @@
+"""From the controller's status stream to the driver's :class:`RobotState`.
+
+The stream carries positions but no velocities, efforts or servo-mode flag (jaka_facts.md
+§2.3), so this view derives what it can and says what it cannot:
+
+* joint velocity, rad/s: finite difference of consecutive packets on their receipt times. Packets
+  that arrive in the same TCP read share one receipt time; the difference is therefore taken
+  against the newest packet at least :data:`MIN_DT` older, which averages over such bursts
+  instead of dividing by zero;
+* joint effort: zeros (the stream has none);
+* ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
+* while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
+  moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
+"""
+from __future__ import annotations
+
+import threading
+import time
+from typing import Optional
+
+import numpy as np
+
+from ..protocol.status_stream import RobotStatus
+from ..robot_state import RobotState
+from ..transforms import pose_to_matrix
+
+MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
+
+
+def tcp_matrix(pose_mm_rotvec: np.ndarray) -> np.ndarray:
+    """``[x, y, z mm, rotation vector rad]`` → 4x4 pose in metres."""
+    return pose_to_matrix(pose_mm_rotvec, rotation="rotvec", length_scale=1e-3)
+
+
+def is_collision(status: RobotStatus) -> bool:
+    """JAKA reports a collision as a protective stop; only its message tells them apart (the
+    emulator and real controllers both name it), so ``collision_state`` follows the text."""
+    return status.protective_stop and "collision" in status.errmsg.lower()
+
+
+class StatusView:
+    """Keeps the latest packet and turns it into :class:`RobotState` on request.
+
+    :meth:`feed` is called from the status thread, :meth:`state` from any thread; it never
+    blocks beyond a short lock and caches its answer until the next packet.
+    """
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._status: Optional[RobotStatus] = None
+        self._received = 0.0
+        self._velocity = np.zeros(6)
+        self._ref: Optional[tuple[float, np.ndarray]] = None   # (received, q) for the difference
+        self._tcp = np.eye(4)
+        self._serial = 0
+        self._cache: Optional[tuple[tuple, RobotState]] = None
+
+    def reset(self) -> None:
+        """A new connection: the next packet starts a new finite difference."""
+        with self._lock:
+            self._ref = None
+            self._velocity = np.zeros(6)
+
+    def feed(self, status: RobotStatus, received: float) -> None:
+        q = status.joint_position
+        with self._lock:
+            if np.all(np.isfinite(q)):
+                if self._ref is None:
+                    self._ref = (received, q)
+                elif received - self._ref[0] >= MIN_DT:
+                    self._velocity = (q - self._ref[1]) / (received - self._ref[0])
+                    self._ref = (received, q)
+            if np.all(np.isfinite(status.tcp_pose)):
+                self._tcp = tcp_matrix(status.tcp_pose)
+            self._status, self._received = status, received
+            self._serial += 1
+
+    @property
+    def latest(self) -> Optional[RobotStatus]:
+        return self._status
+
+    def state(self, connected: bool, servo_mode: bool) -> RobotState:
+        with self._lock:
+            status, received, serial = self._status, self._received, self._serial
+            velocity, tcp = self._velocity, self._tcp
+            key = (serial, connected, servo_mode)
+            if connected and self._cache is not None and self._cache[0] == key:
+                return self._cache[1]
+        if status is None:
+            return RobotState(stamp=time.time(), connected=False,
+                              error_message="no status received from the controller yet")
+        q = np.where(np.isfinite(status.joint_position), status.joint_position, 0.0)
+        if not connected:
+            return RobotState(stamp=time.time(), joint_position=q, tcp_pose=tcp,
+                              tool_id=status.current_tool_id, user_id=status.current_user_id,
+                              connected=False, error_message="connection to the controller lost")
+        st = RobotState(
+            stamp=received, joint_position=q, joint_velocity=velocity, tcp_pose=tcp,
+            tool_id=status.current_tool_id, user_id=status.current_user_id, connected=True,
+            powered=status.powered, enabled=status.enabled, servo_mode=servo_mode,
+            drag_mode=status.drag_status, emergency_stop=status.emergency_stop,
+            protective_stop=status.protective_stop, collision=is_collision(status),
+            moving=not status.inpos, error_code=status.errcode, error_message=status.errmsg)
+        with self._lock:
+            self._cache = (key, st)
+        return st

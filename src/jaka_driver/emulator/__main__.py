@@ -1,0 +1,67 @@
+"""``python -m jaka_driver.emulator --model zu5 [--host 127.0.0.1] [--command-port 10001]
+[--status-port 10000]`` — also ``rosrun jaka_driver jaka_emulator ...``.
+
+Prints one line ``jaka_emulator ready: model zu5, host 127.0.0.1, command port P, status port Q``
+on stdout once both ports accept connections (port 0 picks free ports; the line says which),
+then serves until SIGINT or SIGTERM.
+"""
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import sys
+import threading
+
+from ..models import MODEL_NAMES
+from .handlers import EMULATOR_COMMANDS
+
+READY = "jaka_emulator ready:"
+
+
+def _parser() -> argparse.ArgumentParser:
+    extra = "\n".join(f"  {name}: {what}" for name, what in EMULATOR_COMMANDS.items())
+    parser = argparse.ArgumentParser(
+        prog="jaka_emulator", formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="A JAKA controller emulated on the MuJoCo twin, over JAKA's TCP protocol.",
+        epilog=f"emulator-only commands (JSON on the command port):\n{extra}")
+    parser.add_argument("--model", default="zu5", choices=MODEL_NAMES, help="arm model")
+    parser.add_argument("--host", default="127.0.0.1",
+                        help="address to bind (default 127.0.0.1; 0.0.0.0 for every interface)")
+    parser.add_argument("--command-port", type=int, default=10001, help="0 = any free port")
+    parser.add_argument("--status-port", type=int, default=10000, help="0 = any free port")
+    parser.add_argument("--period", type=float, default=0.008, help="status period, s")
+    parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
+    parser.add_argument("--io-loopback", action="store_true",
+                        help="wire each output to the input of the same index")
+    parser.add_argument("--log-level", default="INFO")
+    return parser
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    logging.basicConfig(level=args.log_level.upper(),
+                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    from .app import Emulator   # imports MuJoCo: after argument errors are reported
+    done = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: done.set())
+    try:
+        emulator = Emulator(args.model, args.host, args.command_port, args.status_port,
+                            period=args.period, scene=args.scene, io_loopback=args.io_loopback)
+        emulator.start()
+    except OSError as exc:
+        print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
+        return 1
+    print(f"{READY} model {args.model}, host {emulator.host}, command port "
+          f"{emulator.command_port}, status port {emulator.status_port}", flush=True)
+    try:
+        while not done.wait(0.5):
+            pass
+    finally:
+        emulator.stop()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,308 @@
+"""The controller backend does what the contract says, against the emulator over real TCP:
+moves arrive, blocking moves block and can be stopped, settings reach the controller, and what
+the protocol cannot do is answered as a failure."""
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from ros_harness import wait_until
+
+from jaka_driver.controller import ControllerBackend
+from jaka_driver.emulator import Emulator
+from jaka_driver.motion.profiles import SyncJointProfile
+from jaka_driver.motion.trajectory import JointTrajectory
+from jaka_driver.results import Code
+from jaka_driver.robot_state import MotionState
+from jaka_driver.transforms import pose_to_matrix
+
+HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
+
+
+@pytest.fixture(scope="module")
+def emu():
+    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+        yield emulator
+
+
+@pytest.fixture(scope="module")
+def backend(emu):
+    b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+    b.start()
+    yield b
+    b.shutdown()
+
+
+def twin_q(emu) -> np.ndarray:
+    return emu.twin.state().joint_position
+
+
+def go_home(backend):
+    result = backend.joint_move(HOME, 2.0, 8.0)
+    assert result.ok, result.message
+
+
+def test_state_follows_the_status_stream(emu, backend):
+    st = backend.state()
+    assert st.connected and st.powered and st.enabled and not st.servo_mode
+    assert st.motion_state == MotionState.STOP
+    np.testing.assert_allclose(st.joint_position, twin_q(emu), atol=1e-4)
+    np.testing.assert_allclose(st.tcp_pose, emu.twin.state().tcp_pose, atol=1e-5)
+    assert time.time() - st.stamp < 0.1
+    assert np.all(st.joint_effort == 0)
+
+
+def test_start_powers_on_and_enables_like_jakas_driver(emu):
+    emu.controller.set_power(False)
+    assert not emu.twin.powered
+    fresh = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+    try:
+        fresh.start()
+        st = fresh.state()
+        assert st.powered and st.enabled
+        assert emu.twin.powered and emu.twin.enabled
+    finally:
+        fresh.shutdown()
+
+
+def test_joint_move_blocks_until_within_1e3_rad(emu, backend):
+    target = HOME + np.array([0.3, -0.2, 0.25, 0.1, -0.15, 0.2])
+    t0 = time.monotonic()
+    result = backend.joint_move(target, 1.0, 4.0)
+    elapsed = time.monotonic() - t0
+    assert result.ok, result.message
+    assert np.max(np.abs(twin_q(emu) - target)) <= 1e-3
+    assert np.max(np.abs(backend.state().joint_position - target)) <= 1e-3
+    assert elapsed > 0.55   # 0.3 rad at 1 rad/s, 4 rad/s²: at least 0.55 s of motion
+    go_home(backend)
+
+
+def test_joint_move_with_mvtime_takes_that_long(emu, backend):
+    target = HOME + np.array([0.2, 0, 0, 0, 0, 0])
+    t0 = time.monotonic()
+    result = backend.joint_move(target, 3.0, 8.0, duration=1.5)
+    assert result.ok, result.message
+    assert 1.4 < time.monotonic() - t0 < 2.3
+    too_short = backend.joint_move(HOME + np.array([2.0, 0, 0, 0, 0, 0]), 1.0, 4.0,
+                                   duration=0.5)
+    assert too_short.code == Code.INVALID_PARAMETER
+    go_home(backend)
+
+
+def test_linear_move_reaches_the_pose(emu, backend):
+    start = backend.state().tcp_pose
+    target = start.copy()
+    target[:3, 3] += [0.05, -0.03, 0.02]
+    result = backend.linear_move(target, 0.2, 1.0)
+    assert result.ok, result.message
+    reached = emu.twin.state().tcp_pose
+    assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) < 1e-3
+    go_home(backend)
+
+
+def test_jog_moves_until_jog_stop(emu, backend):
+    q0 = twin_q(emu)
+    assert backend.jog(0, 0, +1, 0.3).ok      # ROS coord 0 = joint (wire coord_map 1)
+    time.sleep(0.6)
+    assert backend.state().moving
+    assert backend.jog_stop().ok
+    assert wait_until(lambda: not backend.state().moving, 2.0)
+    moved = twin_q(emu)[0] - q0[0]
+    assert 0.08 < moved < 0.3
+    q1 = twin_q(emu)
+    time.sleep(0.2)
+    assert np.max(np.abs(twin_q(emu) - q1)) < 1e-3, "stopped for good"
+    x0 = emu.twin.state().tcp_pose[0, 3]
+    assert backend.jog(1, 0, -1, 0.05).ok      # ROS coord 1 = base X, negative
+    time.sleep(0.5)
+    assert backend.jog_stop().ok
+    assert wait_until(lambda: not backend.state().moving, 2.0)
+    assert emu.twin.state().tcp_pose[0, 3] < x0 - 0.01
+    go_home(backend)
+
+
+def test_servo_j_stream(emu, backend):
+    assert backend.servo_enable(True).ok
+    try:
+        assert wait_until(lambda: backend.state().servo_mode, 2.0)
+        q = twin_q(emu).copy()
+        for _ in range(60):
+            q[5] += 0.004
+            assert backend.servo_j(q).ok
+            time.sleep(0.008)
+        assert wait_until(lambda: np.max(np.abs(twin_q(emu) - q)) <= 1e-3, 1.0)
+        blocked = backend.joint_move(HOME, 1.0, 4.0)
+        assert blocked.code == Code.CONTROLLER_REJECTED and "servo mode" in blocked.message
+    finally:
+        assert backend.servo_enable(False).ok
+    assert not backend.state().servo_mode
+    rejected = backend.servo_j(q)
+    assert rejected.code == Code.CONTROLLER_REJECTED and "servo" in rejected.message
+    go_home(backend)
+
+
+def test_servo_p_follows_a_pose(emu, backend):
+    assert backend.servo_enable(True).ok
+    try:
+        pose = backend.state().tcp_pose.copy()
+        for _ in range(40):
+            pose[2, 3] += 0.0005
+            assert backend.servo_p(pose).ok
+            time.sleep(0.008)
+        assert wait_until(lambda: abs(emu.twin.state().tcp_pose[2, 3] - pose[2, 3]) < 2e-4, 1.0)
+    finally:
+        backend.servo_enable(False)
+    go_home(backend)
+
+
+def test_stop_move_makes_a_blocking_move_return_minus_12(emu, backend):
+    outcome = {}
+
+    def move():
+        outcome["result"] = backend.joint_move(HOME + np.array([1.0, 0, 0, 0, 0, 0]), 0.4, 2.0)
+        outcome["at"] = time.monotonic()
+
+    mover = threading.Thread(target=move)
+    mover.start()
+    time.sleep(0.6)
+    assert backend.state().moving
+    t_stop = time.monotonic()
+    assert backend.stop_move().ok
+    mover.join(2.0)
+    assert outcome["result"].code == Code.MOTION_STOPPED
+    assert "stopped by stop_move" in outcome["result"].message
+    assert outcome["at"] - t_stop < 0.2
+    assert wait_until(lambda: not backend.state().moving, 1.0)
+    assert twin_q(emu)[0] < HOME[0] + 0.5, "the arm stopped short of the target"
+    go_home(backend)
+
+
+def test_protective_stop_ends_a_blocking_move_and_clear_error_recovers(emu, backend):
+    outcome = {}
+    mover = threading.Thread(target=lambda: outcome.setdefault(
+        "result", backend.joint_move(HOME + np.array([0.8, 0, 0, 0, 0, 0]), 0.4, 2.0)))
+    mover.start()
+    time.sleep(0.4)
+    emu.controller.protective_stop("collision on link 3 (injected)")
+    mover.join(2.0)
+    assert outcome["result"].code == Code.MOTION_STOPPED
+    assert "protective stop" in outcome["result"].message
+    st = wait_until(lambda: backend.state() if backend.state().protective_stop else None, 2.0)
+    assert st.collision and st.motion_state == MotionState.ERROR
+    assert backend.clear_error().ok
+    assert wait_until(lambda: not backend.state().in_error, 2.0)
+    go_home(backend)
+
+
+def test_frames_collision_and_kinematics(emu, backend):
+    tool = pose_to_matrix([0, 0, 100, 0, 0, np.pi / 2], rotation="rotvec", length_scale=1e-3)
+    user = pose_to_matrix([300, -200, 50, 0, 0, 0.3], rotation="rotvec", length_scale=1e-3)
+    try:
+        assert backend.set_tool_frame(2, tool).ok
+        assert backend.set_user_frame(3, user).ok
+        assert (emu.twin.tool_id, emu.twin.user_id) == (2, 3)
+        np.testing.assert_allclose(emu.twin.frames()[0], tool, atol=1e-9)
+        np.testing.assert_allclose(emu.twin.frames()[1], user, atol=1e-9)
+        assert wait_until(lambda: (backend.state().tool_id, backend.state().user_id) == (2, 3),
+                          2.0)
+        got_tool, got_user = backend.frames()
+        np.testing.assert_allclose(got_tool, tool, atol=1e-9)
+        np.testing.assert_allclose(got_user, user, atol=1e-9)
+
+        q = HOME + np.array([0.1, -0.1, 0.2, 0.0, 0.1, 0.3])
+        fk = backend.forward_kinematics(q)
+        assert fk.ok
+        np.testing.assert_allclose(fk.value, emu.twin.forward_kinematics(q).value, atol=1e-6)
+        ik = backend.inverse_kinematics(fk.value, HOME)
+        assert ik.ok
+        np.testing.assert_allclose(ik.value, q, atol=1e-5)
+        far = np.eye(4)
+        far[:3, 3] = [5.0, 0, 0]
+        assert backend.inverse_kinematics(far, HOME).code == Code.IK_FAILED
+
+        assert backend.set_collision_level(3).ok and emu.twin.collision_level == 3
+        assert backend.set_collision_level(0).ok and emu.twin.collision_level == 0
+    finally:
+        backend.set_tool_frame(0, np.eye(4))
+        backend.set_user_frame(0, np.eye(4))
+        backend.set_collision_level(2)
+    assert (emu.twin.tool_id, emu.twin.user_id) == (0, 0)
+
+
+def test_io_set_and_get(emu, backend):
+    assert backend.set_io("digital", 0, 5, 1.0).ok
+    assert backend.set_io("analog", 0, 0, 3.25).ok
+    assert backend.set_io("digital", 1, 1, 1.0).ok
+    emu.controller.set_input("digital", 0, 7, 1.0)
+    emu.controller.set_input("analog", 0, 1, -1.5)
+    time.sleep(0.05)   # outputs and analog inputs are read from the status stream
+    assert backend.get_io("digital", 1, 0, 5).value == 1.0
+    assert backend.get_io("digital", 1, 1, 1).value == 1.0
+    assert backend.get_io("analog", 1, 0, 0).value == 3.25
+    assert backend.get_io("digital", 0, 0, 7).value == 1.0
+    assert backend.get_io("analog", 0, 0, 1).value == -1.5
+    extension = backend.get_io("digital", 1, 2, 0)
+    assert extension.code == Code.WRONG_MODE and "TCP protocol" in extension.message
+    rejected = backend.set_io("digital", 0, 99, 1.0)
+    assert rejected.code == Code.CONTROLLER_REJECTED and "index 99" in rejected.message
+    for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1)):
+        backend.set_io(signal, io_type, index, 0.0)
+    emu.controller.set_input("digital", 0, 7, 0.0)
+    emu.controller.set_input("analog", 0, 1, 0.0)
+
+
+def test_drag_mode_is_a_clear_failure(backend):
+    result = backend.set_drag_mode(True)
+    assert result.code == Code.WRONG_MODE
+    assert "teach pendant" in result.message and "TCP protocol" in result.message
+    assert not backend.state().drag_mode
+    assert backend.set_drag_mode(False).ok   # already off: true, and says so
+
+
+def test_trajectory_is_streamed_with_servo_j(emu, backend):
+    start = twin_q(emu).copy()
+    goal = start + np.array([0.25, -0.1, 0.15, 0.0, 0.1, -0.2])
+    trajectory = JointTrajectory.from_profile(
+        SyncJointProfile(start, goal, emu.model.max_velocity * 0.5,
+                         emu.model.max_acceleration * 0.5), 0.008)
+    started = backend.start_trajectory(trajectory)
+    assert started.ok, started.message
+    completion, duration = started.value
+    assert backend.state().servo_mode
+    result = completion.wait(duration + 3.0)
+    assert result is not None and result.ok, result
+    assert np.max(np.abs(twin_q(emu) - goal)) <= 1e-3
+    assert not backend.state().servo_mode and not emu.twin.servo_mode
+    assert emu.handlers.counts["servo_j"] >= int(duration / 0.008)
+    go_home(backend)
+
+
+def test_stop_move_stops_a_trajectory(emu, backend):
+    start = twin_q(emu).copy()
+    trajectory = JointTrajectory.from_profile(
+        SyncJointProfile(start, start + np.array([0.8, 0, 0, 0, 0, 0]),
+                         emu.model.max_velocity * 0.3, emu.model.max_acceleration * 0.3), 0.008)
+    completion, _ = backend.start_trajectory(trajectory).value
+    time.sleep(0.5)
+    assert backend.stop_move().ok
+    result = completion.wait(1.0)
+    assert result is not None and result.code == Code.MOTION_STOPPED
+    assert wait_until(lambda: not backend.state().servo_mode, 1.0)
+    go_home(backend)
+
+
+def test_payload_reaches_the_controller(emu, backend):
+    # Last in the module: the twin's payload update currently also resets its joint positions
+    # (sim/twin_model.py, Payload.set → mj_setConst), which would disturb later tests.
+    try:
+        result = backend.set_payload(2, 2.5, np.array([0.0, 0.01, 0.05]))
+        assert result.ok, result.message
+        assert emu.controller.payload_mass == 2.5 and emu.twin.tool_id == 2
+        np.testing.assert_allclose(emu.controller.payload_centroid_mm, [0, 10, 50])
+        too_heavy = backend.set_payload(0, 50.0, np.zeros(3))
+        assert too_heavy.code == Code.CONTROLLER_REJECTED and "mass" in too_heavy.message
+    finally:
+        backend.set_payload(0, 0.0, np.zeros(3))

@@ -1,0 +1,66 @@
+"""The real node with ``_backend:=controller`` against the emulator subprocess: joint_move
+through ROS reaches its target, the state topics come from the controller's status stream,
+and what the TCP protocol cannot do is answered as a failure."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from conftest import position, start_driver
+from jaka_msgs.msg import RobotMsg
+from jaka_msgs.srv import Move
+from ros_harness import Recorder, free_port, wait_until
+from std_srvs.srv import SetBool
+
+from jaka_driver.emulator.process import EmulatorProcess
+
+pytestmark = pytest.mark.ros
+HOME = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+
+
+@pytest.fixture(scope="module")
+def emulator():
+    emu = EmulatorProcess("zu5", command_port=free_port(), status_port=free_port()).start()
+    yield emu
+    emu.stop()
+
+
+@pytest.fixture(scope="module")
+def sim_driver(request, rospy_node, emulator):
+    """Overrides conftest's twin-backed node for this module, so conftest's ``call`` and
+    ``joints`` fixtures talk to the controller-backed node (the same override runs any
+    integration module on the emulator)."""
+    return start_driver(request, backend="controller", model="zu5", ip="127.0.0.1",
+                        command_port=emulator.command_port, status_port=emulator.status_port)
+
+
+def test_joint_move_through_ros_reaches_the_target(call, joints):
+    target = [0.4, 1.3, -1.2, 1.7, 1.4, 0.5]
+    t0 = time.monotonic()
+    reply = call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0)
+    elapsed = time.monotonic() - t0
+    assert reply.ret == 1, reply.message
+    assert elapsed > 0.4, "joint_move blocks until in position"
+    assert np.max(np.abs(position(joints) - target)) <= 1e-3
+    assert call("joint_move", Move, pose=HOME, mvvelo=2.0, mvacc=8.0).ret == 1
+
+
+def test_robot_states_come_from_the_controller(sim_driver, joints):
+    states = Recorder(sim_driver.name("robot_states"), RobotMsg)
+    try:
+        msg = wait_until(states.latest, 3.0)
+        assert msg is not None
+        assert (msg.power_state, msg.motion_state) == (1, 0)
+        t0 = time.time()
+        wait_until(lambda: len(joints.since(t0)) > 60, 2.0)
+        rate = len(joints.since(t0)) / (time.time() - t0)
+        assert rate > 100, f"joint_position at {rate:.0f} Hz"
+    finally:
+        states.close()
+
+
+def test_drag_mode_is_refused_with_the_reason(call):
+    reply = call("drag_mode", SetBool, data=True)
+    assert not reply.success and "teach pendant" in reply.message

@@ -1,0 +1,322 @@
+"""The emulator talks JAKA's TCP protocol to a client that uses no project code: plain sockets
+and ``json``, the way a third-party JAKA client would (jaka_facts.md §2)."""
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from jaka_driver.emulator import Emulator
+
+HOME_DEG = [0.0, 90.0, -90.0, 90.0, 90.0, 0.0]
+REQUIRED_STATUS_FIELDS = (
+    "len", "joint_actual_position", "actual_position", "task_state", "enabled", "powered_on",
+    "inpos", "emergency_stop", "protective_stop", "errcode", "errmsg", "current_tool_id",
+    "current_user_id", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "drag_status")
+
+
+class RawClient:
+    """A bare JSON-over-TCP client: send an object, read the next object."""
+
+    def __init__(self, port: int):
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=3.0)
+        self.buf = ""
+        self.decoder = json.JSONDecoder()
+
+    def send(self, data: bytes) -> None:
+        self.sock.sendall(data)
+
+    def read(self, timeout: float = 3.0) -> dict:
+        deadline = time.monotonic() + timeout
+        while True:
+            text = self.buf.lstrip()
+            if text:
+                try:
+                    obj, end = self.decoder.raw_decode(text)
+                    self.buf = text[end:]
+                    return obj
+                except ValueError:
+                    pass
+            self.sock.settimeout(max(0.01, deadline - time.monotonic()))
+            chunk = self.sock.recv(65536)
+            if not chunk:
+                raise ConnectionError("closed by the emulator")
+            self.buf += chunk.decode()
+
+    def call(self, name: str, **fields) -> dict:
+        self.send(json.dumps({"cmdName": name, **fields}).encode())
+        return self.read()
+
+    def closed_by_peer(self, timeout: float = 2.0) -> bool:
+        self.sock.settimeout(timeout)
+        try:
+            return self.sock.recv(1) == b""
+        except OSError:
+            return True
+
+    def close(self) -> None:
+        self.sock.close()
+
+
+def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
+    """(packet, its byte length) for every packet received in ``seconds``."""
+    data = b""
+    with socket.create_connection(("127.0.0.1", port), timeout=2.0) as sock:
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            sock.settimeout(max(0.01, end - time.monotonic()))
+            try:
+                data += sock.recv(65536)
+            except socket.timeout:
+                break
+    decoder = json.JSONDecoder()
+    text = data.decode()
+    packets, i = [], text.find('{"len":')
+    while i >= 0:
+        try:
+            obj, end = decoder.raw_decode(text, i)
+        except ValueError:
+            break   # the last packet was cut by the end of the read
+        packets.append((obj, len(text[i:end].encode())))
+        i = end
+    return packets
+
+
+@pytest.fixture(scope="module")
+def emu():
+    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+        yield emulator
+
+
+@pytest.fixture
+def client(emu):
+    c = RawClient(emu.command_port)
+    yield c
+    c.close()
+
+
+def test_queries_answer_in_wire_units(client):
+    version = client.call("get_version")
+    assert (version["cmdName"], version["errorCode"]) == ("get_version", "0")
+    assert "emulator" in version["version"]
+    state = client.call("get_robot_state")
+    assert (state["power"], state["enable"]) == ("powered_on", "robot_enabled")
+    joints = client.call("get_joint_pos")["joint_pos"]
+    np.testing.assert_allclose(joints, HOME_DEG, atol=0.05)   # degrees, not radians
+    tcp = client.call("get_tcp_pos")["tcp_pos"]
+    assert len(tcp) == 6 and 50 < np.linalg.norm(tcp[:3]) < 2000   # millimetres
+    assert client.call("emergency_stop_status")["emergency_stop"] == 0
+    assert client.call("protective_stop_status")["protective_stop"] == 0
+    assert client.call("is_in_servomove")["in_servomove"] == 0
+    data = client.call("get_data")
+    assert set(REQUIRED_STATUS_FIELDS) <= set(data)
+
+
+def test_unknown_command_gets_an_error_and_the_connection_stays(client):
+    reply = client.call("fly_to_the_moon", speed=3)
+    assert reply["cmdName"] == "fly_to_the_moon"
+    assert reply["errorCode"] != "0"
+    assert "unknown command" in reply["errorMsg"]
+    assert client.call("get_version")["errorCode"] == "0"
+
+
+def test_malformed_json_gets_an_error_reply(client):
+    client.send(b'{"cmdName": "get_version",,}')
+    assert client.read()["errorCode"] != "0"
+    client.send(b"hello")
+    reply = client.read()
+    assert reply["errorCode"] != "0" and "not a JSON object" in reply["errorMsg"]
+    client.send(b'{"speed": 3}')
+    assert "cmdName" in client.read()["errorMsg"]
+    client.send(b'{"cmdName": "get_ver')          # and then nothing: discarded after 1 s
+    t0 = time.monotonic()
+    reply = client.read(timeout=3.0)
+    assert reply["errorCode"] != "0" and "incomplete" in reply["errorMsg"]
+    assert 0.9 < time.monotonic() - t0 < 2.0
+    assert client.call("get_version")["errorCode"] == "0"
+
+
+def test_split_and_merged_requests(client):
+    request = json.dumps({"cmdName": "get_joint_pos"}).encode()
+    for piece in (request[:5], request[5:11], request[11:]):
+        client.send(piece)
+        time.sleep(0.02)
+    assert client.read()["cmdName"] == "get_joint_pos"
+    client.send(json.dumps({"cmdName": "get_version"}).encode()
+                + json.dumps({"cmdName": "drag_status"}).encode())
+    assert [client.read()["cmdName"], client.read()["cmdName"]] == ["get_version", "drag_status"]
+
+
+def test_several_clients_at_once(emu):
+    errors = []
+
+    def work(k):
+        c = RawClient(emu.command_port)
+        try:
+            for _ in range(25):
+                reply = c.call("get_joint_pos")
+                if reply["errorCode"] != "0" or len(reply["joint_pos"]) != 6:
+                    errors.append((k, reply))
+        except Exception as exc:  # noqa: BLE001
+            errors.append((k, exc))
+        finally:
+            c.close()
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(5)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(10)
+    assert not errors
+
+
+def test_status_stream_at_125_hz_with_the_fields(emu):
+    packets = read_status(emu.status_port, 1.0)
+    assert 110 <= len(packets) <= 130, len(packets)
+    for packet, size in packets[:5]:
+        assert set(REQUIRED_STATUS_FIELDS) <= set(packet)
+        assert packet["len"] == size                    # len is the packet's own byte count
+        assert len(packet["joint_actual_position"]) == 6
+        assert packet["errcode"] == "0x0"
+    assert len(packets[0][0]["din"]) == 16 and len(packets[0][0]["tio_dout"]) == 2
+
+
+def test_joint_move_is_accepted_at_once_and_inpos_follows(emu, client):
+    target = HOME_DEG.copy()
+    target[0] += 10.0
+    t0 = time.monotonic()
+    reply = client.call("joint_move", jointPosition=target, speed=60.0, accel=300.0, relFlag=0)
+    replied = time.monotonic() - t0
+    assert reply["errorCode"] == "0" and replied < 0.1
+    busy = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0, relFlag=0)
+    assert busy["errorCode"] != "0" and "moving" in busy["errorMsg"]
+    flags = [p["inpos"] for p, _ in read_status(emu.status_port, 0.6)]
+    assert flags and not flags[0] and flags[-1], "inpos false while moving, true at the end"
+    final = client.call("get_joint_pos")["joint_pos"]
+    np.testing.assert_allclose(final, target, atol=np.degrees(1e-3))
+    back = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0, relFlag=0)
+    assert back["errorCode"] == "0"
+    assert _wait_inpos(client)
+
+
+def test_motion_is_refused_under_emergency_stop(client):
+    assert client.call("emulator_emergency_stop", pressed=1)["errorCode"] == "0"
+    try:
+        move = client.call("joint_move", jointPosition=HOME_DEG, speed=30.0, accel=100.0,
+                           relFlag=0)
+        assert move["errorCode"] != "0" and "emergency stop" in move["errorMsg"]
+        assert client.call("get_robot_state")["power"] == "powered_off"
+        assert client.call("power_on")["errorCode"] != "0"
+    finally:
+        client.call("emulator_emergency_stop", pressed=0)
+    assert client.call("power_on")["errorCode"] == "0"
+    assert client.call("enable_robot")["errorCode"] == "0"
+    assert client.call("get_robot_state")["enable"] == "robot_enabled"
+
+
+def test_out_of_range_targets_and_bad_fields_are_refused(client):
+    far = HOME_DEG.copy()
+    far[2] = 400.0
+    reply = client.call("joint_move", jointPosition=far, speed=30.0, accel=100.0, relFlag=0)
+    assert reply["errorCode"] != "0" and "joint 3" in reply["errorMsg"]
+    reply = client.call("joint_move", jointPosition=[1, 2, 3], speed=30.0, accel=100.0)
+    assert reply["errorCode"] != "0" and "jointPosition" in reply["errorMsg"]
+    assert client.call("servo_j", jointPosition=HOME_DEG, relFlag=0)["errorCode"] != "0"
+
+
+def test_servo_mode_round_trip(client):
+    assert client.call("servo_move", relFlag=1)["errorCode"] == "0"
+    try:
+        assert client.call("is_in_servomove")["in_servomove"] == 1
+        q = np.array(HOME_DEG)
+        for k in range(1, 26):
+            q[5] = HOME_DEG[5] + 0.1 * k
+            assert client.call("servo_j", jointPosition=q.tolist(), relFlag=0)["errorCode"] == "0"
+            time.sleep(0.008)
+        too_fast = q.copy()
+        too_fast[5] += 10.0   # 10° in 8 ms
+        refused = client.call("servo_j", jointPosition=too_fast.tolist(), relFlag=0)
+        assert refused["errorCode"] != "0" and "deg/s" in refused["errorMsg"]
+        time.sleep(0.2)
+        final = client.call("get_joint_pos")["joint_pos"]
+        assert abs(final[5] - q[5]) < np.degrees(1e-3)
+        # stepNum spreads one set-point over several cycles (4 × 8 ms here)
+        q[5] -= 2.5
+        reply = client.call("servo_j", jointPosition=q.tolist(), relFlag=0, stepNum=4)
+        assert reply["errorCode"] == "0"
+        time.sleep(0.25)
+        assert abs(client.call("get_joint_pos")["joint_pos"][5] - q[5]) < np.degrees(1e-3)
+    finally:
+        assert client.call("servo_move", relFlag=0)["errorCode"] == "0"
+    assert client.call("is_in_servomove")["in_servomove"] == 0
+
+
+def test_io_outputs_inputs_and_the_status_stream(emu, client):
+    assert client.call("set_digital_output", type=0, index=3, value=1)["errorCode"] == "0"
+    assert client.call("set_analog_output", type=0, index=1, value=2.5)["errorCode"] == "0"
+    assert client.call("emulator_set_input", signal="digital", type=0, index=2,
+                       value=1)["errorCode"] == "0"
+    assert client.call("get_digital_input", type=0, index=2)["value"] == 1
+    assert client.call("get_analog_output", type=0, index=1)["value"] == 2.5
+    packet = read_status(emu.status_port, 0.05)[-1][0]
+    assert packet["dout"][3] == 1 and packet["din"][2] == 1 and packet["aout"][1] == 2.5
+    bad = client.call("set_digital_output", type=0, index=99, value=1)
+    assert bad["errorCode"] != "0" and "index 99" in bad["errorMsg"]
+    client.call("set_digital_output", type=0, index=3, value=0)
+    client.call("set_analog_output", type=0, index=1, value=0.0)
+    client.call("emulator_set_input", signal="digital", type=0, index=2, value=0)
+
+
+def test_kinematics_round_trip(client):
+    q = [10.0, 80.0, -70.0, 85.0, 95.0, 5.0]
+    pose = client.call("kine_forward", jointPosition=q)["cartPosition"]
+    back = client.call("kine_inverse", jointPosition=HOME_DEG, cartPosition=pose)
+    assert back["errorCode"] == "0"
+    np.testing.assert_allclose(back["jointPosition"], q, atol=1e-3)
+    unreachable = client.call("kine_inverse", jointPosition=HOME_DEG,
+                              cartPosition=[5000, 0, 0, 0, 0, 0])
+    assert unreachable["errorCode"] != "0"
+
+
+def test_quit_closes_only_this_connection(emu, client):
+    other = RawClient(emu.command_port)
+    try:
+        assert client.call("quit")["errorCode"] == "0"
+        assert client.closed_by_peer()
+        assert other.call("get_version")["errorCode"] == "0"
+    finally:
+        other.close()
+
+
+def test_drop_connections_closes_every_client_and_keeps_listening(emu, client):
+    status = socket.create_connection(("127.0.0.1", emu.status_port), timeout=2.0)
+    other = RawClient(emu.command_port)
+    try:
+        status.recv(65536)
+        assert client.call("emulator_drop_connections")["errorCode"] == "0"
+        assert client.closed_by_peer() and other.closed_by_peer()
+        status.settimeout(2.0)
+        while True:   # drain what was sent before the close
+            if not status.recv(65536):
+                break
+    finally:
+        status.close()
+        other.close()
+    again = RawClient(emu.command_port)
+    try:
+        assert again.call("get_version")["errorCode"] == "0"
+    finally:
+        again.close()
+
+
+def _wait_inpos(client, timeout: float = 5.0) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if client.call("get_data")["inpos"]:
+            return True
+        time.sleep(0.02)
+    return False
