@@ -7,6 +7,9 @@ import pytest
 
 from ros_harness import DriverProcess, Recorder, RosMaster, Services
 
+#: JAKA's "pose_1": upper arm up, forearm forward, flange down — the twin's start pose (rad)
+START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+
 
 @pytest.fixture(scope="session")
 def ros_master():
@@ -48,6 +51,26 @@ def joints(sim_driver, rospy_node):
     recorder = Recorder(sim_driver.name("joint_position"), JointState)
     yield recorder
     recorder.close()
+
+
+@pytest.fixture(scope="module")
+def tcp(sim_driver, rospy_node):
+    from geometry_msgs.msg import TwistStamped
+    recorder = Recorder(sim_driver.name("tool_position"), TwistStamped)
+    yield recorder
+    recorder.close()
+
+
+def go_home(call) -> None:
+    """Leave servo mode, stop whatever moves and return to START (a test's clean slate)."""
+    from jaka_msgs.srv import Move, ServoMoveEnable
+    from std_srvs.srv import Empty
+    from ros_harness import wait_until
+    call("servo_move_enable", ServoMoveEnable, enable=False)
+    call("stop_move", Empty)
+    reply = wait_until(lambda: (r := call("joint_move", Move, pose=START, mvvelo=2.0,
+                                          mvacc=8.0)).ret == 1 and r, 3.0, 0.2)
+    assert reply, "could not return to START"
 
 
 def position(recorder, timeout=2.0) -> np.ndarray:

@@ -14,13 +14,12 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from std_srvs.srv import Empty
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from conftest import at_rest, position
+from conftest import START, at_rest, go_home, position
 from jaka_msgs.srv import Move, ServoMoveEnable
 from ros_harness import wait_until
 
 from jaka_driver.motion.spline import Waypoint, sample_waypoints
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
 NAMES = [f"joint_{i}" for i in range(1, 7)]
 R = FollowJointTrajectoryResult
 
@@ -35,11 +34,7 @@ def client(sim_driver, rospy_node):
 
 @pytest.fixture(autouse=True)
 def at_start(call):
-    call("servo_move_enable", ServoMoveEnable, enable=False)
-    call("stop_move", Empty)
-    wait_until(lambda: call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1, 3.0,
-               0.2)
-
+    go_home(call)
 
 def goal_through(points, names=NAMES, path_tolerance=None):
     goal = FollowJointTrajectoryGoal()

@@ -5,29 +5,17 @@ import time
 
 import numpy as np
 import pytest
-from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty
 
-from conftest import at_rest, position
+from conftest import START, at_rest, go_home, position
 from jaka_msgs.srv import Move
-from ros_harness import Recorder, wait_until
+from ros_harness import wait_until
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
-
-
-@pytest.fixture(scope="module")
-def tcp(sim_driver, rospy_node):
-    recorder = Recorder(sim_driver.name("tool_position"), TwistStamped)
-    yield recorder
-    recorder.close()
 
 
 @pytest.fixture(autouse=True)
 def at_start(call):
-    call("stop_move", Empty)
-    wait_until(lambda: call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1, 3.0,
-               0.2)
-
+    go_home(call)
 
 def jog(call, coord, index, speed):
     return call("jog", Move, coord_mode=coord, index=index, mvvelo=speed)

@@ -5,14 +5,13 @@ import time
 import numpy as np
 import pytest
 
-from conftest import at_rest, position
+from conftest import START, at_rest, go_home, position
 from jaka_msgs.srv import Move
 
 from jaka_driver.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
 
 MODEL = load_model("zu5")
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
 
 
 def move(call, pose, v=1.0, a=3.0, t=0.0):
@@ -21,8 +20,7 @@ def move(call, pose, v=1.0, a=3.0, t=0.0):
 
 @pytest.fixture(autouse=True)
 def at_start(call):
-    assert move(call, START, 2.0, 8.0).ret == 1
-
+    go_home(call)
 
 def test_joint_move_blocks_until_within_1e3_rad_and_takes_the_predicted_time(call, joints):
     target = [0.5, 1.2, -1.0, 1.9, 1.2, 0.8]

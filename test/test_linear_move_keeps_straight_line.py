@@ -4,27 +4,16 @@ import time
 
 import numpy as np
 import pytest
-from geometry_msgs.msg import TwistStamped
 
-from conftest import at_rest, position
+from conftest import START, at_rest, go_home, position
 from jaka_msgs.srv import GetFK, Move
-from ros_harness import Recorder, wait_until
+from ros_harness import wait_until
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
-
-
-@pytest.fixture(scope="module")
-def tcp(sim_driver, rospy_node):
-    recorder = Recorder(sim_driver.name("tool_position"), TwistStamped)
-    yield recorder
-    recorder.close()
 
 
 @pytest.fixture(autouse=True)
 def at_start(call):
-    reply = call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)
-    assert reply.ret == 1, reply.message
-
+    go_home(call)
 
 def current_pose_mm(call, joints):
     fk = call("get_fk", GetFK, joint=position(joints).tolist())

@@ -7,12 +7,10 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from conftest import at_rest, position, start_driver
+from conftest import START, at_rest, position, start_driver
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import ClearErr, GetIO, Move, SetCollision, SetIO
-from ros_harness import Recorder, Services, wait_until
-
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+from ros_harness import Recorder, wait_until
 
 # A post standing 0.55 m in front of the arm, in the way of a joint_1 swing at START.
 SCENE = """
@@ -25,30 +23,17 @@ obstacles:
 
 
 @pytest.fixture(scope="module")
-def driver(request, rospy_node, tmp_path_factory):
+def sim_driver(request, rospy_node, tmp_path_factory):
+    """This module's twin stands in a workcell with a post (overrides conftest's driver, so
+    its call / joints fixtures talk to this one)."""
     scene = tmp_path_factory.mktemp("scene") / "post.yaml"
     scene.write_text(SCENE)
     return start_driver(request, backend="sim", model="zu5", scene=str(scene))
 
 
 @pytest.fixture(scope="module")
-def call(driver):
-    services = Services(driver)
-    yield services
-    services.close()
-
-
-@pytest.fixture(scope="module")
-def joints(driver):
-    from sensor_msgs.msg import JointState
-    rec = Recorder(driver.name("joint_position"), JointState)
-    yield rec
-    rec.close()
-
-
-@pytest.fixture(scope="module")
-def states(driver):
-    rec = Recorder(driver.name("robot_states"), RobotMsg)
+def states(sim_driver):
+    rec = Recorder(sim_driver.name("robot_states"), RobotMsg)
     yield rec
     rec.close()
 

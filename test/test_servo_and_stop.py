@@ -9,22 +9,15 @@ import pytest
 from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty
 
-from conftest import at_rest, position
+from conftest import START, at_rest, go_home, position
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 from ros_harness import Recorder, wait_until
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
 
 
 @pytest.fixture(autouse=True)
 def at_start(call):
-    call("servo_move_enable", ServoMoveEnable, enable=False)
-    call("stop_move", Empty)
-    wait_until(lambda: call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1, 3.0,
-               0.2)
-    yield
-    call("servo_move_enable", ServoMoveEnable, enable=False)
-
+    go_home(call)
 
 def moving(recorder):
     msg = recorder.latest()
