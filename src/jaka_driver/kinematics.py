@@ -11,7 +11,7 @@ Thread safety: one :class:`Kinematics` may be shared by any number of threads. T
 ``Model`` is read-only; each thread gets its own ``Data`` (scratch space) on first use.
 
 IK strategy: the Zu arms are UR-type (three parallel axes J2–J4, wrist axes J5 ⟂ J4, J6 ⟂ J5),
-so the up-to-8 solutions of the ideal geometry have a closed form (:meth:`Kinematics._branches`).
+so the up-to-8 solutions of the ideal geometry have a closed form (:meth:`Kinematics._solutions`).
 The official URDFs are not exactly ideal (rpy written as 1.5708, a 1.2e-5 m offset in joint_4's
 origin), so the chosen branch is finished by one or two Newton steps on Pinocchio's exact model.
 If that fails (a non-UR model, or a singular spot), a damped-least-squares solver takes over.
@@ -50,11 +50,18 @@ class IkResult:
     message: str
 
 
+def _finite(a: np.ndarray) -> bool:
+    """No NaN/inf in ``a`` (values beyond 1e150 count as infinite): one dot product is several
+    times cheaper than ``np.isfinite(a).all()``, and this runs on every FK/IK call."""
+    v = a.reshape(-1)
+    return math.isfinite(v @ v)
+
+
 def _as_pose(T, name: str) -> np.ndarray:
     if T is None:
         return _I4
     a = np.asarray(T, dtype=float)
-    if a.shape != (4, 4) or not np.isfinite(a).all():
+    if a.shape != (4, 4) or not _finite(a):
         raise ValueError(f"{name} must be a finite 4x4 homogeneous matrix, got shape {a.shape}")
     return a
 
@@ -127,7 +134,7 @@ class Kinematics:
 
     def _check_q(self, q) -> np.ndarray:
         a = np.asarray(q, dtype=float)
-        if a.shape != (6,) or not np.isfinite(a).all():
+        if a.shape != (6,) or not _finite(a):
             raise ValueError(f"joint positions must be 6 finite values in rad, got {np.shape(q)}")
         return a
 
@@ -153,12 +160,12 @@ class Kinematics:
         Linear rows are the velocity (m/s per rad/s) of the TCP point, angular rows the angular
         velocity — Pinocchio's LOCAL_WORLD_ALIGNED convention.
         """
-        d = self._data()
-        J = pin.computeFrameJacobian(self._pin, d, self._check_q(q), self._flange_id,
-                                     pin.LOCAL_WORLD_ALIGNED)
+        m, d, f = self._pin, self._data(), self._flange_id
+        pin.computeJointJacobians(m, d, self._check_q(q))  # also the joint placements
+        R = pin.updateFramePlacement(m, d, f).rotation
+        J = pin.getFrameJacobian(m, d, f, pin.LOCAL_WORLD_ALIGNED)
         if tool is not None:
             # v_tcp = v_flange + ω × r, r = flange→TCP in base axes.
-            R = pin.updateFramePlacement(self._pin, d, self._flange_id).rotation
             r = R @ _as_pose(tool, "tool")[:3, 3]
             w = J[3:]
             J = J.copy()
@@ -191,15 +198,13 @@ class Kinematics:
         iters = 0
         best = (math.inf, math.inf)
         if cands:
-            ok, q, pe, re, iters = self._newton(cands[0][1], goal, tcp_offset, pos_tol, rot_tol,
-                                                4, damped=False)
+            ok, q, pe, re, iters = self._polish(cands[0][1], goal, tcp_offset, pos_tol, rot_tol, 4)
             if ok:
                 return IkResult(True, q, pe, re, iters, "ok")
             best = (pe, re)
             # Rare (a singular spot): try the next branches before the iterative fallback.
             for _, c in self._solutions(goal_T, ref)[0][1:3]:
-                ok, q, pe, re, n = self._newton(c, goal, tcp_offset, pos_tol, rot_tol, 4,
-                                                damped=False)
+                ok, q, pe, re, n = self._polish(c, goal, tcp_offset, pos_tol, rot_tol, 4)
                 iters += n
                 if ok:
                     return IkResult(True, q, pe, re, iters, "ok")
@@ -231,7 +236,7 @@ class Kinematics:
         goal = pin.SE3(goal_T)
         out: list[np.ndarray] = []
         for _, c in self._solutions(goal_T, ref)[0]:
-            ok, q, *_ = self._newton(c, goal, tcp_offset, pos_tol, rot_tol, 6, damped=False)
+            ok, q, *_ = self._polish(c, goal, tcp_offset, pos_tol, rot_tol, 6)
             if ok and all(np.max(np.abs(q - o)) > 1e-6 for o in out):
                 out.append(q)
         return out
@@ -318,9 +323,11 @@ class Kinematics:
             wrists = []
             for q5 in ((q5a, -q5a) if q5a > 1e-12 else (0.0,)):
                 s5 = math.sin(q5)
-                # At sin q5 = 0, J4 and J6 are coaxial: keep the reference q6, J4 takes the rest.
-                q6 = (math.atan2(yy1, -xy1) if s5 > 1e-9 else
-                      math.atan2(-yy1, xy1) if s5 < -1e-9 else r6)
+                # At sin q5 = 0 the J6 axis is parallel to J2..J4 and only q4 ± q6 is defined:
+                # keep the reference q6. The slack covers the URDF's departures from the ideal
+                # chain, which leave sin q5 ~ 1e-5 at a truly singular pose.
+                q6 = (math.atan2(yy1, -xy1) if s5 > 1e-4 else
+                      math.atan2(-yy1, xy1) if s5 < -1e-4 else r6)
                 v5, v6 = near(q5, 4, r5), near(q6, 5, r6)
                 if v5 is not None and v6 is not None:
                     wrists.append((dist1 + w2[4] * (v5 - r5) ** 2 + w2[5] * (v6 - r6) ** 2,
@@ -368,8 +375,7 @@ class Kinematics:
 
         Plain-float arithmetic: for one 3x3 matrix it is several times cheaper than numpy calls.
         """
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = E.rotation.tolist()
-        px, py, pz = E.translation.tolist()
+        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), _ = E.homogeneous.tolist()
         if tcp_offset is not None:
             # TCP displacement = p + (R - I)·offset, offset = joint 6 → TCP.
             ox, oy, oz = tcp_offset
@@ -380,52 +386,64 @@ class Kinematics:
         rot = math.atan2(s, 0.5 * (r00 + r11 + r22 - 1.0))  # accurate at 0 and near π
         return math.sqrt(px * px + py * py + pz * pz), rot
 
-    def _newton(self, q0, goal: pin.SE3, tcp_offset, pos_tol, rot_tol, max_iter: int,
-                damped: bool):
-        """Newton (or damped least-squares) iterations on log6 of the joint-6 error.
+    def _within_limits(self, q: np.ndarray) -> bool:
+        return all(lo <= x <= hi for lo, x, hi in zip(self._lower_list, q.tolist(),
+                                                       self._upper_list))
 
-        Returns (success, q, position error m, rotation error rad, steps). Newton stops on a
-        step over 0.2 rad (a singular spot: let DLS take over); DLS clamps to the limits after
-        every step. A converged q outside the limits is clamped and re-checked.
+    def _polish(self, q0, goal: pin.SE3, tcp_offset, pos_tol, rot_tol, max_steps: int):
+        """Newton steps on log6 of the joint-6 error, from a closed-form solution.
+
+        Returns (success, q, position error m, rotation error rad, steps). At least one step is
+        taken: the closed form of the ideal chain is never within tolerance of the real URDF,
+        so checking before the first step would only cost time. A step over 0.2 rad means a
+        singular spot; the caller then tries something else.
         """
         m, d, j6 = self._pin, self._data(), self._joint6
         q = np.array(q0, dtype=float)
-        lo, hi = self._lower, self._upper
-        it = 0
-        pin.computeJointJacobians(m, d, q)
-        while True:
+        for it in range(1, max_steps + 1):
+            pin.computeJointJacobians(m, d, q)
             E = d.oMi[j6].actInv(goal)
-            pe, re = self._tcp_error(E, tcp_offset)
+            # Eigen's LU through eigenpy: numpy's solve costs three times more per call.
+            dq = eigenpy.PartialPivLU(pin.getJointJacobian(m, d, j6, pin.LOCAL)).solve(
+                pin.log6(E).vector)
+            if not float(dq @ dq) < 0.04:  # also catches NaN
+                return False, q, *self._tcp_error(E, tcp_offset), it
+            q = q + dq
+            pin.forwardKinematics(m, d, q)
+            pe, re = self._tcp_error(d.oMi[j6].actInv(goal), tcp_offset)
             if pe <= pos_tol and re <= rot_tol:
-                if not all(a <= x <= b for a, x, b in zip(self._lower_list, q.tolist(),
-                                                            self._upper_list)):
-                    q = np.clip(q, lo, hi)
+                if not self._within_limits(q):  # a joint on its limit stepped just past it
+                    q = np.clip(q, self._lower, self._upper)
                     pe, re = self._pose_error_of(q, goal, tcp_offset)
                     return pe <= pos_tol and re <= rot_tol, q, pe, re, it
                 return True, q, pe, re, it
+        return False, q, pe, re, max_steps
+
+    def _dls(self, q0, goal: pin.SE3, tcp_offset, pos_tol, rot_tol, max_iter: int):
+        """Damped least squares on log6 of the joint-6 error, clamped to the joint limits.
+
+        Levenberg-Marquardt damping ~ |e|²: heavy far away, vanishing at the solution, so it
+        still converges quickly next to a singularity. Returns like :meth:`_polish`.
+        """
+        m, d, j6 = self._pin, self._data(), self._joint6
+        lo, hi = self._lower, self._upper
+        q = np.clip(np.array(q0, dtype=float), lo, hi)
+        for it in range(max_iter + 1):
+            pin.computeJointJacobians(m, d, q)
+            E = d.oMi[j6].actInv(goal)
+            pe, re = self._tcp_error(E, tcp_offset)
+            if pe <= pos_tol and re <= rot_tol:
+                return True, q, pe, re, it
             if it == max_iter:
-                return False, q, pe, re, it
-            if it:
-                pin.computeJointJacobians(m, d, q)  # the first pass already has the Jacobians
-            it += 1
+                break
             e = pin.log6(E).vector
             J = pin.getJointJacobian(m, d, j6, pin.LOCAL)
-            if damped:
-                # Levenberg-Marquardt damping ~ |e|²: heavy far away, vanishing at the solution
-                # (so it still converges fast next to a singularity).
-                ee = float(e @ e)
-                dq = J.T @ np.linalg.solve(J @ J.T + (ee + 1e-12) * np.eye(6), e)
-                n = math.sqrt(float(dq @ dq))
-                if n > 0.5:
-                    dq *= 0.5 / n
-                q = np.clip(q + dq, lo, hi)
-            else:
-                # Eigen's LU through eigenpy: numpy's solve costs three times more per call.
-                dq = eigenpy.PartialPivLU(J).solve(e)
-                if not float(dq @ dq) < 0.04:  # huge (or NaN) polish step: a singular spot
-                    return False, q, pe, re, it
-                q = q + dq
-            pin.forwardKinematics(m, d, q)
+            dq = J.T @ np.linalg.solve(J @ J.T + (float(e @ e) + 1e-12) * np.eye(6), e)
+            n = math.sqrt(float(dq @ dq))
+            if n > 0.5:
+                dq *= 0.5 / n
+            q = np.clip(q + dq, lo, hi)
+        return False, q, pe, re, it
 
     def _dls_restarts(self, ref, goal, tcp_offset, pos_tol, rot_tol, max_iter, restarts):
         """Damped least squares from ``ref``, then from random configurations (fixed RNG seed);
@@ -436,8 +454,7 @@ class Kinematics:
         iters = 0
         starts = [ref] + [rng.uniform(self._lower, self._upper) for _ in range(restarts)]
         for k, q0 in enumerate(starts):
-            ok, q, pe, re, n = self._newton(q0, goal, tcp_offset, pos_tol, rot_tol, max_iter,
-                                            damped=True)
+            ok, q, pe, re, n = self._dls(q0, goal, tcp_offset, pos_tol, rot_tol, max_iter)
             iters += n
             if ok:
                 if k == 0:
