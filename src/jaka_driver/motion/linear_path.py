@@ -16,6 +16,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..results import Code, CommandRefused
+from ..transforms import rotation_angle_between, slerp
 from .profiles import TrapezoidProfile
 from .trajectory import JointTrajectory, time_grid
 
@@ -70,42 +71,6 @@ def _joints(name: str, value, n: int) -> np.ndarray:
     return vec
 
 
-def _axis_angle(R: np.ndarray) -> tuple[np.ndarray, float]:
-    """Unit axis and angle (rad, in [0, π]) of rotation matrix ``R``, through the quaternion
-    (largest-component extraction, accurate at every angle including near π)."""
-    tr = np.trace(R)
-    i = int(np.argmax([tr, R[0, 0], R[1, 1], R[2, 2]]))
-    if i == 0:
-        w = 0.5 * math.sqrt(max(1.0 + tr, 0.0))
-        v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (4.0 * w)
-    else:
-        a = i - 1                                # the axis with the largest component
-        j, k = (a + 1) % 3, (a + 2) % 3          # the two others, in cyclic order
-        big = 0.5 * math.sqrt(max(1.0 + 2.0 * R[a, a] - tr, 0.0))
-        v = np.empty(3)
-        v[a] = big
-        v[j] = (R[j, a] + R[a, j]) / (4.0 * big)
-        v[k] = (R[k, a] + R[a, k]) / (4.0 * big)
-        w = (R[k, j] - R[j, k]) / (4.0 * big)
-    if w < 0.0:                                  # same rotation, take the short way round
-        w, v = -w, -v
-    norm = float(np.linalg.norm(v))
-    if norm < 1e-15:
-        return np.array([1.0, 0.0, 0.0]), 0.0
-    return v / norm, 2.0 * math.atan2(norm, w)
-
-
-def _slerp(R0: np.ndarray, R1: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Rotations (N, 3, 3) along the shortest great arc from ``R0`` (u = 0) to ``R1`` (u = 1):
-    ``R0 · Rot(axis, u · angle)`` with the axis and angle of ``R0ᵀ R1`` (Rodrigues)."""
-    axis, angle = _axis_angle(R0.T @ R1)
-    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
-                  [-axis[1], axis[0], 0.0]])
-    phi = np.asarray(u, dtype=float)[:, None, None] * angle
-    rel = np.eye(3) + np.sin(phi) * K + (1.0 - np.cos(phi)) * (K @ K)
-    return R0 @ rel
-
-
 def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: IK, lower,
                      upper, v_max, cycle: float = 0.008, ref_q=None,
                      angular_speed: Optional[float] = None,
@@ -152,7 +117,7 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
 
     p0, p1 = T_start[:3, 3], T_goal[:3, 3]
     length = float(np.linalg.norm(p1 - p0))
-    _, angle = _axis_angle(T_start[:3, :3].T @ T_goal[:3, :3])
+    angle = float(rotation_angle_between(T_start[:3, :3], T_goal[:3, :3]))
     if length <= _ZERO_LENGTH and angle <= _ZERO_ANGLE:
         return JointTrajectory(times=np.zeros(1), q=q_start[None, :], qd=np.zeros((1, n)),
                                tcp=T_goal[None, :, :])
@@ -168,7 +133,7 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
 
     tcp = np.tile(np.eye(4), (times.shape[0], 1, 1))
     tcp[:, :3, 3] = p0 + u[:, None] * (p1 - p0)
-    tcp[:, :3, :3] = _slerp(T_start[:3, :3], T_goal[:3, :3], u)
+    tcp[:, :3, :3] = slerp(T_start[:3, :3], T_goal[:3, :3], u)
     tcp[-1] = T_goal                    # land on the target, not on its rounding
 
     q = np.empty((times.shape[0], n))
