@@ -109,3 +109,17 @@ def test_a_second_motion_during_a_blocking_move_is_busy(call, joints):
     assert reply.ret == -10, reply.message
     call("stop_move", Empty)
     mover.join(5.0)
+
+
+def test_servo_j_may_follow_servo_p_in_one_stream(call, sim_driver, rospy_node, tcp, joints):
+    from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    msg = wait_until(tcp.latest, 2.0)
+    p = [msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z + 0.001]
+    rpy = matrix_to_rpy(rotvec_to_matrix([msg.twist.angular.x, msg.twist.angular.y,
+                                          msg.twist.angular.z]))
+    assert call("servo_p", ServoMove, pose=p + list(rpy), speed=[]).ret == 1
+    time.sleep(0.008)
+    q = position(joints)
+    reply = call("servo_j", ServoMove, pose=q.tolist(), speed=[])
+    assert reply.ret == 1, reply.message

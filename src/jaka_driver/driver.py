@@ -296,7 +296,10 @@ class RobotDriver:
                           f"{self.model.max_tcp_speed_mm_s:.0f} mm/s; the arm holds")
         result = self.backend.servo_p(target)
         if result.ok:
-            self._servo.accepted(None)
+            # the joint target, when the backend solved the IK itself (the twin), else the
+            # measured joints: the reference for a servo_j that may follow
+            self._servo.accepted(result.value if result.value is not None
+                                 else st.joint_position)
         return _with_gap(result, gap, self._servo.timeout)
 
     # ---- frames, payload, settings --------------------------------------------------------

@@ -318,7 +318,7 @@ class SimBackend(Backend):
                                   f"limit {self.model.max_velocity[worst]:.2f} rad/s; the arm "
                                   "holds")
         target.set(q)
-        return Result.success("servo_p target accepted")
+        return Result.success("servo_p target accepted", q)
 
     def stop_move(self) -> Result:
         with self._lock:
