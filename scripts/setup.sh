@@ -12,7 +12,9 @@ say() { echo "[setup] $*"; }
 
 # 1. Debian packages -------------------------------------------------------
 mapfile -t wanted < <(grep -v -e '^#' -e '^$' scripts/apt-packages.txt)
-installed=$(dpkg-query -W -f='${Package} ${db:Status-Status}\n' "${wanted[@]}" 2>/dev/null | awk '$2=="installed"{print $1}')
+# dpkg-query exits 1 when any package is unknown to dpkg (the usual case on a fresh machine):
+# that is an answer here, not an error, so it must not trip `set -e`.
+installed=$(dpkg-query -W -f='${Package} ${db:Status-Status}\n' "${wanted[@]}" 2>/dev/null | awk '$2=="installed"{print $1}' || true)
 missing=()
 for p in "${wanted[@]}"; do grep -qx "$p" <<<"$installed" || missing+=("$p"); done
 if ((${#missing[@]})); then
