@@ -97,11 +97,19 @@ class DriverProcess:
         return f"{self.prefix}/{leaf}"
 
     def wait_ready(self, timeout: float = 60.0) -> None:
+        """Until the node has said "jaka_driver ready" (logged once every service, the action
+        server, TF and diagnostics are up): a service answering is not enough, the node
+        advertises them one after the other."""
         import rospy
+        end = time.monotonic() + timeout
         try:
             rospy.wait_for_service(self.name("clear_err"), timeout=timeout)
         except rospy.ROSException:
             raise RuntimeError(f"driver not ready in {timeout} s; log:\n{self.log()}") from None
+        while "jaka_driver ready" not in self.log_path.read_text(errors="replace"):
+            if time.monotonic() > end or not self.alive():
+                raise RuntimeError(f"driver not ready in {timeout} s; log:\n{self.log()}")
+            time.sleep(0.05)
 
     def log(self) -> str:
         self._log.flush()

@@ -35,6 +35,7 @@ from . import messages
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster
 from .services import advertise, advertise_faults
+from .snapshot_service import advertise_snapshot
 from .trajectory_action import TrajectoryActionServer
 
 
@@ -166,6 +167,7 @@ def main() -> int:
     publisher.start()
     advertise(driver)
     advertise_faults(backend)
+    advertise_snapshot(backend)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)

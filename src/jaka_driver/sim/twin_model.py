@@ -7,6 +7,7 @@ no actuators.
 """
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
 from typing import Optional
 
 import mujoco
@@ -21,11 +22,17 @@ ARMATURE = 0.05           # kg·m², reflected rotor inertia; also steadies the 
 FLANGE_BODY = "link_6"
 
 
-def build_twin_model(model: RobotModel, scene: Optional[str] = None) -> mujoco.MjModel:
+def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
+                     visual: bool = False) -> mujoco.MjModel:
     """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
-    (see :mod:`collisions`)."""
-    spec = mujoco.MjSpec.from_string(model.urdf_xml)
-    spec.compiler.discardvisual = True
+    (see :mod:`collisions`).
+
+    ``visual=True`` keeps the URDF's ``<visual>`` shapes as well (geom group 1, no contacts) for
+    pictures (:mod:`snapshot`); the physics twin leaves it off, it only needs collision shapes.
+    """
+    xml = _keep_visual(model.urdf_xml) if visual else model.urdf_xml
+    spec = mujoco.MjSpec.from_string(xml)
+    spec.compiler.discardvisual = not visual
     add_environment(spec, scene)
     m = spec.compile()
     if m.nv != 6:
@@ -77,6 +84,16 @@ class Payload:
         # mj_setConst evaluates the model at qpos0 in the data it is given: never the live one.
         mujoco.mj_setConst(m, mujoco.MjData(m))
         self.mass, self.centroid = mass, np.asarray(centroid, float).copy()
+
+
+def _keep_visual(urdf_xml: str) -> str:
+    """The URDF with MuJoCo's ``<compiler discardvisual="false"/>`` extension in it: the URDF
+    parser drops ``<visual>`` elements while reading, so setting the flag on the spec
+    afterwards is too late."""
+    root = ET.fromstring(urdf_xml)
+    ext = ET.SubElement(root, "mujoco")
+    ET.SubElement(ext, "compiler", discardvisual="false")
+    return ET.tostring(root, encoding="unicode")
 
 
 def _shift(r: np.ndarray) -> np.ndarray:
