@@ -125,6 +125,16 @@ def test_too_fast_trajectory_is_invalid_goal_before_moving(client, joints):
     assert np.max(np.abs(position(joints) - before)) < 1e-4
 
 
+def test_a_trajectory_of_a_year_is_invalid_goal_at_once(client, joints):
+    """Sampled every 8 ms it would be 4e9 samples: refused before any planning."""
+    before = at_rest(joints)
+    client.send_goal(goal_through([(3.2e7, [0.3, 1.4, -1.4, 1.6, 1.6, 0.2])]))
+    assert client.wait_for_result(rospy.Duration(5))
+    result = client.get_result()
+    assert result.error_code == R.INVALID_GOAL and "600 s" in result.error_string
+    assert np.max(np.abs(position(joints) - before)) < 1e-4
+
+
 def test_refused_in_servo_mode_with_the_reason(client, call):
     assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
     client.send_goal(goal_through(THREE_POINTS))

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jaka_driver.motion.profiles import SyncJointProfile
-from jaka_driver.motion.trajectory import JointTrajectory, time_grid
+from jaka_driver.motion.trajectory import MAX_MOTION_DURATION, JointTrajectory, time_grid
 
 CYCLE = 0.008
 
@@ -74,3 +74,10 @@ def test_inconsistent_arrays_are_refused(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         JointTrajectory(**args)
+
+
+def test_time_grid_refuses_a_motion_longer_than_the_cap():
+    """The guard on memory: 1e6 s would be 1.25e8 samples."""
+    assert time_grid(MAX_MOTION_DURATION, 0.008)[-1] == MAX_MOTION_DURATION
+    with pytest.raises(ValueError, match="above the limit of 600 s"):
+        time_grid(1e6, 0.008)

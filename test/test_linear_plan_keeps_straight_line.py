@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from jaka_driver.motion.linear_path import PlanningError, plan_linear_move
+from jaka_driver.motion.linear_path import PlanningError, line_duration, plan_linear_move
 from jaka_driver.results import CommandRefused
 
 LOWER, UPPER = np.full(6, -2.0), np.full(6, 2.0)
@@ -240,4 +240,16 @@ def test_a_pose_that_is_not_a_rotation_is_refused():
     bad[:3, :3] *= 2.0
     with pytest.raises(PlanningError, match="T_goal") as err:
         plan(T0, bad)
+    assert err.value.code == -2
+
+
+def test_line_duration_is_the_planned_duration_without_sampling():
+    assert line_duration(T0, T1, SPEED, ACCEL) == pytest.approx(plan(T0, T1).duration, abs=1e-12)
+    assert line_duration(T0, T0.copy(), SPEED, ACCEL) == 0.0
+
+
+def test_a_line_longer_than_the_motion_cap_is_refused_before_sampling():
+    """1e-9 m/s over 0.3 m would be ~1e8 s of 8 ms samples: refused at once, -2."""
+    with pytest.raises(PlanningError, match=r"above the limit of 600 s") as err:
+        plan(T0, T1, speed=1e-9)
     assert err.value.code == -2

@@ -17,6 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from . import move_duration
 from . import validation as check
 from .backend import Backend
 from .results import Code, CommandRefused, Result, invalid
@@ -74,6 +75,7 @@ class RobotDriver:
 
     def state(self) -> RobotState:
         return self.backend.state()
+
 
     # ---- state machine -----------------------------------------------------------------
     def _ready(self, *, servo: bool = False, allow_servo_mode: bool = False) -> RobotState:
@@ -140,6 +142,10 @@ class RobotDriver:
         duration = check.finite("mvtime", mvtime, "s")
         if duration < 0:
             raise invalid(f"mvtime is {duration:g} s, expected ≥ 0 (0 = as fast as allowed)")
+        move_duration.check_joint_move(self.backend.state().joint_position, q,
+                                       np.minimum(v, self.model.max_velocity),
+                                       np.minimum(a, self.model.max_acceleration),
+                                       duration or None, mvvelo, mvacc)
         self._not_jogging()
         with self._blocking_move("joint_move"):
             self._ready()
@@ -169,6 +175,8 @@ class RobotDriver:
                 target = np.linalg.inv(user) @ target
             elif mode == 2:
                 target = st.tcp_pose @ target
+            move_duration.check_linear_move(st.tcp_pose, target, v / 1000.0, a / 1000.0,
+                                            mvvelo, mvacc)
             result = self.backend.linear_move(target, v / 1000.0, a / 1000.0, ref_q)
         return _with_notes(result, notes)
 

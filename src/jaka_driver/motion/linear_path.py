@@ -18,7 +18,7 @@ import numpy as np
 from ..results import Code, CommandRefused
 from ..transforms import rotation_angle_between, slerp
 from .profiles import TrapezoidProfile
-from .trajectory import JointTrajectory, time_grid
+from .trajectory import MAX_MOTION_DURATION, JointTrajectory, time_grid
 
 # Default orientation limits. A rotation is given the speed a point ROTATION_RADIUS from the
 # axis would have at the linear speed (so a slow move also turns slowly), capped so that a
@@ -115,20 +115,16 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
         raise _invalid(f"v_max must be > 0 for every joint, got {v_max.tolist()}")
     ref_q = None if ref_q is None else _joints("ref_q", ref_q, n)
 
-    p0, p1 = T_start[:3, 3], T_goal[:3, 3]
-    length = float(np.linalg.norm(p1 - p0))
-    angle = float(rotation_angle_between(T_start[:3, :3], T_goal[:3, :3]))
-    if length <= _ZERO_LENGTH and angle <= _ZERO_ANGLE:
+    law = _path_law(T_start, T_goal, speed, accel, angular_speed, angular_accel)
+    if law is None:
         return JointTrajectory(times=np.zeros(1), q=q_start[None, :], qd=np.zeros((1, n)),
                                tcp=T_goal[None, :, :])
-
-    # Limits of the path parameter u: a unit of u is `length` m and `angle` rad.
-    u_speed = min(speed / length if length > _ZERO_LENGTH else math.inf,
-                  angular_speed / angle if angle > _ZERO_ANGLE else math.inf)
-    u_accel = min(accel / length if length > _ZERO_LENGTH else math.inf,
-                  angular_accel / angle if angle > _ZERO_ANGLE else math.inf)
-    law = TrapezoidProfile(1.0, u_speed, u_accel)
+    if law.duration > MAX_MOTION_DURATION:
+        raise _invalid(f"the line would take {law.duration:.4g} s at {speed * 1000:g} mm/s, "
+                       f"{accel * 1000:g} mm/s², above the limit of {MAX_MOTION_DURATION:g} s "
+                       "for one move")
     times = time_grid(law.duration, cycle)
+    p0, p1 = T_start[:3, 3], T_goal[:3, 3]
     u = np.asarray(law.sample(times)[0])
 
     tcp = np.tile(np.eye(4), (times.shape[0], 1, 1))
@@ -148,6 +144,34 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
     qd = np.gradient(q, times, axis=0)
     qd[0] = qd[-1] = 0.0
     return JointTrajectory(times=times, q=q, qd=qd, tcp=tcp)
+
+
+def line_duration(T_start, T_goal, speed: float, accel: float) -> float:
+    """Duration (s) of the straight line from ``T_start`` to ``T_goal`` (4x4, m) at ``speed``
+    m/s and ``accel`` m/s² with the default orientation limits, as :func:`plan_linear_move`
+    would time it — without sampling it. 0 when the poses coincide."""
+    speed = _positive("speed", speed, "m/s")
+    accel = _positive("accel", accel, "m/s²")
+    law = _path_law(_pose("T_start", T_start), _pose("T_goal", T_goal), speed, accel,
+                    min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED),
+                    min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL))
+    return 0.0 if law is None else law.duration
+
+
+def _path_law(T_start: np.ndarray, T_goal: np.ndarray, speed: float, accel: float,
+              angular_speed: float, angular_accel: float) -> Optional[TrapezoidProfile]:
+    """The time law of the path parameter u ∈ [0, 1], or None when there is nothing to move.
+    A unit of u is the line's length (m) and its rotation angle (rad): u's limits are the
+    tighter of the translation's and the rotation's."""
+    length = float(np.linalg.norm(T_goal[:3, 3] - T_start[:3, 3]))
+    angle = float(rotation_angle_between(T_start[:3, :3], T_goal[:3, :3]))
+    if length <= _ZERO_LENGTH and angle <= _ZERO_ANGLE:
+        return None
+    u_speed = min(speed / length if length > _ZERO_LENGTH else math.inf,
+                  angular_speed / angle if angle > _ZERO_ANGLE else math.inf)
+    u_accel = min(accel / length if length > _ZERO_LENGTH else math.inf,
+                  angular_accel / angle if angle > _ZERO_ANGLE else math.inf)
+    return TrapezoidProfile(1.0, u_speed, u_accel)
 
 
 def _where(u: float) -> str:

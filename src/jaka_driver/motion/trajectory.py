@@ -12,17 +12,27 @@ from typing import Optional
 
 import numpy as np
 
+# The longest single motion the driver plans, s. A sampled motion of 10 min is 75 000 samples
+# (~7 MB with velocities); far longer ones come only from units mistakes (mvvelo 1e-7) and would
+# take gigabytes and minutes of planning that stop_move cannot interrupt.
+MAX_MOTION_DURATION = 600.0
+
 
 def time_grid(duration: float, cycle: float) -> np.ndarray:
     """Sample times (s) for a motion of ``duration`` s: every ``cycle`` s from 0, and the end
     itself. A remainder under half a cycle is merged into the last interval rather than left
     as a sliver: over a sliver, a planner's finite differences would turn solver noise into
-    absurd speeds. ``duration = 0`` gives ``[0]``."""
+    absurd speeds. ``duration = 0`` gives ``[0]``; a duration above
+    :data:`MAX_MOTION_DURATION` raises :class:`ValueError` (callers name the request field
+    before they get here; this is the guard on memory)."""
     duration, cycle = float(duration), float(cycle)
     if not math.isfinite(cycle) or cycle <= 0.0:
         raise ValueError(f"cycle is {cycle:g} s, expected a finite value > 0")
     if not math.isfinite(duration) or duration < 0.0:
         raise ValueError(f"duration is {duration:g} s, expected a finite value ≥ 0")
+    if duration > MAX_MOTION_DURATION:
+        raise ValueError(f"duration is {duration:.4g} s, above the limit of "
+                         f"{MAX_MOTION_DURATION:g} s for one motion")
     if duration == 0.0:
         return np.zeros(1)
     full = int(math.floor(duration / cycle + 1e-9))

@@ -20,7 +20,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from ..driver import RobotDriver
 from ..motion.spline import Waypoint, sample_waypoints
-from ..motion.trajectory import JointTrajectory
+from ..motion.trajectory import MAX_MOTION_DURATION, JointTrajectory
 
 CYCLE = 0.008
 START_TOLERANCE = 0.05      # rad: a point at t = 0 must be this close to the arm
@@ -67,6 +67,10 @@ class TrajectoryActionServer:
                 raise GoalRejected(Result.INVALID_GOAL, f"point {i}: time_from_start {t:.3f} s "
                                    f"is not after the previous point's {previous:.3f} s")
             previous = t
+            if t > MAX_MOTION_DURATION:
+                raise GoalRejected(Result.INVALID_GOAL, f"point {i}: time_from_start {t:.4g} s "
+                                   f"is above the limit of {MAX_MOTION_DURATION:g} s for one "
+                                   "trajectory (split it)")
             q = self._vector(p.positions, f"point {i} positions", order, required=True)
             qd = self._vector(p.velocities, f"point {i} velocities", order)
             qdd = self._vector(p.accelerations, f"point {i} accelerations", order)
