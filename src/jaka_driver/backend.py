@@ -51,6 +51,17 @@ class Backend(ABC):
     def state(self) -> RobotState:
         """The latest sample; never blocks."""
 
+    #: Period (s) at which new state samples appear, when the backend has such a clock (the
+    #: twin's 8 ms cycle) and implements :meth:`wait_for_sample`; None otherwise.
+    sample_period: Optional[float] = None
+
+    def wait_for_sample(self, after: float, timeout: float) -> bool:
+        """Block until a sample stamped later than ``after`` (s, as ``RobotState.stamp``)
+        exists, at most ``timeout`` s; True if one does. Lets the node publish each sample the
+        moment it exists instead of on a clock of its own. Only called when
+        :attr:`sample_period` is set."""
+        raise NotImplementedError(f"{type(self).__name__} has no sample clock")
+
     def describe(self) -> dict:
         """Facts for diagnostics (version, connection, rates). Backends add their own."""
         return {"backend": self.kind, "model": self.model.name}

@@ -54,10 +54,15 @@ def make_backend(kind: str, model_name: str, params: dict):
 
 
 class StatePublisher:
-    """Publishes the latest state at a fixed rate from its own thread.
+    """Publishes the state at ``rate`` Hz from its own thread.
 
-    Deadlines are absolute (``next += period``) so the rate does not drift with the time the
-    publishing itself takes; after a stall it resynchronises instead of bursting.
+    When the backend has a sample clock at that rate (the twin's 8 ms cycle at 125 Hz), each
+    sample is published the moment it exists: no phase between the physics and the publisher
+    to add to the sample's age or to a servo target's round trip. If no sample comes for 1.5
+    periods (the source stalled) the latest one is published anyway, so the topics keep their
+    rate. Otherwise it runs on its own clock: deadlines are absolute (``next += period``) so
+    the rate does not drift with the time the publishing takes; after a stall it
+    resynchronises instead of bursting.
     """
 
     def __init__(self, driver: RobotDriver, rate: float):
@@ -76,7 +81,8 @@ class StatePublisher:
     def start(self) -> None:
         self._thread.start()
 
-    def _publish_once(self) -> None:
+    def _publish_once(self) -> float:
+        """Publish the latest sample on every topic; its stamp (s)."""
         st = self._driver.state()
         stamp = rospy.Time.from_sec(st.stamp)
         joints = messages.joint_state(st, self._names, stamp)
@@ -85,6 +91,7 @@ class StatePublisher:
         self._states.publish(messages.robot_msg(st))
         self._joint_states.publish(joints)
         self._count += 1
+        return st.stamp
 
     def measured_rate(self) -> float:
         """Messages per second per topic since the previous call (diagnostics, 1 Hz)."""
@@ -95,13 +102,37 @@ class StatePublisher:
             self._window = (now, self._count)
         return self._rate
 
+    @property
+    def follows_samples(self) -> bool:
+        """True when publishing follows the backend's sample clock (see the class)."""
+        period = self._driver.sample_period
+        return period is not None and abs(period / self._period - 1.0) < 0.01
+
+    def _publish_safely(self, last: float = 0.0) -> float:
+        """:meth:`_publish_once`, logging instead of raising; the stamp published (``last``
+        if nothing was)."""
+        try:
+            return self._publish_once()
+        except Exception as exc:  # noqa: BLE001 — a bad sample must not stop the stream
+            rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
+            return last
+
     def _run(self) -> None:
+        if self.follows_samples:
+            self._run_on_samples()
+        else:
+            self._run_on_clock()
+
+    def _run_on_samples(self) -> None:
+        last = 0.0
+        while not rospy.is_shutdown():
+            self._driver.wait_for_sample(last, 1.5 * self._period)
+            last = self._publish_safely(last)
+
+    def _run_on_clock(self) -> None:
         deadline = time.monotonic()
         while not rospy.is_shutdown():
-            try:
-                self._publish_once()
-            except Exception as exc:  # noqa: BLE001 — a bad sample must not stop the stream
-                rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
+            self._publish_safely()
             deadline += self._period
             delay = deadline - time.monotonic()
             if delay > 0:

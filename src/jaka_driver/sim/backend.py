@@ -26,6 +26,7 @@ from .collisions import CollisionMonitor
 from .io_board import IoBoard
 from ..completion import Completion
 from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
+from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
 from .twin_model import Payload, build_twin_model
@@ -40,6 +41,7 @@ JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
 
 class SimBackend(Backend):
     kind = "sim"
+    sample_period = CYCLE
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False):
@@ -53,6 +55,8 @@ class SimBackend(Backend):
         self.payload = Payload(self.mj_model)
         self.collisions = CollisionMonitor(self.mj_model, self._collided)
         self.physics.on_step.append(self.collisions.check)
+        self.overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
+        self.physics.on_cycle.append(lambda: self.overload.check(self.physics.d))
         self.io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._lock = threading.RLock()
         self._tools = {0: np.eye(4)}
@@ -105,6 +109,9 @@ class SimBackend(Backend):
             protective_stop=self.protective_stop, collision=self.collision,
             moving=sample.moving, error_code=self.error_code, error_message=self.error_message)
 
+    def wait_for_sample(self, after: float, timeout: float) -> bool:
+        return self.physics.wait_for_sample(after, timeout)
+
     # ---- power ----------------------------------------------------------------------------
     def set_power(self, on: bool) -> Result:
         with self._lock:
@@ -136,6 +143,26 @@ class SimBackend(Backend):
         self.error_message = message
         self.physics.hold_here().abort(stopped(message))
         self.servo_mode = False
+
+    def _overloaded(self, message: str) -> None:
+        """Protective stop on brakes when a drive cannot hold (runs in the physics thread)."""
+        self.protective_stop = True
+        self.error_message = message
+        self.physics.engage_brakes().abort(stopped(message))
+        self.servo_mode = False
+
+    def _cannot_hold(self, mass: float, centroid: np.ndarray, share: float) -> Optional[str]:
+        """Why the drives could not hold the arm still here with this payload (None if they
+        can): the joint, the torque it needs and its limit."""
+        with self.physics.lock:
+            tau = holding_torque(self.mj_model, self.physics.d.qpos[:6].copy(), self.payload,
+                                 mass, centroid)
+        k, used = worst_joint(tau, self.model.max_effort)
+        if used <= share:
+            return None
+        limit = self.model.max_effort[k]
+        return (f"holding the arm here needs {self.model.joint_names[k]} {abs(tau[k]):.1f} N·m, "
+                f"above {share * limit:.1f} N·m ({share * 100:.0f} % of its {limit:g} N·m limit)")
 
     def press_emergency_stop(self) -> Result:
         """The red button: power is cut, the arm halts on its brakes."""
@@ -356,6 +383,12 @@ class SimBackend(Backend):
         return Result.success(f"user frame {user_id} set {_mm(pose)} and active")
 
     def set_payload(self, tool_id, mass, centroid) -> Result:
+        why = self._cannot_hold(mass, centroid, HOLDING_SHARE)
+        if why is not None:
+            c = np.linalg.norm(centroid) * 1000
+            return Result.failure(Code.INVALID_PARAMETER, f"mass {mass:g} kg with its centroid "
+                                  f"{c:.0f} mm from the flange: {why}; lighter payload or "
+                                  "centroid nearer the flange")
         with self._lock:
             with self.physics.lock:
                 self.payload.set(mass, centroid)
@@ -400,6 +433,14 @@ class SimBackend(Backend):
 
     def clear_error(self) -> Result:
         with self._lock:
+            if self.physics.braked:
+                # Opening the brakes on an arm the drives cannot hold would drop it.
+                why = self._cannot_hold(self.payload.mass, self.payload.centroid, 1.0)
+                if why is not None:
+                    return Result.failure(Code.MOTION_STOPPED, f"the protective stop stands: "
+                                          f"{why}; set a lighter payload first")
+                self.physics.release_brakes()
+            self.overload.rearm()
             was = [name for name, flag in (("collision", self.collision),
                                            ("protective stop", self.protective_stop),
                                            ("error", self.error_code != 0)) if flag]

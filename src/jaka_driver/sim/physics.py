@@ -2,12 +2,15 @@
 
 Every physics step (``timestep``, 1 ms by default) the servo drives compute torques; every
 ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next setpoint.
-The loop wakes every ``wake_period`` (2 ms) and steps as many times as wall-clock time asks,
-so it runs at 500 wake-ups/s while physics keeps a 1 kHz step.
+The loop wakes once per cycle, at the wall-clock cycle boundary, and steps the cycle that has
+just elapsed (8 steps; more after a stall): 125 wake-ups/s while physics keeps a 1 kHz step.
+A setpoint that arrived during the elapsed cycle is therefore reached in the sample taken at
+its end, and that sample exists the moment the wake-up is done.
 
-Samples: after each batch the measured joints are copied; ``sample()`` returns the latest
-copy with its wall-clock time. Hooks run inside the loop (``on_step`` after each step, for
-contact checks) and must be quick.
+Samples: after each wake-up the measured joints are copied; ``sample()`` returns the latest
+copy with its wall-clock time, and ``wait_for_sample`` lets a publisher send each sample as
+soon as it exists. Hooks run inside the loop (``on_step`` after each step, for contact checks;
+``on_cycle`` at each cycle boundary) and must be quick.
 """
 from __future__ import annotations
 
@@ -21,6 +24,11 @@ import numpy as np
 
 from .motions import Hold, Motion
 from .servo import JointServo
+
+
+# Cycles after which a late wake-up counts as a stall and time is skipped, not caught up.
+STALL_CYCLES = 25                   # 0.2 s at 8 ms
+WAKE_MARGIN = 0.0002                # s
 
 
 @dataclass(frozen=True)
@@ -38,20 +46,21 @@ class PhysicsLoop:
     """Owns ``MjData``; all access to it happens in the loop thread (or under ``lock``)."""
 
     def __init__(self, m: mujoco.MjModel, servo: JointServo, q0: np.ndarray,
-                 cycle: float = 0.008, wake_period: float = 0.002):
+                 cycle: float = 0.008):
         self.m = m
         self.d = mujoco.MjData(m)
         self.servo = servo
-        self.cycle = cycle
         self.steps_per_cycle = max(1, round(cycle / m.opt.timestep))
-        self.wake_period = wake_period
+        self.cycle = self.steps_per_cycle * m.opt.timestep
         self.lock = threading.RLock()
+        self._sampled = threading.Condition()
         self.d.qpos[:6] = q0
         mujoco.mj_forward(m, self.d)
         servo.reset(np.asarray(q0, float))
         self._motion: Motion = Hold()
         self._step_count = 0
         self._tau = np.zeros(6)
+        self._brakes: Optional[np.ndarray] = None     # joint angles the brakes lock, rad
         self._sample: Optional[Sample] = None
         self._quit = threading.Event()
         self._thread: Optional[threading.Thread] = None
@@ -80,6 +89,25 @@ class PhysicsLoop:
             self.servo.reset(self.d.qpos[:6].copy())
             return self.switch(Hold())
 
+    # ---- brakes -------------------------------------------------------------------------
+    @property
+    def braked(self) -> bool:
+        return self._brakes is not None
+
+    def engage_brakes(self) -> Motion:
+        """Close the joint brakes where the arm is: from the next step the joints are locked
+        (positions held exactly, velocities 0) and the drives give no torque."""
+        with self.lock:
+            self._brakes = self.d.qpos[:6].copy()
+            return self.hold_here()
+
+    def release_brakes(self) -> None:
+        """Open the brakes: the drives hold the arm where the brakes had it."""
+        with self.lock:
+            if self._brakes is not None:
+                self._brakes = None
+                self.servo.reset(self.d.qpos[:6].copy())
+
     # ---- thread -------------------------------------------------------------------------
     def start(self) -> None:
         self._thread = threading.Thread(target=self._run, name="twin-physics", daemon=True)
@@ -93,26 +121,37 @@ class PhysicsLoop:
     def sample(self) -> Sample:
         return self._sample
 
+    def wait_for_sample(self, after: float, timeout: float) -> bool:
+        """Block until the latest sample is stamped later than ``after`` (s), at most
+        ``timeout`` s; True if it is."""
+        with self._sampled:
+            return self._sampled.wait_for(lambda: self._sample.stamp > after, timeout)
+
     def _run(self) -> None:
-        dt = self.m.opt.timestep
+        dt, cycle = self.m.opt.timestep, self.cycle
         start = time.monotonic()
         self.wall0 = time.time() - self.d.time
-        done = 0
+        done = 0                                    # cycles stepped
         while not self._quit.is_set():
-            due = int((time.monotonic() - start) / dt) - done
-            if due > 200:
-                # The machine stalled for > 0.2 s: skip ahead instead of bursting through
-                # hundreds of steps, and keep sample stamps on wall-clock time.
+            due = int((time.monotonic() - start) / cycle) - done
+            if due > STALL_CYCLES:
+                # The machine stalled: skip ahead instead of bursting through dozens of
+                # cycles, and keep sample stamps on wall-clock time.
                 self.overruns += 1
-                self.wall0 += (due - 2) * dt
-                done += due - 2
-                due = 2
-            with self.lock:
-                for _ in range(due):
-                    self._step(dt)
-                self._record()
-            done += due
-            time.sleep(max(0.0, start + done * dt + self.wake_period - time.monotonic()))
+                self.wall0 += (due - 1) * cycle
+                done += due - 1
+                due = 1
+            if due > 0:
+                with self.lock:
+                    for _ in range(due * self.steps_per_cycle):
+                        self._step(dt)
+                    self._record()
+                with self._sampled:
+                    self._sampled.notify_all()
+                done += due
+            # Wake just after the next cycle boundary (the 0.2 ms margin keeps a slightly
+            # early wake-up from finding no whole cycle due).
+            time.sleep(max(0.0, start + (done + 1) * cycle + WAKE_MARGIN - time.monotonic()))
 
     def _step(self, dt: float) -> None:
         m, d = self.m, self.d
@@ -124,9 +163,13 @@ class PhysicsLoop:
                 hook()
         self._step_count += 1
         mujoco.mj_step1(m, d)
-        self._tau = self.servo.torque(d, dt)
+        brakes = self._brakes
+        self._tau = self.servo.torque(d, dt) if brakes is None else np.zeros(6)
         d.qfrc_applied[:6] = self._tau
         mujoco.mj_step2(m, d)
+        if brakes is not None:
+            d.qpos[:6] = brakes
+            d.qvel[:6] = 0.0
         self.steps_total += 1
         for hook in self.on_step:
             hook(d)

@@ -26,6 +26,7 @@ class JointServo:
         self.kp = np.asarray(kp, float)
         self.kd = np.asarray(kd, float)
         self.max_effort = np.asarray(max_effort, float)
+        self._min_effort = -self.max_effort
         self.cycle = cycle
         self._from = np.zeros(6)
         self._to = np.zeros(6)
@@ -61,21 +62,32 @@ class JointServo:
         return self._to
 
     @property
+    def desired(self) -> np.ndarray:
+        """Where the drive wants the joint now (rad): the setpoint interpolated this cycle."""
+        s = self._elapsed / self.cycle
+        return self._from + s * (self._to - self._from)
+
+    @property
     def setpoint_velocity(self) -> np.ndarray:
         return self._velocity
 
     def torque(self, d: mujoco.MjData, dt: float) -> np.ndarray:
-        """Joint torques (N·m) for this step; call after ``mj_step1`` (bias forces fresh)."""
+        """Joint torques (N·m) for this step; call after ``mj_step1`` (bias forces fresh).
+
+        Runs 1000 times a second in Python: written for few numpy calls (each costs ~1 µs of
+        overhead, more than the arithmetic on 6 values)."""
         self._elapsed = min(self._elapsed + dt, self.cycle)
+        qvel = d.qvel[:6]
         if self.released:
-            tau = d.qfrc_bias[:6] - 2.0 * d.qvel[:6]   # float, with a little viscous feel
+            tau = d.qfrc_bias[:6] - 2.0 * qvel   # float, with a little viscous feel
         else:
             s = self._elapsed / self.cycle
-            q_des = self._from + s * (self._to - self._from)
-            moving = s < 1.0
-            qd_des = self._velocity if moving else 0.0 * self._velocity
-            qdd_ff = self._accel if moving else 0.0 * self._accel
-            a = qdd_ff + self.kp * (q_des - d.qpos[:6]) + self.kd * (qd_des - d.qvel[:6])
+            if s < 1.0:
+                a = (self._accel + self.kp * (self._from + s * (self._to - self._from)
+                                              - d.qpos[:6])
+                     + self.kd * (self._velocity - qvel))
+            else:   # setpoint reached: hold it
+                a = self.kp * (self._to - d.qpos[:6]) - self.kd * qvel
             mujoco.mj_mulM(self._m, d, self._buf, a)
-            tau = self._buf + d.qfrc_bias[:6] + self._damping * d.qvel[:6]
-        return np.clip(tau, -self.max_effort, self.max_effort)
+            tau = self._buf + d.qfrc_bias[:6] + self._damping * qvel
+        return np.clip(tau, self._min_effort, self.max_effort)
