@@ -1,0 +1,208 @@
+"""``python -m bench`` (``make bench``): every benchmark of issue 6 in one run.
+
+Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
+then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
+idle and loaded, servo, CPU, joint_move, linear_move), and the node on the controller backend
+through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
+
+A group that fails is reported as "not run" with the reason and the others still run; every
+process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
+``--quick`` shortens every window for a smoke run (its numbers are not the benchmark).
+"""
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import signal
+import sys
+import time
+import traceback
+from contextlib import ExitStack
+from pathlib import Path
+
+from .report import NOT_RUN, Row, not_run, write
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "bench" / "results"
+SIM = "Sim backend (zu5 twin) through ROS"
+EMU = "Controller backend through the emulator (TCP), report only"
+
+
+class Run:
+    """Collects rows, raw data and plots; times and logs the groups."""
+
+    def __init__(self, quick: bool):
+        self.quick = quick
+        self.rows: list[Row] = []
+        self.raw: dict = {}
+        self.extra: dict = {}
+        self.t0 = time.monotonic()
+
+    def log(self, text: str) -> None:
+        print(f"[bench {time.monotonic() - self.t0:6.1f} s] {text}", flush=True)
+
+    def guarded(self, group: str, metric: str, target: str, fn) -> bool:
+        """Run ``fn()`` (which appends rows); on an exception add a "not run" row."""
+        try:
+            fn()
+            return True
+        except Exception as exc:  # noqa: BLE001 - one broken group must not stop the rest
+            traceback.print_exc()
+            reason = f"{type(exc).__name__}: {str(exc).strip().splitlines()[0][:300]}" \
+                if str(exc).strip() else type(exc).__name__
+            self.rows.append(not_run(group, metric, target, reason))
+            self.log(f"{group}: not run ({reason})")
+            return False
+
+
+def _ik(run: Run) -> None:
+    from . import ik_vs_kdl
+    n = 1000 if run.quick else ik_vs_kdl.N_TARGETS
+    results = []
+    for name in ik_vs_kdl.MODEL_NAMES:
+        run.log(f"IK vs KDL: {name}, {n} targets")
+        results.append(ik_vs_kdl.run_model(name, n))
+    run.rows += ik_vs_kdl.rows(results)
+    run.raw["ik"] = results
+
+
+def _twin(run: Run) -> None:
+    from . import twin_physics
+    run.log("twin physics")
+    result = twin_physics.run(seconds=0.5 if run.quick else 1.5)
+    run.rows += twin_physics.rows(result)
+    # 1000 steps a second of the twin's step, as a share of one core
+    run.extra["physics_percent"] = 100.0 * 1000.0 / result["twin_step_per_s"]
+
+
+def _startup(run: Run) -> None:
+    from . import startup
+    run.log("start-up: roslaunch → first joint_position")
+    run.rows += startup.rows(startup.run(1 if run.quick else startup.RUNS))
+
+
+def _sim(run: Run) -> None:
+    from jaka_driver.models import load_model
+
+    from . import joint_move_timing, linear_move_accuracy, node_suite, ros_session
+    from sensor_msgs.msg import JointState
+    with ExitStack() as stack:
+        run.log("sim node: starting")
+        driver = ros_session.start_driver(stack, "bench_sim", backend="sim", model="zu5")
+        calls = ros_session.services(stack, driver)
+        rows, raw = node_suite.run(SIM, driver, calls, judge=True,
+                                   topic_s=5 if run.quick else 30,
+                                   servo_s=3 if run.quick else 16,
+                                   physics_percent=run.extra.get("physics_percent"),
+                                   log=run.log)
+        run.rows += rows
+        run.raw["sim"] = raw
+        model = load_model("zu5")
+        joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
+        run.log("joint_move timing")
+        run.rows += joint_move_timing.rows(joint_move_timing.run(
+            model, calls, joints, 3 if run.quick else joint_move_timing.N_MOVES))
+        run.log("linear_move accuracy")
+        lines = linear_move_accuracy.run(model, driver, calls,
+                                         4 if run.quick else linear_move_accuracy.N_LINES)
+        run.rows += linear_move_accuracy.rows(lines)
+        run.raw["lines"] = lines["lines"]
+
+
+def _emulator(run: Run) -> None:
+    from jaka_driver.emulator.process import EmulatorProcess
+
+    from . import node_suite, ros_session
+    with ExitStack() as stack:
+        run.log("emulator: starting")
+        emulator = EmulatorProcess("zu5", log_path=str(OUT / "emulator.log.tmp"))
+        stack.callback(emulator.stop)
+        emulator.start()
+        driver = ros_session.start_driver(stack, "bench_controller", backend="controller",
+                                          model="zu5", ip="127.0.0.1",
+                                          command_port=emulator.command_port,
+                                          status_port=emulator.status_port)
+        calls = ros_session.services(stack, driver)
+        rows, raw = node_suite.run(EMU, driver, calls, judge=False,
+                                   topic_s=5 if run.quick else 30,
+                                   servo_s=3 if run.quick else 16, log=run.log)
+        run.rows += rows
+        run.raw["controller"] = raw
+
+
+def _plots(run: Run) -> list[str]:
+    from . import linear_move_accuracy, plots
+    made = []
+    sim, ctl = run.raw.get("sim", {}), run.raw.get("controller", {})
+    series = {}
+    for label, raw in (("sim", sim), ("controller/emulator", ctl)):
+        for cond in ("idle", "both cores loaded"):
+            topics = raw.get(f"topics {cond}")
+            if topics:
+                series[f"{label}, {cond}"] = topics["joint_position"]["recv"]
+    made.append(plots.period_histogram(series, OUT))
+    made.append(plots.servo_tracking({"sim": sim.get("servo stream"),
+                                      "controller/emulator": ctl.get("servo stream")}, OUT))
+    made.append(plots.linear_deviation(run.raw.get("lines", []), OUT,
+                                       linear_move_accuracy.TARGET_MM))
+    made.append(plots.ik_times(run.raw.get("ik", []), OUT))
+    return [str(p) for p in made if p is not None]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="short windows: a smoke run, not the benchmark")
+    args = parser.parse_args(argv)
+    for sig in (signal.SIGTERM, signal.SIGHUP):   # unwind, so that finally blocks run
+        signal.signal(sig, lambda signum, _frame: sys.exit(128 + signum))
+    run = Run(args.quick)
+    started = dt.datetime.now().astimezone().isoformat(timespec="seconds")
+    OUT.mkdir(parents=True, exist_ok=True)
+
+    from .proc_meter import MachineWindow, OtherPrograms
+    others = OtherPrograms().start()
+    with MachineWindow() as before:
+        time.sleep(1.0)
+    run.extra["machine_percent_before"] = before.percent
+    if before.percent > 30:
+        run.log(f"warning: the machine is already {before.percent:.0f} % busy (of one core) "
+                "before the benchmarks start; numbers will be disturbed")
+
+    run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
+                "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
+    run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 50",
+                lambda: _twin(run))
+    with ExitStack() as ros:
+        from . import ros_session
+        ros_up = run.guarded("ROS", "rosmaster for the ROS benchmarks", "—",
+                             lambda: ros_session.start_ros(ros))
+        if ros_up:
+            run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
+                        lambda: _startup(run))
+            run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
+                        "see issue 6", lambda: _sim(run))
+            run.guarded(EMU, "controller backend (emulator): rate / age / servo",
+                        "report", lambda: _emulator(run))
+    try:
+        plots = _plots(run)
+    except Exception:  # noqa: BLE001 - the table matters more than the pictures
+        traceback.print_exc()
+        plots = []
+    run.extra["other_programs"] = others.stop()
+    run.extra["machine_percent_during"] = {
+        label: raw.get(f"machine {cond}") for label, raw in
+        (("sim", run.raw.get("sim", {})), ("controller", run.raw.get("controller", {})))
+        for cond in ("idle",)}
+    json_path, md_path = write(run.rows, OUT, ROOT, started, time.monotonic() - run.t0, plots,
+                               run.extra, quick=args.quick)
+    failed = sum(r.status == "FAIL" for r in run.rows)
+    missing = sum(r.status == NOT_RUN for r in run.rows)
+    run.log(f"wrote {md_path.relative_to(ROOT)} and {json_path.name}: "
+            f"{failed} targets missed, {missing} rows not run")
+    print(md_path.read_text())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

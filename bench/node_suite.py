@@ -1,0 +1,56 @@
+"""The measurements that need a running driver node, in the order they run on it.
+
+1. state topics for ``topic_s`` with the machine otherwise idle (node CPU measured alongside);
+2. the same with both cores loaded by :class:`bench.cpu_load.BusyLoad` (node CPU too);
+3. servo_j round trip; 4. the servo sine stream (node CPU measured during it).
+
+Every window also records the whole machine's CPU use, so a run disturbed by other programs
+shows it.
+"""
+from __future__ import annotations
+
+from contextlib import ExitStack
+
+from sensor_msgs.msg import JointState
+
+from . import node_resources, ros_session, servo_latency, state_topics
+from .cpu_load import BusyLoad
+from .proc_meter import CpuWindow, MachineWindow
+
+
+def _window(driver, seconds: float, loaded: bool):
+    with ExitStack() as stack:
+        if loaded:
+            stack.enter_context(BusyLoad())
+        machine = stack.enter_context(MachineWindow())
+        cpu = stack.enter_context(CpuWindow(driver.proc.pid))
+        samples = state_topics.record(driver, seconds)
+    return samples, {**cpu.as_dict(), "machine_percent": machine.percent}
+
+
+def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: float,
+        physics_percent: float | None = None, log=print) -> tuple[list, dict]:
+    """Rows and raw data (for the plots) of one node; ``physics_percent`` see
+    :func:`bench.node_resources.rows`."""
+    rows, raw, cpu = [], {}, {}
+    for condition, loaded in (("idle", False), ("both cores loaded", True)):
+        log(f"  state topics, {condition}, {topic_s:g} s")
+        samples, cpu[condition] = _window(driver, topic_s, loaded)
+        stats = state_topics.analyse(samples)
+        rows += state_topics.rows(group, condition, stats, judge=judge,
+                                  machine_percent=cpu[condition]["machine_percent"])
+        raw[f"topics {condition}"] = samples
+        raw[f"machine {condition}"] = cpu[condition]["machine_percent"]
+    with ExitStack() as stack:
+        joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
+        log("  servo_j round trip")
+        rtt = servo_latency.round_trip(driver, calls, joints)
+        log(f"  servo sine stream, {servo_s:g} s")
+        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as window:
+            stream = servo_latency.sine_stream(driver, calls, joints, servo_s)
+        cpu["servo streaming"] = {**window.as_dict(), "machine_percent": machine.percent}
+    rows += servo_latency.rows(group, "idle", rtt, stream, judge=judge)
+    raw["servo stream"] = stream
+    raw["servo rtt"] = rtt
+    rows += node_resources.rows(group, cpu, judge=judge, physics_percent=physics_percent)
+    return rows, raw

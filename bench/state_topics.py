@@ -1,0 +1,148 @@
+"""State topics as a subscriber sees them: rate, inter-arrival times and sample age.
+
+The three topics of the driver (``tool_position``, ``joint_position``, ``robot_states``) are
+recorded together for one window. Per topic:
+
+* rate (Hz) = (messages − 1) / (last − first receipt time);
+* inter-arrival (ms) = differences of consecutive receipt times;
+* sample age (ms) = receipt time − ``header.stamp`` (the time the sample was taken); the
+  ``robot_states`` message (jaka_msgs/RobotMsg) has no header, so no age.
+"""
+from __future__ import annotations
+
+import time
+from contextlib import ExitStack
+
+import numpy as np
+from geometry_msgs.msg import TwistStamped
+from sensor_msgs.msg import JointState
+
+from jaka_msgs.msg import RobotMsg
+
+from . import ros_session
+from .report import REPORT, Row, judged
+from .stats import fmt, summary
+
+TOPICS = (("tool_position", TwistStamped), ("joint_position", JointState),
+          ("robot_states", RobotMsg))
+RATE_HZ, RATE_TOL_HZ = 125.0, 0.5
+INTERARRIVAL_P99_MS = 10.0
+AGE_P99_MS = 8.0
+TOPICS_BY_NAME = dict(TOPICS)
+
+
+def record(driver, seconds: float) -> dict:
+    """Receipt times (s, wall clock) and stamps (s, or None) per topic over ``seconds``."""
+    with ExitStack() as stack:
+        recs = {name: ros_session.recorder(stack, driver.name(name), msg_type)
+                for name, msg_type in TOPICS}
+        ros_session.wait_until(lambda: all(r.latest() is not None for r in recs.values()), 10.0)
+        time.sleep(0.5)       # connections settled
+        t0 = time.time()
+        time.sleep(seconds)
+        t1 = time.time()
+        out = {}
+        for name, rec in recs.items():
+            got = [(t, m) for t, m in rec.since(t0) if t <= t1]
+            out[name] = {
+                "recv": np.array([t for t, _ in got]),
+                "stamp": (np.array([m.header.stamp.to_sec() for _, m in got])
+                          if TOPICS_BY_NAME[name]._has_header else None),
+            }
+    return out
+
+
+def analyse(samples: dict) -> dict:
+    """Rate, inter-arrival and age statistics per topic (see the module docstring)."""
+    out = {}
+    for name, s in samples.items():
+        recv = s["recv"]
+        n = recv.size
+        span = recv[-1] - recv[0] if n > 1 else 0.0
+        stats = {"messages": int(n), "rate_hz": (n - 1) / span if span > 0 else 0.0,
+                 "interarrival_ms": summary(np.diff(recv), 1e3)}
+        if s["stamp"] is not None:
+            stats["age_ms"] = summary(recv - s["stamp"], 1e3)
+            # Stamp intervals show the node's own timing (the twin's 8 ms cycle grid),
+            # without the delivery to this subscriber.
+            stats["stamp_interval_ms"] = summary(np.diff(s["stamp"]), 1e3)
+        out[name] = stats
+    return out
+
+
+def _late_note(s: dict, what: str, value: float, machine_percent: float | None) -> str:
+    """Why a p99 is late, from the data: node-side (stamps late too) or delivery-side."""
+    stamp = s.get("stamp_interval_ms", {}).get("p99")
+    where = ""
+    if stamp is not None:
+        ia = s["interarrival_ms"]["p99"]
+        where = (f"The stamps of the same messages (the twin's sample times, 8 ms cycles) "
+                 f"have intervals p99 {stamp:.1f} ms against {ia:.1f} ms at receipt: "
+                 + ("the lateness is already in the node (its publisher or physics "
+                    "thread ran late). " if stamp >= 0.8 * ia else
+                    "the node mostly publishes on time; the rest is delivery to the "
+                    "subscriber (its own threads wait for a CPU). "))
+    load = (f"The machine was {machine_percent:.0f} % busy (of one core; 200 % = both) in "
+            "this window. " if machine_percent is not None else "")
+    return (f"{what} p99 {value:.1f} ms. {where}{load}The twin publishes each sample as its "
+            "physics cycle ends, so the node's side is on time; the receiving side is a "
+            "Python subscriber whose rospy threads share the interpreter lock and the 2 cores "
+            "with the node's physics and publisher threads and anything else running: a "
+            "wake-up that finds both cores busy waits for a time slice (a few ms). Fixes, in "
+            "order of effect: real-time priority for the node and the subscriber (roslaunch "
+            "launch-prefix \"chrt -f 10\"), the twin in its own process (as the emulator "
+            "already runs it), a C++ subscriber.")
+
+
+def rows(group: str, condition: str, stats: dict, judge: bool = True,
+         machine_percent: float | None = None) -> list[Row]:
+    """Table rows for one window; ``judge`` False gives report-only rows (emulator path)."""
+    out = []
+    explained: dict[str, str] = {}   # kind → topic whose row carries the full explanation
+
+    def verdict(ok: bool) -> str:
+        return judged(ok) if judge else REPORT
+
+    def once(kind: str, name: str, text: str) -> str:
+        """The full note on the first topic that misses, a pointer to it on the others."""
+        if not text:
+            return ""
+        if kind in explained:
+            return f"same cause as {explained[kind]} {kind}, {condition}."
+        explained[kind] = name
+        return text
+
+    for name, s in stats.items():
+        rate = s["rate_hz"]
+        ok = abs(rate - RATE_HZ) <= RATE_TOL_HZ
+        note = "" if ok or not judge else (
+            f"{rate:.2f} Hz: periods were lost in stalls longer than a period (longest gap "
+            f"{s['interarrival_ms']['max']:.0f} ms): a physics cycle stepped late is published "
+            "once, with the later one. Same causes and fixes as the inter-arrival tail "
+            "below.")
+        note = once("rate", name, note)
+        out.append(Row(group, f"{name} rate, {condition}", f"{rate:.2f} Hz "
+                       f"({s['messages']} msgs)", f"{RATE_HZ:g} ± {RATE_TOL_HZ:g} Hz",
+                       verdict(ok), note, data=s))
+    for name, s in stats.items():
+        ia = s["interarrival_ms"]
+        ok = ia["p99"] is not None and ia["p99"] <= INTERARRIVAL_P99_MS
+        note = once("inter-arrival", name, "" if ok or not judge else _late_note(
+            s, "inter-arrival", ia["p99"], machine_percent))
+        out.append(Row(group, f"{name} inter-arrival p50 / p99 / max, {condition}",
+                       f"{fmt(ia['p50'])} / {fmt(ia['p99'])} / {fmt(ia['max'])} ms",
+                       f"p99 ≤ {INTERARRIVAL_P99_MS:g} ms", verdict(ok), note))
+    for name, s in stats.items():
+        if "age_ms" not in s:
+            continue
+        age = s["age_ms"]
+        ok = age["p99"] is not None and age["p99"] <= AGE_P99_MS
+        note = "" if ok or not judge else (
+            f"p50 {age['p50']:.1f} ms: the usual path (publish at the end of the cycle + "
+            "delivery) is short; the tail is the same scheduling delay as the inter-arrival "
+            "tail, see there.")
+        note = once("sample age", name, note)
+        out.append(Row(group, f"{name} sample age p50 / p99 / max, {condition}",
+                       f"{fmt(age['p50'])} / {fmt(age['p99'])} / {fmt(age['max'])} ms",
+                       f"p99 ≤ {AGE_P99_MS:g} ms", verdict(ok), note))
+    return out
