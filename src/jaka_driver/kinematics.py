@@ -15,6 +15,8 @@ so the up-to-8 solutions of the ideal geometry have a closed form (:meth:`Kinema
 The official URDFs are not exactly ideal (rpy written as 1.5708, a 1.2e-5 m offset in joint_4's
 origin), so the chosen branch is finished by one or two Newton steps on Pinocchio's exact model.
 If that fails (a non-UR model, or a singular spot), a damped-least-squares solver takes over.
+The seeded fast path (closed form + Newton) also exists compiled (:mod:`.native_ik`), which
+``ik`` tries first when the library is built; it computes the same solution.
 """
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ import eigenpy
 import numpy as np
 import pinocchio as pin
 
+from . import native_ik
 from .models import RobotModel
 
 _TWO_PI = 2.0 * math.pi
@@ -107,6 +110,10 @@ class Kinematics:
         self._upper_list = self._upper.tolist()
         self._middle_list = self._middle.tolist()
         self._weight2_list = self._weight2.tolist()
+        # The compiled fast path (None without the built library, or for a non-UR chain).
+        self._native = None if self._dh is None else native_ik.load(
+            [(p.rotation, p.translation) for p in list(self._pin.jointPlacements)[1:7]],
+            self._dh, self._shoulder, self._lower, self._upper, self._weight2)
 
     # ------------------------------------------------------------------ helpers
     def _data(self) -> pin.Data:
@@ -137,6 +144,17 @@ class Kinematics:
         if a.shape != (6,) or not _finite(a):
             raise ValueError(f"joint positions must be 6 finite values in rad, got {np.shape(q)}")
         return a
+
+    def _seed_ref(self, seed) -> list[float]:
+        """The seed (rad) clamped into the joint limits, as plain floats (the IK hot path:
+        one ``tolist`` and a sum check cost less than numpy's finiteness test)."""
+        a = np.asarray(seed, dtype=float)
+        values = a.tolist() if a.shape == (6,) else None
+        if values is None or not math.isfinite(sum(values)):
+            raise ValueError(f"joint positions must be 6 finite values in rad, got "
+                             f"{np.shape(seed)}")
+        return [min(h, max(lo, x)) for x, lo, h in
+                zip(values, self._lower_list, self._upper_list)]
 
     # ------------------------------------------------------------------ forward kinematics
     def flange_pose(self, q) -> np.ndarray:
@@ -186,13 +204,19 @@ class Kinematics:
         ``max_iter`` and ``restarts`` bound the damped-least-squares fallback (restarts use a
         fixed random seed).
         """
+        native = self._native
+        if native is not None and seed is not None and tool is None and user is None \
+                and self._F_is_identity:
+            fast = native.solve_seeded(target, seed, pos_tol, rot_tol)
+            if fast is not None:
+                return IkResult(True, *fast, "ok")
         target = _as_pose(target, "target")
-        if seed is None:
-            ref = self._middle_list
-        else:
-            ref = [min(h, max(lo, x)) for x, lo, h in
-                   zip(self._check_q(seed).tolist(), self._lower_list, self._upper_list)]
+        ref = self._middle_list if seed is None else self._seed_ref(seed)
         goal_T, tcp_offset = self._joint6_goal(target, tool, user)
+        if native is not None:
+            fast = native.solve(goal_T, ref, tcp_offset, pos_tol, rot_tol)
+            if fast is not None:
+                return IkResult(True, *fast, "ok")
         goal = pin.SE3(goal_T)
         cands, why = self._solutions(goal_T, ref, nearest_only=True)
         iters = 0

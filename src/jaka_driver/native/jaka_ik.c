@@ -1,0 +1,286 @@
+/* The seeded IK of a JAKA Zu arm in one compiled call: the fast path of
+ * jaka_driver.kinematics.Kinematics.ik, for the Python side to call through ctypes.
+ *
+ * Same algorithm as the Python path, step for step: the closed form of the ideal UR-type chain
+ * picks the solution nearest the reference (each joint at the 2pi-turn nearest to it, distance
+ * weighted by 1/max_velocity), then Newton steps on log6 of the joint-6 pose error with the
+ * LOCAL joint-6 Jacobian of the exact chain (the URDF's joint placements) remove the URDF's
+ * departures from the ideal chain. Anything unusual (no closed-form solution, a singular step,
+ * no convergence in 4 steps) returns 0 and the Python path, which also explains failures,
+ * takes over.
+ *
+ * Units: m, rad. Matrices are row-major. Frames: every pose is that of the joint-6 frame in
+ * the base frame; tcp_offset (joint 6 -> TCP, m, joint-6 frame) only weighs the error.
+ */
+#include <math.h>
+#include <string.h>
+
+typedef struct {
+    double R[6][9];             /* joint placement rotations in the parent joint frame */
+    double t[6][3];             /* joint placement translations, m */
+    double a2, a3, d4, d5, d6;  /* UR-type lengths, m */
+    double shoulder[3];         /* joint-1 frame origin in the base, m */
+    double lo[6], hi[6];        /* joint limits, rad */
+    double w2[6];               /* (1 / max_velocity)^2, (s/rad)^2 */
+} jk_chain;
+
+#define TWO_PI 6.283185307179586
+#define MAX_STEP2 0.04          /* rad^2: a longer Newton step means a singular spot */
+#define MAX_STEPS 4
+
+static double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
+
+/* Joint x at the 2pi-turn nearest to r, moved a turn into [lo, hi]; 0 if outside anyway. */
+static int near_turn(const jk_chain *c, double x, int j, double r, double *out) {
+    double m = fmod(x - r + M_PI, TWO_PI);
+    if (m < 0) m += TWO_PI;
+    double v = r + m - M_PI;
+    if (v > c->hi[j]) v -= TWO_PI;
+    else if (v < c->lo[j]) v += TWO_PI;
+    if (v < c->lo[j] || v > c->hi[j]) return 0;
+    *out = v;
+    return 1;
+}
+
+/* Nearest closed-form solution for the joint-6 pose T (4x4); 0 if none within limits. */
+static int closed_form(const jk_chain *c, const double *T, const double *ref, double q[6]) {
+    const double xx = T[0], yx = T[1], zx = T[2], px = T[3];
+    const double xy = T[4], yy = T[5], zy = T[6], py = T[7];
+    const double xz = T[8], yz = T[9], zz = T[10], pz = T[11];
+    const double *w2 = c->w2;
+    double p5x = px - c->shoulder[0] - c->d6 * zx;
+    double p5y = py - c->shoulder[1] - c->d6 * zy;
+    double p5z = pz - c->shoulder[2] - c->d6 * zz;
+    double r = hypot(p5x, p5y);
+    if (r < c->d4 * (1.0 - 1e-4)) return 0;
+    double phi = atan2(p5y, p5x), alpha = asin(fmin(c->d4 / r, 1.0));
+    double best = INFINITY;
+    double q1s[2] = {phi - alpha, phi + alpha - M_PI};
+    for (int i1 = 0; i1 < 2; i1++) {
+        double q1 = q1s[i1], v1;
+        if (!near_turn(c, q1, 0, ref[0], &v1)) continue;
+        double dist1 = w2[0] * (v1 - ref[0]) * (v1 - ref[0]);
+        if (dist1 >= best) continue;
+        double c1 = cos(q1), s1 = sin(q1);
+        double c5 = clampd(s1 * zx - c1 * zy, -1.0, 1.0);
+        double xy1 = c1 * xy - s1 * xx, yy1 = c1 * yy - s1 * yx;
+        double q5a = acos(c5);
+        double q5s[2] = {q5a, -q5a};
+        int n5 = q5a > 1e-12 ? 2 : 1;
+        if (n5 == 1) q5s[0] = 0.0;
+        for (int i5 = 0; i5 < n5; i5++) {
+            double q5 = q5s[i5], s5 = sin(q5);
+            double q6 = s5 > 1e-4 ? atan2(yy1, -xy1) : (s5 < -1e-4 ? atan2(-yy1, xy1) : ref[5]);
+            double v5, v6;
+            if (!near_turn(c, q5, 4, ref[4], &v5) || !near_turn(c, q6, 5, ref[5], &v6)) continue;
+            double dist56 = dist1 + w2[4] * (v5 - ref[4]) * (v5 - ref[4])
+                            + w2[5] * (v6 - ref[5]) * (v6 - ref[5]);
+            if (dist56 >= best) continue;
+            double c6 = cos(q6), s6 = sin(q6);
+            double y4x = s6 * xx + c6 * yx, y4y = s6 * xy + c6 * yy, y4z = s6 * xz + c6 * yz;
+            double q234 = atan2(-(c1 * y4x + s1 * y4y), y4z);
+            double u = c1 * (p5x + c->d5 * y4x) + s1 * (p5y + c->d5 * y4y);
+            double v = p5z + c->d5 * y4z;
+            double c3 = (u * u + v * v - c->a2 * c->a2 - c->a3 * c->a3) / (2.0 * c->a2 * c->a3);
+            if (fabs(c3) > 1.0 + 1e-4) continue;
+            double q3a = acos(clampd(c3, -1.0, 1.0));
+            double q3s[2] = {q3a, -q3a};
+            int n3 = q3a > 1e-12 ? 2 : 1;
+            if (n3 == 1) q3s[0] = 0.0;
+            for (int i3 = 0; i3 < n3; i3++) {
+                double q3 = q3s[i3];
+                double q2 = atan2(v, u) - atan2(c->a3 * sin(q3), c->a2 + c->a3 * c3);
+                double v2, v3, v4;
+                if (!near_turn(c, q2, 1, ref[1], &v2) || !near_turn(c, q3, 2, ref[2], &v3)
+                    || !near_turn(c, q234 - q2 - q3, 3, ref[3], &v4)) continue;
+                double dist = dist56 + w2[1] * (v2 - ref[1]) * (v2 - ref[1])
+                              + w2[2] * (v3 - ref[2]) * (v3 - ref[2])
+                              + w2[3] * (v4 - ref[3]) * (v4 - ref[3]);
+                if (dist < best) {
+                    best = dist;
+                    q[0] = v1; q[1] = v2; q[2] = v3; q[3] = v4; q[4] = v5; q[5] = v6;
+                }
+            }
+        }
+    }
+    return best < INFINITY;
+}
+
+/* Joint frames in the base: rotation R (row-major) and origin p of each joint after its
+ * rotation; the joint axis is the frame's z. */
+static void forward(const jk_chain *c, const double q[6], double R[6][9], double p[6][3]) {
+    double Rp[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, pp[3] = {0, 0, 0};
+    for (int i = 0; i < 6; i++) {
+        const double *Ri = c->R[i], *ti = c->t[i];
+        double B[9];
+        for (int r = 0; r < 3; r++) {
+            p[i][r] = pp[r] + Rp[3 * r] * ti[0] + Rp[3 * r + 1] * ti[1] + Rp[3 * r + 2] * ti[2];
+            for (int k = 0; k < 3; k++)
+                B[3 * r + k] = Rp[3 * r] * Ri[k] + Rp[3 * r + 1] * Ri[3 + k]
+                               + Rp[3 * r + 2] * Ri[6 + k];
+        }
+        double cq = cos(q[i]), sq = sin(q[i]);
+        for (int r = 0; r < 3; r++) {   /* B * Rz(q) */
+            R[i][3 * r] = B[3 * r] * cq + B[3 * r + 1] * sq;
+            R[i][3 * r + 1] = -B[3 * r] * sq + B[3 * r + 1] * cq;
+            R[i][3 * r + 2] = B[3 * r + 2];
+        }
+        memcpy(Rp, R[i], sizeof Rp);
+        memcpy(pp, p[i], sizeof pp);
+    }
+}
+
+/* E = M6^-1 * goal: rotation E (row-major) and translation e. */
+static void pose_error(const double *R6, const double *p6, const double *T, double E[9],
+                       double e[3]) {
+    double d[3] = {T[3] - p6[0], T[7] - p6[1], T[11] - p6[2]};
+    for (int r = 0; r < 3; r++) {
+        e[r] = R6[r] * d[0] + R6[3 + r] * d[1] + R6[6 + r] * d[2];
+        for (int k = 0; k < 3; k++)
+            E[3 * r + k] = R6[r] * T[k] + R6[3 + r] * T[4 + k] + R6[6 + r] * T[8 + k];
+    }
+}
+
+/* Position (m) and rotation (rad) error at the TCP, as Kinematics._tcp_error. */
+static void tcp_error(const double E[9], const double e[3], const double *off, double *pe,
+                      double *re) {
+    double x = e[0], y = e[1], z = e[2];
+    if (off) {
+        x += (E[0] - 1.0) * off[0] + E[1] * off[1] + E[2] * off[2];
+        y += E[3] * off[0] + (E[4] - 1.0) * off[1] + E[5] * off[2];
+        z += E[6] * off[0] + E[7] * off[1] + (E[8] - 1.0) * off[2];
+    }
+    double s = 0.5 * sqrt((E[7] - E[5]) * (E[7] - E[5]) + (E[2] - E[6]) * (E[2] - E[6])
+                          + (E[3] - E[1]) * (E[3] - E[1]));
+    *pe = sqrt(x * x + y * y + z * z);
+    *re = atan2(s, 0.5 * (E[0] + E[4] + E[8] - 1.0));
+}
+
+/* log6 of (E, e) as Pinocchio's: [v; w]. 0 near a half turn (the caller falls back). */
+static int log6(const double E[9], const double e[3], double out[6]) {
+    double vx = E[7] - E[5], vy = E[2] - E[6], vz = E[3] - E[1];
+    double s = 0.5 * sqrt(vx * vx + vy * vy + vz * vz);
+    double th = atan2(s, 0.5 * (E[0] + E[4] + E[8] - 1.0));
+    if (th > 3.0) return 0;
+    double k = th < 1e-8 ? 0.5 : 0.5 * th / sin(th);
+    double w[3] = {k * vx, k * vy, k * vz};
+    double alpha, beta;
+    if (th < 1e-4) {
+        alpha = 1.0 - th * th / 12.0;
+        beta = 1.0 / 12.0 + th * th / 720.0;
+    } else {
+        double t2 = th * th, cth = cos(th), sth = sin(th);
+        alpha = th * sth / (2.0 * (1.0 - cth));
+        beta = 1.0 / t2 - sth / (2.0 * th * (1.0 - cth));
+    }
+    double wp = w[0] * e[0] + w[1] * e[1] + w[2] * e[2];
+    double cx = w[1] * e[2] - w[2] * e[1], cy = w[2] * e[0] - w[0] * e[2],
+           cz = w[0] * e[1] - w[1] * e[0];
+    out[0] = alpha * e[0] - 0.5 * cx + beta * wp * w[0];
+    out[1] = alpha * e[1] - 0.5 * cy + beta * wp * w[1];
+    out[2] = alpha * e[2] - 0.5 * cz + beta * wp * w[2];
+    out[3] = w[0]; out[4] = w[1]; out[5] = w[2];
+    return 1;
+}
+
+/* Solve A x = b (6x6, row-major, destroyed) by Gaussian elimination with partial pivoting. */
+static int solve6(double A[36], double b[6]) {
+    for (int col = 0; col < 6; col++) {
+        int piv = col;
+        for (int r = col + 1; r < 6; r++)
+            if (fabs(A[6 * r + col]) > fabs(A[6 * piv + col])) piv = r;
+        if (fabs(A[6 * piv + col]) < 1e-12) return 0;
+        if (piv != col) {
+            for (int k = 0; k < 6; k++) {
+                double tmp = A[6 * col + k]; A[6 * col + k] = A[6 * piv + k]; A[6 * piv + k] = tmp;
+            }
+            double tmp = b[col]; b[col] = b[piv]; b[piv] = tmp;
+        }
+        for (int r = col + 1; r < 6; r++) {
+            double f = A[6 * r + col] / A[6 * col + col];
+            for (int k = col; k < 6; k++) A[6 * r + k] -= f * A[6 * col + k];
+            b[r] -= f * b[col];
+        }
+    }
+    for (int r = 5; r >= 0; r--) {
+        double acc = b[r];
+        for (int k = r + 1; k < 6; k++) acc -= A[6 * r + k] * b[k];
+        b[r] = acc / A[6 * r + r];
+    }
+    return 1;
+}
+
+/* LOCAL Jacobian of the joint-6 frame (rows v, w in the joint-6 frame; column k = joint k). */
+static void jacobian6(double R[6][9], double p[6][3], double J[36]) {
+    const double *R6 = R[5], *p6 = p[5];
+    for (int k = 0; k < 6; k++) {
+        double z[3] = {R[k][2], R[k][5], R[k][8]};
+        double d[3] = {p6[0] - p[k][0], p6[1] - p[k][1], p6[2] - p[k][2]};
+        double lin[3] = {z[1] * d[2] - z[2] * d[1], z[2] * d[0] - z[0] * d[2],
+                         z[0] * d[1] - z[1] * d[0]};
+        for (int r = 0; r < 3; r++) {
+            J[6 * r + k] = R6[r] * lin[0] + R6[3 + r] * lin[1] + R6[6 + r] * lin[2];
+            J[6 * (r + 3) + k] = R6[r] * z[0] + R6[3 + r] * z[1] + R6[6 + r] * z[2];
+        }
+    }
+}
+
+/* The fast path of Kinematics.ik. T: joint-6 goal (4x4 row-major, m); ref: reference joints
+ * (rad, inside the limits); tcp_offset: 3 values or NULL. On success returns the number of
+ * Newton steps (>= 1) and writes q (rad) and err = (position m, rotation rad); else 0. */
+int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *tcp_offset,
+          double pos_tol, double rot_tol, double *q, double *err) {
+    double R[6][9], p[6][3], E[9], e[3], J[36], dq[6], pe = INFINITY, re = INFINITY;
+    if (!closed_form(c, T, ref, q)) return 0;
+    for (int it = 1; it <= MAX_STEPS; it++) {
+        forward(c, q, R, p);
+        pose_error(R[5], p[5], T, E, e);
+        if (!log6(E, e, dq)) return 0;
+        jacobian6(R, p, J);
+        if (!solve6(J, dq)) return 0;
+        double step2 = 0.0;
+        for (int k = 0; k < 6; k++) step2 += dq[k] * dq[k];
+        if (!(step2 < MAX_STEP2)) return 0;
+        for (int k = 0; k < 6; k++) q[k] += dq[k];
+        forward(c, q, R, p);
+        pose_error(R[5], p[5], T, E, e);
+        tcp_error(E, e, tcp_offset, &pe, &re);
+        if (pe <= pos_tol && re <= rot_tol) {
+            int clipped = 0;
+            for (int k = 0; k < 6; k++) {
+                if (q[k] < c->lo[k]) { q[k] = c->lo[k]; clipped = 1; }
+                if (q[k] > c->hi[k]) { q[k] = c->hi[k]; clipped = 1; }
+            }
+            if (clipped) {      /* a joint on its limit stepped just past it */
+                forward(c, q, R, p);
+                pose_error(R[5], p[5], T, E, e);
+                tcp_error(E, e, tcp_offset, &pe, &re);
+                if (!(pe <= pos_tol && re <= rot_tol)) return 0;
+            }
+            err[0] = pe;
+            err[1] = re;
+            return it;
+        }
+    }
+    return 0;
+}
+
+/* Size of jk_chain in bytes, so the Python side can check its layout matches. */
+int jk_chain_size(void) { return (int)sizeof(jk_chain); }
+
+/* jk_ik for the commonest request, straight from the caller's arrays: T the flange pose
+ * (= joint-6 frame: the flange placement is identity), seed the reference joints (rad), no
+ * tool offset. Checks what the Python side would (every value finite) and clamps the seed
+ * into the limits; returns 0 for anything it does not solve (the Python path then answers,
+ * with the proper error for bad input). out: q (6) then the errors (2). */
+int jk_ik_seeded(const jk_chain *c, const double *T, const double *seed, double pos_tol,
+                 double rot_tol, double *out) {
+    double ref[6];
+    for (int k = 0; k < 16; k++)
+        if (!isfinite(T[k])) return 0;
+    for (int k = 0; k < 6; k++) {
+        if (!isfinite(seed[k])) return 0;
+        ref[k] = clampd(seed[k], c->lo[k], c->hi[k]);
+    }
+    return jk_ik(c, T, ref, NULL, pos_tol, rot_tol, out, out + 6);
+}

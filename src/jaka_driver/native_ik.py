@@ -1,0 +1,137 @@
+"""The compiled fast path of the seeded IK (``native/jaka_ik.c``), through ctypes.
+
+:class:`jaka_driver.kinematics.Kinematics` calls it first for every IK request on a UR-type
+chain: closed form of the nearest configuration + Newton steps, in one C call instead of
+dozens of Python → Pinocchio calls (the benchmark's IK row: issue 6). It answers only
+successes; anything else (no closed-form solution, a singular spot, no convergence) goes to
+the Python path, which also explains failures. Both compute the same solution.
+
+``make setup`` compiles the library to ``devel/lib/libjaka_ik.so`` (``JAKA_IK_LIB`` names
+another file). Without it — a catkin workspace that did not run the setup, a machine without
+a C compiler — :func:`load` answers None and the Python path does everything, only slower.
+
+Units: m, rad; matrices row-major 4x4 (joint-6 frame in the base frame).
+"""
+from __future__ import annotations
+
+import ctypes
+import os
+from pathlib import Path
+from typing import Optional, Sequence
+
+import numpy as np
+
+LIBRARY = "libjaka_ik.so"
+_Joints = ctypes.c_double * 6
+_Offset = ctypes.c_double * 3
+_Out = ctypes.c_double * 8
+
+
+class _Chain(ctypes.Structure):
+    """``jk_chain`` of jaka_ik.c, field for field."""
+
+    _fields_ = [("R", (ctypes.c_double * 9) * 6), ("t", (ctypes.c_double * 3) * 6),
+                ("a2", ctypes.c_double), ("a3", ctypes.c_double), ("d4", ctypes.c_double),
+                ("d5", ctypes.c_double), ("d6", ctypes.c_double),
+                ("shoulder", ctypes.c_double * 3), ("lo", ctypes.c_double * 6),
+                ("hi", ctypes.c_double * 6), ("w2", ctypes.c_double * 6)]
+
+
+def library_path() -> Path:
+    explicit = os.environ.get("JAKA_IK_LIB")
+    if explicit:
+        return Path(explicit)
+    return Path(__file__).resolve().parents[2] / "devel" / "lib" / LIBRARY
+
+
+def _open() -> Optional[ctypes.CDLL]:
+    path = library_path()
+    if not path.is_file():
+        return None
+    try:
+        lib = ctypes.CDLL(str(path))
+    except OSError:
+        return None
+    if lib.jk_chain_size() != ctypes.sizeof(_Chain):
+        return None     # built from another version of jaka_ik.c: do not guess its layout
+    lib.jk_ik.restype = ctypes.c_int
+    lib.jk_ik.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+                          ctypes.c_double, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p]
+    lib.jk_ik_seeded.restype = ctypes.c_int
+    lib.jk_ik_seeded.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+                                 ctypes.c_double, ctypes.c_double, ctypes.c_void_p]
+    return lib
+
+
+_LIB = _open()
+
+
+class NativeIk:
+    """The compiled IK for one chain (see :func:`load`). Not thread-bound: each call has its
+    own buffers, and the C code keeps no state."""
+
+    def __init__(self, lib: ctypes.CDLL, chain: _Chain):
+        self._lib = lib
+        self._chain = chain          # kept alive: C reads it on every call
+        self._chain_addr = ctypes.addressof(chain)
+
+    def solve_seeded(self, flange: np.ndarray, seed: np.ndarray, pos_tol: float,
+                     rot_tol: float):
+        """:meth:`solve` for a flange pose (4x4, base frame) and a seed (rad), no tool, no
+        user frame: the arrays go to C as they are (finiteness and the seed's clamping are
+        checked there), the cheapest call of all. None when the arrays are not plain
+        float64 (4x4) / (6,) or C does not solve it."""
+        if not (_plain(flange) and _plain(seed) and flange.shape == (4, 4)
+                and seed.shape == (6,)):
+            return None
+        out = _Out()
+        steps = self._lib.jk_ik_seeded(self._chain_addr, flange.ctypes.data, seed.ctypes.data,
+                                       pos_tol, rot_tol, out)
+        if steps <= 0:
+            return None
+        return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
+
+    def solve(self, goal: np.ndarray, ref: Sequence[float], tcp_offset, pos_tol: float,
+              rot_tol: float):
+        """``(q, position error m, rotation error rad, Newton steps)`` or None (the Python
+        path decides). ``goal``: joint-6 pose, 4x4 float64."""
+        if not (goal.flags.c_contiguous and goal.dtype == np.float64):
+            goal = np.ascontiguousarray(goal, dtype=np.float64)
+        ref_buf = _Joints(*ref)
+        off_buf = None if tcp_offset is None else _Offset(*tcp_offset)
+        # q (6) then the errors (2): one ctypes buffer costs less than numpy outputs (each
+        # numpy address lookup is ~1.4 µs, as long as the whole C solution)
+        out = _Out()
+        steps = self._lib.jk_ik(self._chain_addr, goal.ctypes.data, ref_buf, off_buf,
+                                pos_tol, rot_tol, out, ctypes.byref(out, 48))
+        if steps <= 0:
+            return None
+        return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
+
+
+def _plain(a) -> bool:
+    """A C-contiguous float64 numpy array, the only kind handed to C as is."""
+    return type(a) is np.ndarray and a.dtype == np.float64 and a.flags.c_contiguous
+
+
+def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],
+         shoulder: Sequence[float], lower: np.ndarray, upper: np.ndarray,
+         weight2: np.ndarray) -> Optional[NativeIk]:
+    """The compiled IK of a 6-joint chain, or None when the library is not built.
+
+    ``placements``: (rotation 3x3, translation m) of each joint in its parent joint frame
+    (joint axes z); ``lengths``: (a2, a3, d4, d5, d6) m of the UR-type closed form;
+    ``shoulder``: joint-1 origin in the base (m); limits rad; ``weight2``: (1/max_velocity)².
+    """
+    if _LIB is None:
+        return None
+    chain = _Chain()
+    for i, (rotation, translation) in enumerate(placements):
+        chain.R[i][:] = np.asarray(rotation, float).reshape(9).tolist()
+        chain.t[i][:] = np.asarray(translation, float).tolist()
+    chain.a2, chain.a3, chain.d4, chain.d5, chain.d6 = (float(x) for x in lengths)
+    chain.shoulder[:] = [float(x) for x in shoulder]
+    chain.lo[:] = np.asarray(lower, float).tolist()
+    chain.hi[:] = np.asarray(upper, float).tolist()
+    chain.w2[:] = np.asarray(weight2, float).tolist()
+    return NativeIk(_LIB, chain)
