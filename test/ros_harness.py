@@ -87,6 +87,11 @@ class DriverProcess:
             args.append(f"__ns:={ns}")
         self.ns = ns
         self.prefix = f"/{ns}/jaka_driver" if ns else "/jaka_driver"
+        # Private params stay on the master after a node exits (a previous module's
+        # `_scene:=...` would reach this node): start from a clean slate, as a fresh
+        # roslaunch would.
+        xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam(
+            "/test_harness", self.prefix)
         self.log_path = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir())) / f"{log_name}.log"
         self.log_path.parent.mkdir(parents=True, exist_ok=True)
         self._log = open(self.log_path, "wb")
