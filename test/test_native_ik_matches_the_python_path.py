@@ -81,3 +81,17 @@ def test_a_seed_outside_the_limits_is_clamped_like_the_python_path(kin):
     assert fast.success == slow.success
     if fast.success:
         np.testing.assert_allclose(fast.q, slow.q, atol=1e-9)
+
+
+def test_arrays_c_cannot_read_as_they_are_still_get_the_right_answer(kin):
+    """Fortran-ordered, strided or read-only inputs take the Python path, never a misread."""
+    q = np.array([0.1, 1.5, -1.4, 1.5, 1.6, 0.2])
+    T = kin.flange_pose(q)
+    frozen = T.copy()
+    frozen.setflags(write=False)
+    strided = np.zeros((4, 8))
+    strided[:, ::2] = T
+    for target in (np.asfortranarray(T), frozen, strided[:, ::2]):
+        r = kin.ik(target, seed=q)
+        assert r.success
+        np.testing.assert_allclose(r.q, q, atol=1e-8)

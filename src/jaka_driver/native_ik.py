@@ -22,7 +22,9 @@ from typing import Optional, Sequence
 import numpy as np
 
 LIBRARY = "libjaka_ik.so"
+_DoubleP = ctypes.POINTER(ctypes.c_double)
 _Joints = ctypes.c_double * 6
+_Pose = ctypes.c_double * 16
 _Offset = ctypes.c_double * 3
 _Out = ctypes.c_double * 8
 
@@ -58,7 +60,7 @@ def _open() -> Optional[ctypes.CDLL]:
     lib.jk_ik.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
                           ctypes.c_double, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p]
     lib.jk_ik_seeded.restype = ctypes.c_int
-    lib.jk_ik_seeded.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+    lib.jk_ik_seeded.argtypes = [ctypes.c_void_p, _DoubleP, _DoubleP,
                                  ctypes.c_double, ctypes.c_double, ctypes.c_void_p]
     return lib
 
@@ -84,9 +86,13 @@ class NativeIk:
         if not (_plain(flange) and _plain(seed) and flange.shape == (4, 4)
                 and seed.shape == (6,)):
             return None
+        try:
+            # ctypes views of the caller's memory: half the cost of ndarray.ctypes.data
+            pose, joints = _Pose.from_buffer(flange), _Joints.from_buffer(seed)
+        except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
+            return None
         out = _Out()
-        steps = self._lib.jk_ik_seeded(self._chain_addr, flange.ctypes.data, seed.ctypes.data,
-                                       pos_tol, rot_tol, out)
+        steps = self._lib.jk_ik_seeded(self._chain_addr, pose, joints, pos_tol, rot_tol, out)
         if steps <= 0:
             return None
         return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
@@ -109,9 +115,14 @@ class NativeIk:
         return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
 
 
+_FLOAT64 = np.dtype(np.float64)
+
+
 def _plain(a) -> bool:
-    """A C-contiguous float64 numpy array, the only kind handed to C as is."""
-    return type(a) is np.ndarray and a.dtype == np.float64 and a.flags.c_contiguous
+    """A float64 numpy array, the only kind handed to C as is (``from_buffer`` then refuses
+    what is not contiguous and writable). ``is``: numpy's float64 dtype is one object; a
+    dtype that is not it only costs the slower path."""
+    return type(a) is np.ndarray and a.dtype is _FLOAT64
 
 
 def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],
