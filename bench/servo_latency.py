@@ -127,9 +127,10 @@ def _round_trip_note(r: dict) -> str:
     return (f"p50 {r['p50']:.2f} ms is where a persistent connection should be; the tail is "
             "the node's service thread waiting to run: rospy answers each call in a Python "
             "thread that needs the interpreter lock and a core, both shared with the "
-            "physics thread (8 steps every 8 ms) and the 125 Hz publisher on a 2-core machine. Taking the physics "
-            "out of the node's process and real-time priority for the node (launch-prefix "
-            "\"chrt -f 10\") address the tail; a C++ node would remove it.")
+            "physics thread (8 steps every 8 ms) and the 125 Hz publisher on a 2-core "
+            "machine. Taking the physics out of the node's process and real-time priority "
+            "for the node (launch-prefix \"chrt -f 10\") address the tail; a C++ node would "
+            "remove it.")
 
 
 def _observed_note(o: dict, method: str) -> str:
