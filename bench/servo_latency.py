@@ -134,16 +134,21 @@ def _round_trip_note(r: dict) -> str:
 
 
 def _observed_note(o: dict, method: str) -> str:
-    return (f"{method} By construction: a target waits for the end of the 8 ms cycle it "
-            "arrived in (0–8 ms), when the twin steps that cycle with the drive interpolating "
-            "to it and publishes the sample at once; the arm then lags its setpoint by the "
-            "drive's tracking error (PD loop at ~15 Hz natural frequency), which on a moving "
-            "sine is above the 1e-4 rad tolerance for another cycle. Measured: p10 "
+    return (f"{method} By construction, as on a controller: a target waits for the end of "
+            "the 8 ms cycle it arrived in (0–8 ms), becomes the setpoint of the next cycle, "
+            "which the drive spends interpolating to it (8 ms), and the sample at that cycle's "
+            "end is published at once: 8–16 ms before any tracking error. The arm then lags "
+            "its setpoint by the drive's tracking error (PD loop at ~15 Hz natural "
+            "frequency), on a moving sine above the 1e-4 rad tolerance for part of another "
+            "cycle. Measured: p10 "
             f"{o['p10']:.1f} ms, p50 {o['p50']:.1f} ms (targets near the sine's turning points, "
             "where a step is under the tolerance, count as reached at once); the tail is the "
             "service and publisher threads waiting for a core, as in the round-trip row. "
-            "Fixes: stiffer drive gains or a feed-forward that leads the setpoint by the "
-            "tracking lag, and real-time priority for the node (launch-prefix \"chrt -f 10\").")
+            "The twin could act on a target within the cycle it arrived in (it did, one "
+            "version earlier: p99 19.6 ms), but then its motion would start before the command "
+            "in physics time, a cycle sooner than a real arm's. Fixes that keep it honest: "
+            "stiffer drive gains or a feed-forward that leads the setpoint by the tracking "
+            "lag, and real-time priority for the node (launch-prefix \"chrt -f 10\").")
 
 
 def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True) -> list[Row]:

@@ -116,10 +116,10 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
         rate = s["rate_hz"]
         ok = abs(rate - RATE_HZ) <= RATE_TOL_HZ
         note = "" if ok or not judge else (
-            f"{rate:.2f} Hz: periods were lost in stalls longer than a period (longest gap "
-            f"{s['interarrival_ms']['max']:.0f} ms): a physics cycle stepped late is published "
-            "once, with the later one. Same causes and fixes as the inter-arrival tail "
-            "below.")
+            f"{rate:.2f} Hz (longest gap {s['interarrival_ms']['max']:.0f} ms): every cycle "
+            "is published, also those caught up after a stall, unless the twin stalled for "
+            "more than 0.2 s (it then skips ahead) or the publisher fell more than 32 cycles "
+            "behind. Same causes and fixes as the inter-arrival tail below.")
         note = once("rate", name, note)
         out.append(Row(group, f"{name} rate, {condition}", f"{rate:.2f} Hz "
                        f"({s['messages']} msgs)", f"{RATE_HZ:g} ± {RATE_TOL_HZ:g} Hz",

@@ -62,6 +62,13 @@ class Backend(ABC):
         :attr:`sample_period` is set."""
         raise NotImplementedError(f"{type(self).__name__} has no sample clock")
 
+    def states_since(self, after: float) -> list[RobotState]:
+        """The samples stamped later than ``after`` (s), oldest first — every one a backend
+        with a sample clock still holds, so a reader that fell behind misses none. Default:
+        the latest, if it is newer."""
+        st = self.state()
+        return [st] if st.stamp > after else []
+
     def describe(self) -> dict:
         """Facts for diagnostics (version, connection, rates). Backends add their own."""
         return {"backend": self.kind, "model": self.model.name}

@@ -85,6 +85,10 @@ class RobotDriver:
         """See :meth:`Backend.wait_for_sample`."""
         return self.backend.wait_for_sample(after, timeout)
 
+    def states_since(self, after: float) -> list[RobotState]:
+        """See :meth:`Backend.states_since`."""
+        return self.backend.states_since(after)
+
     # ---- state machine -----------------------------------------------------------------
     def _ready(self, *, servo: bool = False, allow_servo_mode: bool = False) -> RobotState:
         """The arm may move: connected, no e-stop, powered, enabled, no error, right mode."""

@@ -30,6 +30,7 @@ from sensor_msgs.msg import JointState
 from jaka_msgs.msg import RobotMsg
 
 from ..driver import RobotDriver
+from ..robot_state import RobotState
 from ..models import MODEL_NAMES, load_model
 from . import messages
 from .diagnostics import Diagnostics
@@ -53,14 +54,21 @@ def make_backend(kind: str, model_name: str, params: dict):
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
+# Periods without a new sample after which the latest is published again (the source is
+# stuck); shorter stalls are caught up sample by sample when the source resumes.
+STALL_PERIODS = 5
+
+
 class StatePublisher:
     """Publishes the state at ``rate`` Hz from its own thread.
 
     When the backend has a sample clock at that rate (the twin's 8 ms cycle at 125 Hz), each
     sample is published the moment it exists: no phase between the physics and the publisher
-    to add to the sample's age or to a servo target's round trip. If no sample comes for 1.5
-    periods (the source stalled) the latest one is published anyway, so the topics keep their
-    rate. Otherwise it runs on its own clock: deadlines are absolute (``next += period``) so
+    to add to the sample's age or to a servo target's round trip. Every cycle gets its
+    message, also those the physics caught up on after a stall or that came while this thread
+    waited for the CPU (each with its own stamp). If no sample comes for STALL_PERIODS periods
+    (the source is stuck) the latest one is published again, so the topics stay alive.
+    Otherwise it runs on its own clock: deadlines are absolute (``next += period``) so
     the rate does not drift with the time the publishing takes; after a stall it
     resynchronises instead of bursting.
     """
@@ -81,9 +89,9 @@ class StatePublisher:
     def start(self) -> None:
         self._thread.start()
 
-    def _publish_once(self) -> float:
-        """Publish the latest sample on every topic; its stamp (s)."""
-        st = self._driver.state()
+    def _publish_once(self, st: RobotState | None = None) -> None:
+        """Publish ``st`` (default: the latest sample) on every topic."""
+        st = self._driver.state() if st is None else st
         stamp = rospy.Time.from_sec(st.stamp)
         joints = messages.joint_state(st, self._names, stamp)
         self._tool.publish(messages.tool_position(st, stamp))
@@ -91,7 +99,6 @@ class StatePublisher:
         self._states.publish(messages.robot_msg(st))
         self._joint_states.publish(joints)
         self._count += 1
-        return st.stamp
 
     def measured_rate(self) -> float:
         """Messages per second per topic since the previous call (diagnostics, 1 Hz)."""
@@ -108,14 +115,12 @@ class StatePublisher:
         period = self._driver.sample_period
         return period is not None and abs(period / self._period - 1.0) < 0.01
 
-    def _publish_safely(self, last: float = 0.0) -> float:
-        """:meth:`_publish_once`, logging instead of raising; the stamp published (``last``
-        if nothing was)."""
+    def _publish_safely(self, st: RobotState | None = None) -> None:
+        """:meth:`_publish_once`, logging instead of raising."""
         try:
-            return self._publish_once()
+            self._publish_once(st)
         except Exception as exc:  # noqa: BLE001 — a bad sample must not stop the stream
             rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
-            return last
 
     def _run(self) -> None:
         if self.follows_samples:
@@ -124,10 +129,14 @@ class StatePublisher:
             self._run_on_clock()
 
     def _run_on_samples(self) -> None:
-        last = 0.0
+        last = self._driver.state().stamp - 1e-6     # from the current sample on
         while not rospy.is_shutdown():
-            self._driver.wait_for_sample(last, 1.5 * self._period)
-            last = self._publish_safely(last)
+            if not self._driver.wait_for_sample(last, STALL_PERIODS * self._period):
+                self._publish_safely()          # stuck source: the latest again
+                continue
+            for st in self._driver.states_since(last):
+                self._publish_safely(st)
+                last = st.stamp                 # also past a sample that failed
 
     def _run_on_clock(self) -> None:
         deadline = time.monotonic()

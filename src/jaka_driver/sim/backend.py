@@ -90,7 +90,12 @@ class SimBackend(Backend):
         return info
 
     def state(self) -> RobotState:
-        sample = self.physics.sample()
+        return self._state_of(self.physics.sample())
+
+    def states_since(self, after: float) -> list[RobotState]:
+        return [self._state_of(s) for s in self.physics.samples_since(after)]
+
+    def _state_of(self, sample) -> RobotState:
         tool, user = self.frames()
         # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
         # flags are read fresh, a mode may change between two physics samples.

@@ -62,16 +62,20 @@ class TrajectoryRun(Motion):
         self.goal = trajectory.q[-1]
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
-        self.t += self.cycle
-        q, _ = self.trajectory.sample(self.t)
-        if self.t >= self.trajectory.duration:
+        # Called at the end of a cycle: the arm now stands where the setpoint of time
+        # ``self.t`` put it; done only once that setpoint was the goal (not a cycle early,
+        # on a measurement that is merely close to the goal while still decelerating).
+        elapsed = self.t
+        if elapsed >= self.trajectory.duration:
             self.moving = False
             error = np.max(np.abs(q_meas - self.goal))
             if error <= self.tolerance and np.max(np.abs(qd_meas)) < SETTLED_SPEED:
                 self.active = False
                 self.completion.finish(Result.success(
-                    f"{self.label} done in {self.t:.3f} s (planned "
+                    f"{self.label} done in {elapsed:.3f} s (planned "
                     f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
+        self.t += self.cycle
+        q, _ = self.trajectory.sample(self.t)
         return np.asarray(q, float)
 
 

@@ -4,8 +4,10 @@ Every physics step (``timestep``, 1 ms by default) the servo drives compute torq
 ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next setpoint.
 The loop wakes once per cycle, at the wall-clock cycle boundary, and steps the cycle that has
 just elapsed (8 steps; more after a stall): 125 wake-ups/s while physics keeps a 1 kHz step.
-A setpoint that arrived during the elapsed cycle is therefore reached in the sample taken at
-its end, and that sample exists the moment the wake-up is done.
+At the end of each cycle the motion source chooses the setpoint of the next one, from the
+commands that have arrived by then — as a controller does: a command is never acted on in
+physics time before it arrived, and it takes effect in the cycle after the one it arrived in.
+The sample of a cycle exists the moment its wake-up is done.
 
 Samples: after each wake-up the measured joints are copied; ``sample()`` returns the latest
 copy with its wall-clock time, and ``wait_for_sample`` lets a publisher send each sample as
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections import deque
 from dataclasses import dataclass
 from typing import Callable, Optional
 
@@ -28,6 +31,7 @@ from .servo import JointServo
 
 # Cycles after which a late wake-up counts as a stall and time is skipped, not caught up.
 STALL_CYCLES = 25                   # 0.2 s at 8 ms
+HISTORY = 32                        # samples kept for readers that fell behind (0.26 s)
 WAKE_MARGIN = 0.0002                # s
 
 
@@ -62,6 +66,7 @@ class PhysicsLoop:
         self._tau = np.zeros(6)
         self._brakes: Optional[np.ndarray] = None     # joint angles the brakes lock, rad
         self._sample: Optional[Sample] = None
+        self._history: deque[Sample] = deque(maxlen=HISTORY)
         self._quit = threading.Event()
         self._thread: Optional[threading.Thread] = None
         self.on_step: list[Callable[[mujoco.MjData], None]] = []
@@ -99,6 +104,8 @@ class PhysicsLoop:
         (positions held exactly, velocities 0) and the drives give no torque."""
         with self.lock:
             self._brakes = self.d.qpos[:6].copy()
+            self.d.qvel[:6] = 0.0
+            self._record()      # locked from now: a client told so sees it in the sample
             return self.hold_here()
 
     def release_brakes(self) -> None:
@@ -120,6 +127,12 @@ class PhysicsLoop:
 
     def sample(self) -> Sample:
         return self._sample
+
+    def samples_since(self, after: float) -> list[Sample]:
+        """The recent samples (one per cycle, the last ``HISTORY`` cycles) stamped later than
+        ``after`` (s), oldest first: a reader that fell behind, or a loop that caught up
+        several cycles at once, still gets every cycle."""
+        return [s for s in list(self._history) if s.stamp > after]
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Block until the latest sample is stamped later than ``after`` (s), at most
@@ -145,7 +158,6 @@ class PhysicsLoop:
                 with self.lock:
                     for _ in range(due * self.steps_per_cycle):
                         self._step(dt)
-                    self._record()
                 with self._sampled:
                     self._sampled.notify_all()
                 done += due
@@ -155,12 +167,6 @@ class PhysicsLoop:
 
     def _step(self, dt: float) -> None:
         m, d = self.m, self.d
-        if self._step_count % self.steps_per_cycle == 0:
-            q_sp = self._motion.next(self.servo.setpoint, self.servo.setpoint_velocity,
-                                     d.qpos[:6], d.qvel[:6])
-            self.servo.new_setpoint(np.asarray(q_sp, float))
-            for hook in self.on_cycle:
-                hook()
         self._step_count += 1
         mujoco.mj_step1(m, d)
         brakes = self._brakes
@@ -173,9 +179,18 @@ class PhysicsLoop:
         self.steps_total += 1
         for hook in self.on_step:
             hook(d)
+        if self._step_count % self.steps_per_cycle == 0:
+            # The cycle ends: the setpoint for the next one, from what has arrived by now.
+            q_sp = self._motion.next(self.servo.setpoint, self.servo.setpoint_velocity,
+                                     d.qpos[:6], d.qvel[:6])
+            self.servo.new_setpoint(np.asarray(q_sp, float))
+            for hook in self.on_cycle:
+                hook()
+            self._record()
 
     def _record(self) -> None:
         d = self.d
         self._sample = Sample(stamp=self.wall0 + d.time, q=d.qpos[:6].copy(),
                               qd=d.qvel[:6].copy(), tau=self._tau.copy(),
                               moving=self._motion.moving)
+        self._history.append(self._sample)
