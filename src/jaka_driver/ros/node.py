@@ -30,8 +30,8 @@ from sensor_msgs.msg import JointState
 from jaka_msgs.msg import RobotMsg
 
 from ..driver import RobotDriver
-from ..robot_state import RobotState
 from ..models import MODEL_NAMES, load_model
+from ..robot_state import RobotState
 from . import messages
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster

@@ -9,9 +9,9 @@ commands that have arrived by then — as a controller does: a command is never 
 physics time before it arrived, and it takes effect in the cycle after the one it arrived in.
 The sample of a cycle exists the moment its wake-up is done.
 
-Samples: after each wake-up the measured joints are copied; ``sample()`` returns the latest
-copy with its wall-clock time, and ``wait_for_sample`` lets a publisher send each sample as
-soon as it exists. Hooks run inside the loop (``on_step`` after each step, for contact checks;
+Samples: at the end of each cycle the measured joints are copied; ``sample()`` returns the
+latest copy with its wall-clock time, ``samples_since`` the recent ones, and
+``wait_for_sample`` lets a publisher send each sample as soon as it exists. Hooks run inside the loop (``on_step`` after each step, for contact checks;
 ``on_cycle`` at each cycle boundary) and must be quick.
 """
 from __future__ import annotations
