@@ -61,6 +61,14 @@ def tcp(sim_driver, rospy_node):
     recorder.close()
 
 
+@pytest.fixture(scope="module")
+def states(sim_driver, rospy_node):
+    from jaka_msgs.msg import RobotMsg
+    recorder = Recorder(sim_driver.name("robot_states"), RobotMsg)
+    yield recorder
+    recorder.close()
+
+
 def go_home(call) -> None:
     """Leave servo mode, stop whatever moves and return to START (a test's clean slate)."""
     from jaka_msgs.srv import Move, ServoMoveEnable

@@ -15,10 +15,9 @@ import pytest
 from std_srvs.srv import Empty, SetBool
 
 from conftest import START, at_rest, go_home
-from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, GetFK, GetIK, GetIO, Move, ServoMove, ServoMoveEnable,
                            SetCollision, SetIO, SetPayload, SetTcpFrame, SetUserFrame)
-from ros_harness import Recorder, wait_until
+from ros_harness import wait_until
 
 TOOL_1 = [0.0, 0.0, 100.0, 0.0, 0.0, 0.0]             # mm + rotvec, flange frame
 USER_1 = [100.0, 200.0, 0.0, 0.0, 0.0, 0.3]           # mm + rotvec, base frame
@@ -31,21 +30,6 @@ SET_OUTPUTS = [("digital", 0, 3, 1.0), ("analog", 2, 1, 2.5)]
 NAN, INF = float("nan"), float("inf")
 STILL = 1e-4          # rad: the arm holding still drifts far less than this
 QUIET = 1e-3          # rad/s: no joint may move faster than this after a refused request
-
-
-@pytest.fixture(scope="module")
-def states(sim_driver, rospy_node):
-    rec = Recorder(sim_driver.name("robot_states"), RobotMsg)
-    yield rec
-    rec.close()
-
-
-@pytest.fixture(scope="module")
-def tool_frames(sim_driver, rospy_node):
-    from geometry_msgs.msg import TwistStamped
-    rec = Recorder(sim_driver.name("tool_position"), TwistStamped)
-    yield rec
-    rec.close()
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -79,7 +63,7 @@ def fresh(recorder, t0: float):
     return got[0][1]
 
 
-def snapshot(call, joints, states, tool_frames) -> dict:
+def snapshot(call, joints, states, tcp) -> dict:
     """What a refused request must leave as it was; joints measured once at rest."""
     t0 = time.time()
     q = at_rest(joints)
@@ -87,7 +71,7 @@ def snapshot(call, joints, states, tool_frames) -> dict:
     outputs = {(sig, t, i): call("get_io", GetIO, signal=sig, path=1, type=t, index=i).value
                for sig, t, n in OUTPUTS for i in range(n)}
     # a message sampled after the last request, not one still in flight from before it
-    st, tcp = fresh(states, t0 + 0.05), fresh(tool_frames, t0 + 0.05)
+    st, tcp = fresh(states, t0 + 0.05), fresh(tcp, t0 + 0.05)
     return dict(q=q, effort=effort, frame_id=tcp.header.frame_id,
                 fk=np.array(call("get_fk", GetFK, joint=START).cartesian_pose),
                 states=(st.motion_state, st.power_state, st.servo_state, st.collision_state),
@@ -322,9 +306,9 @@ def refused(service: str, reply) -> bool:
     return reply.ret == -2
 
 
-def servo_p_target_100_mm_away(tool_frames) -> list:
+def servo_p_target_100_mm_away(tcp) -> list:
     from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
-    msg = wait_until(tool_frames.latest, 2.0)
+    msg = wait_until(tcp.latest, 2.0)
     p = [msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z + 0.1]
     a = msg.twist.angular
     return p + list(matrix_to_rpy(rotvec_to_matrix([a.x, a.y, a.z])))
@@ -336,15 +320,15 @@ def _case_id(case) -> str:
 
 @pytest.mark.parametrize("case", CASES, ids=[_case_id(c) for c in CASES])
 def test_refusal_names_the_field_and_leaves_the_arm_still(case, call, joints, states,
-                                                         tool_frames):
+                                                         tcp):
     _, service, srv, fields, mode, words = case
     fields = dict(fields)
     servo = mode == "servo"
     assert call("servo_move_enable", ServoMoveEnable, enable=servo).ret == 1
     if fields.get("pose") == FAR_ABOVE:
-        fields["pose"] = servo_p_target_100_mm_away(tool_frames)
+        fields["pose"] = servo_p_target_100_mm_away(tcp)
     try:
-        before = snapshot(call, joints, states, tool_frames)
+        before = snapshot(call, joints, states, tcp)
         t_call = time.time()
         reply = call(service, srv, **fields)
         assert refused(service, reply), reply
@@ -352,7 +336,7 @@ def test_refusal_names_the_field_and_leaves_the_arm_still(case, call, joints, st
             assert word in reply.message, f"{word!r} not in {reply.message!r}"
         time.sleep(0.2)
         motion = joints.since(t_call)
-        after = snapshot(call, joints, states, tool_frames)
+        after = snapshot(call, joints, states, tcp)
         assert_nothing_changed(before, after, motion)
     finally:
         if servo:
@@ -377,15 +361,15 @@ SLOW_CASES = [
 
 @pytest.mark.parametrize("case", SLOW_CASES, ids=[c[0] for c in SLOW_CASES])
 def test_absurdly_slow_move_is_refused_and_the_arm_stays_still(case, call, joints, states,
-                                                              tool_frames):
+                                                              tcp):
     _, service, fields, field = case
     assert call("servo_move_enable", ServoMoveEnable, enable=False).ret == 1
-    before = snapshot(call, joints, states, tool_frames)
+    before = snapshot(call, joints, states, tcp)
     t_call = time.time()
     reply = call(service, Move, **fields)
     time.sleep(0.2)
     motion = joints.since(t_call)
-    after = snapshot(call, joints, states, tool_frames)
+    after = snapshot(call, joints, states, tcp)
     assert_nothing_changed(before, after, motion)
     assert reply.ret == -2, reply.message
     assert field in reply.message and "limit" in reply.message, reply.message

@@ -116,22 +116,18 @@ def test_an_impossible_path_tolerance_is_path_tolerance_violated(client):
     assert client.get_result().error_code == R.PATH_TOLERANCE_VIOLATED
 
 
-def test_too_fast_trajectory_is_invalid_goal_before_moving(client, joints):
+@pytest.mark.parametrize("points, reason", [
+    # 2 rad in 0.1 s: over the joint speed limit
+    ([(0.1, [2.0, 1.4, -1.4, 1.6, 1.6, 0.2])], "rad/s"),
+    # a year: sampled every 8 ms it would be 4e9 samples, refused before any planning
+    ([(3.2e7, [0.3, 1.4, -1.4, 1.6, 1.6, 0.2])], "600 s"),
+], ids=["too fast", "a year long"])
+def test_an_impossible_trajectory_is_invalid_goal_before_moving(client, joints, points, reason):
     before = at_rest(joints)
-    client.send_goal(goal_through([(0.1, [2.0, 1.4, -1.4, 1.6, 1.6, 0.2])]))
+    client.send_goal(goal_through(points))
     assert client.wait_for_result(rospy.Duration(5))
     result = client.get_result()
-    assert result.error_code == R.INVALID_GOAL and "rad/s" in result.error_string
-    assert np.max(np.abs(position(joints) - before)) < 1e-4
-
-
-def test_a_trajectory_of_a_year_is_invalid_goal_at_once(client, joints):
-    """Sampled every 8 ms it would be 4e9 samples: refused before any planning."""
-    before = at_rest(joints)
-    client.send_goal(goal_through([(3.2e7, [0.3, 1.4, -1.4, 1.6, 1.6, 0.2])]))
-    assert client.wait_for_result(rospy.Duration(5))
-    result = client.get_result()
-    assert result.error_code == R.INVALID_GOAL and "600 s" in result.error_string
+    assert result.error_code == R.INVALID_GOAL and reason in result.error_string
     assert np.max(np.abs(position(joints) - before)) < 1e-4
 
 

@@ -8,9 +8,8 @@ import pytest
 from std_srvs.srv import Empty, SetBool, Trigger
 
 from conftest import START, at_rest, position, start_driver
-from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import ClearErr, GetIO, Move, SetCollision, SetIO
-from ros_harness import Recorder, wait_until
+from ros_harness import wait_until
 
 # A post standing 0.55 m in front of the arm, in the way of a joint_1 swing at START.
 SCENE = """
@@ -29,13 +28,6 @@ def sim_driver(request, rospy_node, tmp_path_factory):
     scene = tmp_path_factory.mktemp("scene") / "post.yaml"
     scene.write_text(SCENE)
     return start_driver(request, backend="sim", model="zu5", scene=str(scene))
-
-
-@pytest.fixture(scope="module")
-def states(sim_driver):
-    rec = Recorder(sim_driver.name("robot_states"), RobotMsg)
-    yield rec
-    rec.close()
 
 
 def recover(call):
