@@ -67,6 +67,8 @@ def test_bad_input_is_still_refused_by_the_python_path(kin):
     T = kin.flange_pose(np.array([0.1, 1.5, -1.4, 1.5, 1.6, 0.2]))
     with pytest.raises(ValueError, match="joint positions"):
         kin.ik(T, seed=np.array([np.nan] * 6))
+    with pytest.raises(ValueError, match="joint positions"):   # "finite" as Python counts it
+        kin.ik(T, seed=np.array([1e200, 0, 0, 0, 0, 0]))
     bad = T.copy()
     bad[0, 3] = np.inf
     with pytest.raises(ValueError, match="target"):

@@ -146,15 +146,9 @@ class Kinematics:
         return a
 
     def _seed_ref(self, seed) -> list[float]:
-        """The seed (rad) clamped into the joint limits, as plain floats (the IK hot path:
-        one ``tolist`` and a sum check cost less than numpy's finiteness test)."""
-        a = np.asarray(seed, dtype=float)
-        values = a.tolist() if a.shape == (6,) else None
-        if values is None or not math.isfinite(sum(values)):
-            raise ValueError(f"joint positions must be 6 finite values in rad, got "
-                             f"{np.shape(seed)}")
+        """The seed (rad) checked and clamped into the joint limits, as plain floats."""
         return [min(h, max(lo, x)) for x, lo, h in
-                zip(values, self._lower_list, self._upper_list)]
+                zip(self._check_q(seed).tolist(), self._lower_list, self._upper_list)]
 
     # ------------------------------------------------------------------ forward kinematics
     def flange_pose(self, q) -> np.ndarray:

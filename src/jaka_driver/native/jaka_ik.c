@@ -268,6 +268,10 @@ int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *t
 /* Size of jk_chain in bytes, so the Python side can check its layout matches. */
 int jk_chain_size(void) { return (int)sizeof(jk_chain); }
 
+/* Finite as the Python side counts it (kinematics._finite): values beyond 1e150 count as
+ * infinite there, so they must not be solved here either. NaN fails the comparison. */
+static int sane(double x) { return fabs(x) <= 1e150; }
+
 /* jk_ik for the commonest request, straight from the caller's arrays: T the flange pose
  * (= joint-6 frame: the flange placement is identity), seed the reference joints (rad), no
  * tool offset. Checks what the Python side would (every value finite) and clamps the seed
@@ -277,9 +281,9 @@ int jk_ik_seeded(const jk_chain *c, const double *T, const double *seed, double 
                  double rot_tol, double *out) {
     double ref[6];
     for (int k = 0; k < 16; k++)
-        if (!isfinite(T[k])) return 0;
+        if (!sane(T[k])) return 0;
     for (int k = 0; k < 6; k++) {
-        if (!isfinite(seed[k])) return 0;
+        if (!sane(seed[k])) return 0;
         ref[k] = clampd(seed[k], c->lo[k], c->hi[k]);
     }
     return jk_ik(c, T, ref, NULL, pos_tol, rot_tol, out, out + 6);
