@@ -5,7 +5,7 @@ MODEL ?= zu5
 BACKEND ?= sim
 PYTEST_ARGS ?=
 
-.PHONY: setup run test fuzz bench emulator clean
+.PHONY: setup run test unit fuzz bench emulator clean
 
 setup:
 	@scripts/setup.sh
@@ -14,9 +14,13 @@ setup:
 run: setup
 	@$(ENV) roslaunch jaka_driver jaka_driver.launch backend:=$(BACKEND) model:=$(MODEL)
 
-## The whole suite: unit tests, integration tests through a real rosmaster, rostest suites.
+## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node).
 test: setup
 	@$(ENV) python -m pytest test $(PYTEST_ARGS)
+
+## The unit layer only: no rosmaster, no subprocess, seconds.
+unit: setup
+	@$(ENV) python -m pytest test/unit $(PYTEST_ARGS)
 
 ## 10 000 random requests per service (the suite runs 200).
 fuzz: setup

@@ -13,6 +13,8 @@ import time
 import xmlrpc.client
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 NODE = ROOT / "scripts" / "jaka_driver_node"
 
@@ -186,3 +188,44 @@ class Recorder:
 
     def close(self):
         self._sub.unregister()
+
+
+# --- the arm: a test's clean slate and reading where it stands ---
+
+#: JAKA's "pose_1": upper arm up, forearm forward, flange down — the twin's start pose (rad)
+START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+
+
+
+def start_driver(request, **params):
+    driver = DriverProcess(log_name=request.module.__name__, **params)
+    request.addfinalizer(driver.stop)
+    driver.wait_ready()
+    return driver
+
+
+def go_home(call) -> None:
+    """Leave servo mode, stop whatever moves and return to START (a test's clean slate)."""
+    from jaka_msgs.srv import Move, ServoMoveEnable
+    from std_srvs.srv import Empty
+    call("servo_move_enable", ServoMoveEnable, enable=False)
+    call("stop_move", Empty)
+    reply = wait_until(lambda: (r := call("joint_move", Move, pose=START, mvvelo=2.0,
+                                          mvacc=8.0)).ret == 1 and r, 3.0, 0.2)
+    assert reply, "could not return to START"
+
+
+def position(recorder, timeout=2.0) -> np.ndarray:
+    """Latest joint position (rad) from a JointState recorder."""
+    msg = wait_until(recorder.latest, timeout)
+    assert msg is not None, "no joint_position message"
+    return np.array(msg.position)
+
+
+def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
+    """Joint position once every joint is slower than ``speed`` rad/s (the end of a move's
+    settling), so a later comparison sees only new motion."""
+    msg = wait_until(lambda: (m := recorder.latest()) is not None
+                     and np.max(np.abs(m.velocity)) < speed and m, timeout)
+    assert msg, "the arm did not come to rest"
+    return np.array(msg.position)

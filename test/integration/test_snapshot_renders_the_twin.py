@@ -13,29 +13,12 @@ import pytest
 from jaka_driver.models import MODEL_NAMES, load_model
 from jaka_driver.sim.snapshot import BACKGROUND, TwinCamera, write_png
 from jaka_driver.sim.twin_model import build_twin_model
+from pictures import arm_pixels, read_png
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 HOME = [0.0, 1.5708, -1.5708, 1.5708, 1.5708, 0.0]
 SIZE = (320, 240)       # px; small pictures keep the module fast
 ARM_WHITE = np.array([0.92, 0.92, 0.90]) * 255      # urdf material "arm_white"
-
-
-def arm_pixels(rgb: np.ndarray) -> np.ndarray:
-    """Mask of pixels in the arm's white, lit or in shade: neutral, brighter than the floor,
-    and not the sky."""
-    i = rgb.astype(int)
-    neutral = i.max(axis=2) - i.min(axis=2) <= 12
-    return neutral & (i.min(axis=2) >= 170) & np.any(i != BACKGROUND, axis=2)
-
-
-def read_png(path: Path) -> np.ndarray:
-    """Decode with ImageMagick, an independent PNG reader."""
-    size = subprocess.run(["identify", "-format", "%w %h", str(path)], capture_output=True,
-                          text=True, check=True).stdout.split()
-    w, h = int(size[0]), int(size[1])
-    raw = subprocess.run(["convert", str(path), "-depth", "8", "rgb:-"], capture_output=True,
-                         check=True).stdout
-    return np.frombuffer(raw, np.uint8).reshape(h, w, 3)
 
 
 @pytest.fixture(scope="module")
@@ -135,35 +118,3 @@ def test_docs_show_one_picture_per_model():
         path = ROOT / "docs" / "images" / f"jaka_{name}.png"
         assert path.is_file(), f"{path} missing (README shows it)"
         assert arm_pixels(read_png(path)).mean() > 0.02
-
-
-def test_node_service_pictures_the_current_pose(sim_driver, call, joints, tmp_path):
-    from jaka_msgs.srv import Move
-    from std_srvs.srv import Trigger
-
-    import rospy
-    from conftest import at_rest
-
-    rospy.set_param(sim_driver.name("snapshot_path"), str(tmp_path / "before.png"))
-    before = call("sim/snapshot", Trigger)
-    assert before.success, before.message
-    assert str(tmp_path / "before.png") in before.message and "rad" in before.message
-    target = [0.8, 1.9, -1.4, 1.1, 1.57, 0.0]
-    assert call("joint_move", Move, pose=target, mvvelo=2.0, mvacc=5.0).ret == 1
-    at_rest(joints)
-    rospy.set_param(sim_driver.name("snapshot_path"), str(tmp_path / "after.png"))
-    after = call("sim/snapshot", Trigger)
-    assert after.success, after.message
-    a, b = read_png(tmp_path / "before.png"), read_png(tmp_path / "after.png")
-    assert a.shape == b.shape == (600, 800, 3)
-    moved = np.any(np.abs(a.astype(int) - b.astype(int)) > 30, axis=2)
-    assert moved.mean() > 0.01, "the second picture should show the arm where it moved to"
-    # It is the pose the node reports with it (the joints in the answer), which is the
-    # target of the move: rendering that pose here gives the same picture.
-    q = np.array([float(v) for v in
-                  after.message.rsplit("[", 1)[1].split("]", 1)[0].split(",")])
-    np.testing.assert_allclose(q, target, atol=2e-3)
-    with TwinCamera(load_model("zu5")) as cam:
-        expected = cam.render(q)
-    differs = np.any(np.abs(expected.astype(int) - b.astype(int)) > 30, axis=2).mean()
-    assert differs < 0.005, f"{differs:.2%} of the pixels differ from the reported pose"

@@ -5,15 +5,16 @@ import threading
 import time
 
 import numpy as np
+import pytest
 from geometry_msgs.msg import TwistStamped
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty
 
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
-from ros_harness import Recorder
+from ros_harness import START, Recorder
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+pytestmark = pytest.mark.ros
 
 
 def test_all_four_topics_publish_about_125_hz_even_during_a_blocking_move(call, sim_driver,

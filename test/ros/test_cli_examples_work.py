@@ -15,7 +15,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+pytestmark = pytest.mark.ros
+
+README = Path(__file__).resolve().parents[2] / "README.md"
 SNAPSHOT_PATH = "/tmp/jaka_arm.png"     # as in README; the test writes to its own folder
 
 # The pose of the README picture; get_fk and linear_move below use its TCP (mm, rotation vector),

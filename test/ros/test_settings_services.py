@@ -8,13 +8,13 @@ import rosservice
 from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty, SetBool
 
-from conftest import at_rest, position
+from ros_harness import START, Recorder, at_rest, position, wait_until
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, SetCollision,
                            SetIO, SetPayload, SetTcpFrame, SetUserFrame)
-from ros_harness import Recorder, wait_until
 
-START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+pytestmark = pytest.mark.ros
+
 
 CONTRACT_SERVICES = {
     "linear_move", "joint_move", "jog", "servo_move_enable", "servo_p", "servo_j", "stop_move",

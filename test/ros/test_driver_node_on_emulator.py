@@ -8,16 +8,15 @@ import time
 import numpy as np
 import pytest
 
-from conftest import position, start_driver
+from ros_harness import START, Recorder, free_port, position, start_driver, wait_until
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
-from ros_harness import Recorder, free_port, wait_until
 from std_srvs.srv import SetBool
 
 from jaka_driver.emulator.process import EmulatorProcess
 
 pytestmark = pytest.mark.ros
-HOME = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +43,7 @@ def test_joint_move_through_ros_reaches_the_target(call, joints):
     assert reply.ret == 1, reply.message
     assert elapsed > 0.4, "joint_move blocks until in position"
     assert np.max(np.abs(position(joints) - target)) <= 1e-3
-    assert call("joint_move", Move, pose=HOME, mvvelo=2.0, mvacc=8.0).ret == 1
+    assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
 
 
 def test_robot_states_come_from_the_controller(sim_driver, joints):

@@ -15,7 +15,7 @@ import pytest
 from jaka_driver.models import MODEL_NAMES, load_model, repo_root
 from jaka_driver.transforms import matrix_to_rpy, rpy_to_matrix
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 # Flange position at q = 0 in mm, relative to the base (facts §3.2); orientation rpy (90°, 0, 0).
 FLANGE_AT_ZERO_MM = {

@@ -9,9 +9,10 @@ import pytest
 from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty
 
-from conftest import START, at_rest, go_home, position
+from ros_harness import START, at_rest, go_home, position, Recorder, wait_until
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
-from ros_harness import Recorder, wait_until
+
+pytestmark = pytest.mark.ros
 
 
 

@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty
 
-from conftest import START, at_rest, go_home, position
+from ros_harness import START, at_rest, go_home, position, wait_until
 from jaka_msgs.srv import Move
-from ros_harness import wait_until
+
+pytestmark = pytest.mark.ros
 
 
 

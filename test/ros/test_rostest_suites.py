@@ -5,6 +5,8 @@ import subprocess
 
 import pytest
 
+pytestmark = pytest.mark.ros
+
 
 @pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test"])
 def test_rostest_suite_passes(suite, tmp_path):

@@ -5,11 +5,13 @@ import time
 import numpy as np
 import pytest
 
-from conftest import START, at_rest, go_home, position
+from ros_harness import START, at_rest, go_home, position
 from jaka_msgs.srv import Move
 
 from jaka_driver.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
+
+pytestmark = pytest.mark.ros
 
 MODEL = load_model("zu5")
 

@@ -38,7 +38,7 @@ from hypothesis import strategies as st
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from conftest import START, go_home
+from ros_harness import START, go_home, Recorder, wait_until
 from jaka_driver import validation as check
 from jaka_driver.models import load_model
 from jaka_driver.motion.linear_path import (MAX_ANGULAR_ACCEL, MAX_ANGULAR_SPEED,
@@ -50,9 +50,8 @@ from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, ServoMove,
                            ServoMoveEnable, SetCollision, SetIO, SetPayload, SetTcpFrame,
                            SetUserFrame)
-from ros_harness import Recorder, wait_until
 
-pytestmark = pytest.mark.fuzz
+pytestmark = [pytest.mark.fuzz, pytest.mark.ros]
 
 EXAMPLES = int(os.environ.get("JAKA_FUZZ_EXAMPLES", "200"))
 VERBOSE = int(os.environ.get("JAKA_FUZZ_VERBOSE", "0"))   # print N replies of each kind (-s)

@@ -103,9 +103,11 @@ def test_driver_pose_round_trip(position, rotvec):
     pose = np.concatenate([position, rotvec])
     wire = units.pose_to_wire(pose)
     assert all(type(v) is float for v in wire)
-    # the wire angles describe the same rotation (checked with independent maths) ...
+    # the wire angles describe the same rotation (checked with independent maths) ... to 1e-8:
+    # at pitch ±90° (gimbal lock) roll and yaw come from atan2 of ~1e-9 entries, which costs
+    # a few 1e-9 (hypothesis found rotvec (0, π/2, 3e-9)); JAKA's own resolution is 1e-3°
     np.testing.assert_allclose(matrix_from_wire_rpy_deg(wire[3:]), matrix_from_rotvec(rotvec),
-                               atol=1e-9)
+                               atol=1e-8)
     assert -90 <= wire[4] <= 90 and -180 <= wire[3] <= 180 and -180 <= wire[5] <= 180
     back = units.pose_from_wire(wire)
     np.testing.assert_allclose(back[:3], position, atol=1e-9)

@@ -14,11 +14,12 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from std_srvs.srv import Empty
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from conftest import START, at_rest, go_home, position
+from ros_harness import START, at_rest, go_home, position, wait_until
 from jaka_msgs.srv import Move, ServoMoveEnable
-from ros_harness import wait_until
 
 from jaka_driver.motion.spline import Waypoint, sample_waypoints
+
+pytestmark = pytest.mark.ros
 
 NAMES = [f"joint_{i}" for i in range(1, 7)]
 R = FollowJointTrajectoryResult

@@ -14,10 +14,11 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty, SetBool
 
-from conftest import START, at_rest, go_home
+from ros_harness import START, at_rest, go_home, wait_until
 from jaka_msgs.srv import (ClearErr, GetFK, GetIK, GetIO, Move, ServoMove, ServoMoveEnable,
                            SetCollision, SetIO, SetPayload, SetTcpFrame, SetUserFrame)
-from ros_harness import wait_until
+
+pytestmark = pytest.mark.ros
 
 TOOL_1 = [0.0, 0.0, 100.0, 0.0, 0.0, 0.0]             # mm + rotvec, flange frame
 USER_1 = [100.0, 200.0, 0.0, 0.0, 0.0, 0.3]           # mm + rotvec, base frame

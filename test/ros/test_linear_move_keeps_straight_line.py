@@ -5,9 +5,10 @@ import time
 import numpy as np
 import pytest
 
-from conftest import START, at_rest, go_home, position
+from ros_harness import START, at_rest, go_home, position, wait_until
 from jaka_msgs.srv import GetFK, Move
-from ros_harness import wait_until
+
+pytestmark = pytest.mark.ros
 
 
 

@@ -18,7 +18,9 @@ import pytest
 
 from ros_harness import wait_until
 
-ROOT = Path(__file__).resolve().parents[1]
+pytestmark = pytest.mark.ros
+
+ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test" / "artifacts"
 SCREEN = "1280x1024x24"
 BACKGROUND = (48, 48, 48)       # config/jaka_driver.rviz, Global Options → Background Color

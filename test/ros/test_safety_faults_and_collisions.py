@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from conftest import START, at_rest, position, start_driver
+from ros_harness import START, at_rest, position, start_driver, wait_until
 from jaka_msgs.srv import ClearErr, GetIO, Move, SetCollision, SetIO
-from ros_harness import wait_until
+
+pytestmark = pytest.mark.ros
 
 # A post standing 0.55 m in front of the arm, in the way of a joint_1 swing at START.
 SCENE = """
