@@ -6,8 +6,8 @@ dozens of Python → Pinocchio calls (the benchmark's IK row: issue 6). It answe
 successes; anything else (no closed-form solution, a singular spot, no convergence) goes to
 the Python path, which also explains failures. Both compute the same solution.
 
-``make setup`` compiles the library to ``devel/lib/libjaka_ik.so`` (``JAKA_IK_LIB`` names
-another file). Without it — a catkin workspace that did not run the setup, a machine without
+``make setup`` compiles the library to ``devel/lib/libjaka_ik.so``, a catkin build to the
+workspace's ``devel/lib`` and ``install/lib`` (``JAKA_IK_LIB`` names another file). Without it — a catkin workspace that did not run the setup, a machine without
 a C compiler — :func:`load` answers None and the Python path does everything, only slower.
 
 Units: m, rad; matrices row-major 4x4 (joint-6 frame in the base frame).
@@ -40,10 +40,20 @@ class _Chain(ctypes.Structure):
 
 
 def library_path() -> Path:
+    """``$JAKA_IK_LIB``, else ``devel/lib`` of the source tree (``make setup``), else the ``lib``
+    folder of the first catkin devel or install space on ``CMAKE_PREFIX_PATH`` that has it."""
     explicit = os.environ.get("JAKA_IK_LIB")
     if explicit:
         return Path(explicit)
-    return Path(__file__).resolve().parents[2] / "devel" / "lib" / LIBRARY
+    from .models import repo_root
+    made = repo_root() / "devel" / "lib" / LIBRARY
+    if made.is_file():
+        return made
+    for prefix in filter(None, os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep)):
+        built = Path(prefix) / "lib" / LIBRARY
+        if built.is_file():
+            return built
+    return made
 
 
 def _open() -> Optional[ctypes.CDLL]:

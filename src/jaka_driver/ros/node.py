@@ -185,6 +185,14 @@ def _params() -> dict:
     }
 
 
+def _log_files(model: str) -> None:
+    """Say where the URDF and the compiled IK came from (source tree, devel or install space)."""
+    from .. import native_ik
+    lib = native_ik.library_path()
+    rospy.loginfo(f"URDF {load_model(model).urdf_path}; IK library "
+                  + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
+
+
 def main() -> int:
     rospy.init_node("jaka_driver")
     _forward_logging()
@@ -212,6 +220,7 @@ def main() -> int:
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     Diagnostics(driver, publisher.measured_rate)
+    _log_files(p["model"])
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "
                   f"{p['rate']:g} Hz")
     rospy.spin()
