@@ -10,6 +10,8 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``servo_increment``  servo_j/servo_p take increments as JAKA's driver code does (default
+                     false: absolute targets, as the interface document says)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
                      ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
 
@@ -182,6 +184,7 @@ def _params() -> dict:
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
+        "servo_increment": bool(rospy.get_param("~servo_increment", False)),
     }
 
 
@@ -213,7 +216,7 @@ def main() -> int:
     rospy.on_shutdown(driver.shutdown)
     publisher = StatePublisher(driver, p["rate"])
     publisher.start()
-    advertise(driver)
+    advertise(driver, servo_increment=p["servo_increment"])
     advertise_faults(backend)
     advertise_snapshot(backend)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
