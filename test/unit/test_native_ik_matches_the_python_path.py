@@ -1,4 +1,4 @@
-"""The compiled IK fast path (native/jaka_ik.c) answers exactly what the Python path answers.
+"""The compiled IK fast path (kinematics/jaka_ik.c) answers exactly what the Python path answers.
 
 For every model, seeded targets over the whole joint range — with and without a tool and a
 user frame — are solved twice, once through the library and once with it switched off: both
