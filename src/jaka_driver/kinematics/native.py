@@ -90,25 +90,18 @@ class NativeIk:
         the right shape (lists, read-only, Fortran-ordered or strided arrays) is copied first,
         so every well-formed request enters C exactly once. None without entering C when the
         shapes are wrong or the values are not numbers (the Python path refuses those)."""
-        if _plain(flange) and _plain(seed):
+        pose = joints = None
+        if _plain(flange) and _plain(seed) and flange.shape == (4, 4) and seed.shape == (6,):
             try:
                 # ctypes views of the caller's memory: half the cost of ndarray.ctypes.data
                 pose, joints = _Pose.from_buffer(flange), _Joints.from_buffer(seed)
             except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
-                pose = joints = None
-            if pose is not None and flange.shape == (4, 4) and seed.shape == (6,):
-                return self._seeded(pose, joints, pos_tol, rot_tol)
-        try:
-            flange = np.array(flange, dtype=np.float64, order="C")   # a fresh copy
-            seed = np.array(seed, dtype=np.float64, order="C")
-        except (TypeError, ValueError):
-            return None
-        if flange.shape != (4, 4) or seed.shape != (6,):
-            return None
-        return self._seeded(_Pose.from_buffer(flange), _Joints.from_buffer(seed), pos_tol,
-                            rot_tol)
-
-    def _seeded(self, pose, joints, pos_tol: float, rot_tol: float):
+                pass
+        if pose is None:
+            views = _copied_views(flange, seed)
+            if views is None:
+                return None
+            pose, joints = views
         out = _Out()
         steps = self._lib.jk_ik_seeded(self._chain_addr, pose, joints, pos_tol, rot_tol, out)
         if steps <= 0:
@@ -143,6 +136,19 @@ def _plain(a) -> bool:
     what is not contiguous and writable). ``is``: numpy's float64 dtype is one object; a
     dtype that is not it only costs the slower path."""
     return type(a) is np.ndarray and a.dtype is _FLOAT64
+
+
+def _copied_views(flange, seed):
+    """ctypes views of fresh float64 C-ordered copies of a flange pose (4x4) and a seed (6,),
+    or None when the shapes are wrong or the values are not numbers."""
+    try:
+        flange = np.array(flange, dtype=np.float64, order="C")
+        seed = np.array(seed, dtype=np.float64, order="C")
+    except (TypeError, ValueError):
+        return None
+    if flange.shape != (4, 4) or seed.shape != (6,):
+        return None
+    return _Pose.from_buffer(flange), _Joints.from_buffer(seed)
 
 
 def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],
