@@ -33,7 +33,8 @@ def ur_lengths(model: pin.Model) -> tuple[float, float, float, float, float] | N
         return None
     t = [p.translation for p in jp]
     a2, a3, d4, d5, d6 = t[2][0], t[3][0], -t[3][2], -t[4][1], t[5][1]
-    off = [t[1], (0, t[2][1], t[2][2]), (0, t[3][1], 0), (t[4][0], 0, t[4][2]), (t[5][0], 0, t[5][2])]
+    off = [t[1], (0, t[2][1], t[2][2]), (0, t[3][1], 0), (t[4][0], 0, t[4][2]),
+           (t[5][0], 0, t[5][2])]
     if np.max(np.abs(np.array(off, float))) > 1e-3 or not np.allclose(jp[0].rotation, np.eye(3)):
         return None
     return float(a2), float(a3), float(d4), float(d5), float(d6)
