@@ -3,8 +3,8 @@
 A move slower than :data:`~jaka_driver.motion.trajectory.MAX_MOTION_DURATION` (10 min) comes
 from a units mistake (``mvvelo`` 1e-7, ``mvtime`` 3e38) and is refused; so is an ``mvtime``
 shorter than the move needs. The planners refuse both too, but only the request knows which
-field was at fault: these checks name it, with its value and the limit (contract: -2 and a
-message naming the field). Both backends get the same answer.
+field was at fault: these checks name it, with its value and the limit (docs/interface.md,
+"Result codes": -2 and a message naming the field). Both backends get the same answer.
 
 Units: joints rad, speeds rad/s or mm/s, accelerations rad/s² or mm/s², poses 4x4 in m,
 durations s.

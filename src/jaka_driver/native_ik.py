@@ -2,7 +2,7 @@
 
 :class:`jaka_driver.kinematics.Kinematics` calls it first for every IK request on a UR-type
 chain: closed form of the nearest configuration + Newton steps, in one C call instead of
-dozens of Python → Pinocchio calls (the benchmark's IK row: issue 6). It answers only
+dozens of Python → Pinocchio calls (the IK row of bench/results/latest.md). It answers only
 successes; anything else (no closed-form solution, a singular spot, no convergence) goes to
 the Python path, which also explains failures. Both compute the same solution.
 
