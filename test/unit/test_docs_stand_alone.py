@@ -132,6 +132,28 @@ def test_every_cited_document_exists(name):
     assert (DOCS / name).is_file(), f"docs/{name} is cited by {CITED[name]} but does not exist"
 
 
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a markdown heading."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+LINK = re.compile(r"\]\(([\w./-]*\.md)?#([\w-]+)\)")
+
+
+@pytest.mark.parametrize("page", ["README.md", *sorted(p.name for p in DOCS.glob("*.md"))])
+def test_links_to_sections_find_their_heading(page):
+    path = ROOT / page if page == "README.md" else DOCS / page
+    broken = []
+    for target, anchor in LINK.findall(path.read_text(encoding="utf-8")):
+        linked = (path.parent / target) if target else path
+        if not linked.is_file():
+            continue                    # a missing page is test_every_cited_document_exists'
+        headings = re.findall(r"^#+ (.+)$", linked.read_text(encoding="utf-8"), re.MULTILINE)
+        if anchor not in {_slug(h) for h in headings}:
+            broken.append(f"{target or page}#{anchor}")
+    assert not broken, f"{page} links to sections that do not exist: {broken}"
+
+
 # ---- the node's names are documented -------------------------------------------------------------
 
 PRIVATE_NAME = re.compile(r"^~[a-z_][a-z0-9_/]*$")
