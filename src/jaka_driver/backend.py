@@ -8,7 +8,7 @@ policy; anything it cannot do it answers with a failure :class:`Result`, never s
 
 Frames: a Cartesian pose handed to or returned by a backend is a 4x4 homogeneous matrix in
 metres. Unless a method says otherwise, it is the pose of the *active tool* expressed in the
-*active user frame* (contract.md, "Frames").
+*active user frame* (docs/interface.md, "Units and frames").
 
 Concurrency: every method may be called from any thread (rospy serves each service connection
 in its own thread). No method blocks for the length of a motion: moves are *started* and

@@ -1,11 +1,11 @@
 """The door of the driver: every service request passes through :class:`RobotDriver`.
 
-Order of checks (design.md, "Safety first"): validate the request → check the robot state →
+Order of checks (docs/design.md, "The picture"): validate the request → check the robot state →
 let the backend plan the whole motion → only then move. A refused command changes nothing.
 
-The methods take the values of the service requests in the interface document's units
-(rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`; they never raise.
-They are safe to call from many threads at once, as rospy does.
+The methods take the values of the service requests in their own units (docs/interface.md,
+"Units and frames": rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`;
+they never raise. They are safe to call from many threads at once, as rospy does.
 """
 from __future__ import annotations
 
@@ -185,8 +185,9 @@ class RobotDriver:
 
     @_answers
     def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
-        """Continuous jog (doc §1.3): coord 0 joint / 1 base / 2 tool; index 0–11, odd =
-        negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling again."""
+        """Continuous jog (docs/interface.md, "jog"): coord 0 joint / 1 base / 2 tool; index
+        0–11, odd = negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling
+        again."""
         coord = check.integer_in("coord_mode", coord_mode, 0, 2)
         idx = check.integer_in("index", index, 0, 11)
         axis, direction = idx // 2, (-1 if idx % 2 else 1)
@@ -352,7 +353,7 @@ class RobotDriver:
 
     @_answers
     def set_io(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
-        """Set an output (doc §2.6); digital non-zero → 1."""
+        """Set an output (docs/interface.md, "set_io"); digital non-zero → 1."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, 1, type, index)
         if sig == "digital":
@@ -363,7 +364,7 @@ class RobotDriver:
 
     @_answers
     def get_io(self, signal: str, path: int, type: int, index: int) -> Result:  # noqa: A002
-        """Read an IO point (doc §2.7); value in ``Result.value``."""
+        """Read an IO point (docs/interface.md, "get_io"); value in ``Result.value``."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, path, type, index)
         return self.backend.get_io(sig, int(path), int(type), int(index))

@@ -1,4 +1,4 @@
-"""The controller backend does what the contract says, against the emulator over real TCP:
+"""The controller backend does what docs/interface.md says, against the emulator over real TCP:
 moves arrive, blocking moves block and can be stopped, settings reach the controller, and what
 the protocol cannot do is answered as a failure."""
 from __future__ import annotations

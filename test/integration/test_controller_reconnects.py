@@ -1,5 +1,5 @@
-"""Losing the controller and getting it back (issue 4, "Reconnect"): services answer -1 within
-1 s and never hang, the state says the link is down, the backend reconnects by itself within
+"""Losing the controller and getting it back (docs/interface.md, "Backends"): services answer -1
+within 1 s and never hang, the state says the link is down, the backend reconnects by itself within
 5 s of the controller returning, and no motion command is replayed."""
 from __future__ import annotations
 
