@@ -190,8 +190,8 @@ def _params() -> dict:
 
 def _log_files(model: str) -> None:
     """Say where the URDF and the compiled IK came from (source tree, devel or install space)."""
-    from .. import native_ik
-    lib = native_ik.library_path()
+    from ..kinematics import native
+    lib = native.library_path()
     rospy.loginfo(f"URDF {load_model(model).urdf_path}; IK library "
                   + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
 

@@ -42,7 +42,7 @@ def _logged(name: str, handler):
 
 
 def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.Service]:
-    """Advertise every service of the interface; returns them so the node can shut them down.
+    """Advertise every service of docs/interface.md; returns them so the node can shut them down.
 
     ``servo_increment``: servo_j / servo_p take increments as JAKA's driver code does
     (:mod:`jaka_driver.servo_increment`), not the document's absolute targets."""
