@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from contextlib import contextmanager
 from typing import Callable, Sequence
 
@@ -36,13 +35,21 @@ CENTROID_REACH_MM = 1000.0
 ANALOG_LIMIT = 10.0             # V; the twin's analog outputs are ±10 V
 
 
+# Requests a client streams once per cycle: their reply does not keep time waiting for the
+# next call (the twin's clock waits for the next target instead; jaka_driver.clock).
+STREAMED = ("servo_j", "servo_p")
+
+
 def _answers(method: Callable) -> Callable:
     """Turn a refusal into its Result and any other exception into a -3 answer: a request may
-    be refused, but it never takes the driver down."""
+    be refused, but it never takes the driver down. Simulated time stands still while a
+    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived."""
+    react = method.__name__ not in STREAMED
 
     def wrapper(self, *args, **kwargs) -> Result:
         try:
-            return method(self, *args, **kwargs)
+            with self.clock.hold(react=react):
+                return method(self, *args, **kwargs)
         except CommandRefused as refusal:
             return refusal.result()
         except Exception as exc:  # noqa: BLE001 — the node must survive any request
@@ -61,9 +68,11 @@ class RobotDriver:
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1):
         self.backend = backend
         self.model = backend.model
+        #: every timeout below runs on the backend's time (wall, or the twin's sim time)
+        self.clock = backend.clock
         self._move_lock = threading.Lock()   # one blocking move at a time
-        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout)
-        self._servo = ServoStream(timeout=servo_timeout)
+        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
+        self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -235,8 +244,14 @@ class RobotDriver:
                                                                "str | None"],
                           period: float = 0.02) -> Result:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
-        ``monitor(t, state)`` is called with the time since the start; a string it returns
-        aborts: the arm is stopped and the result is -12 with that reason. Blocks."""
+        (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
+        string it returns aborts: the arm is stopped and the result is -12 with that reason.
+        Blocks."""
+        with self.clock.hold():
+            return self._follow_trajectory(trajectory, monitor, period)
+
+    def _follow_trajectory(self, trajectory, monitor, period) -> Result:
+        clock = self.clock
         try:
             self._not_jogging()
             with self._blocking_move("trajectory"):
@@ -245,18 +260,18 @@ class RobotDriver:
                 if not started.ok:
                     return started
                 completion, duration = started.value
-                t0 = time.monotonic()
+                t0 = clock.now()
                 while True:
-                    result = completion.wait(period)
+                    result = completion.wait(period, clock)
                     if result is not None:
                         return result
-                    elapsed = time.monotonic() - t0
+                    elapsed = clock.now() - t0
                     reason = monitor(elapsed, self.backend.state())
                     if reason is None and elapsed > duration + 2.0:
                         reason = f"not in position {elapsed - duration:.1f} s after the end"
                     if reason is not None:
                         self.backend.stop_move()
-                        completion.wait(1.0)
+                        completion.wait(1.0, clock)
                         return Result.failure(Code.MOTION_STOPPED, reason)
         except CommandRefused as refusal:
             return refusal.result()
