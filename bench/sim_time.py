@@ -77,7 +77,8 @@ def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
     """Joint samples of every cycle of one run (the client holds the clock from the start)."""
     from jaka_driver.driver import RobotDriver
     from jaka_driver.models import load_model
-    from jaka_driver.sim.backend import CYCLE, SimBackend
+    from jaka_driver.constants import SERVO_CYCLE as CYCLE
+    from jaka_driver.sim.backend import SimBackend
 
     stop = multiprocessing.Event()
     burners = [multiprocessing.Process(target=_burn, args=(stop,), daemon=True)
