@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
+from .clock import WallClock
 from .models import RobotModel
 from .results import Result
 from .robot_state import RobotState
@@ -52,6 +53,10 @@ class Backend(ABC):
     @abstractmethod
     def state(self) -> RobotState:
         """The latest sample; never blocks."""
+
+    #: The backend's time (jaka_driver.clock): every timeout the driver keeps runs on it. The
+    #: wall clock, unless a twin owns time (sim_time; then ``RobotState.stamp`` is sim time).
+    clock = WallClock()
 
     #: Period (s) at which new state samples appear, when the backend has such a clock (the
     #: twin's 8 ms cycle) and implements :meth:`wait_for_sample`; None otherwise.

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from contextlib import contextmanager
 from typing import Callable, Sequence
 
@@ -29,13 +28,21 @@ log = logging.getLogger(__name__)
 
 
 
+# Requests a client streams once per cycle: their reply does not keep time waiting for the
+# next call (the twin's clock waits for the next target instead; jaka_driver.clock).
+STREAMED = ("servo_j", "servo_p")
+
+
 def _answers(method: Callable) -> Callable:
     """Turn a refusal into its Result and any other exception into a -3 answer: a request may
-    be refused, but it never takes the driver down."""
+    be refused, but it never takes the driver down. Simulated time stands still while a
+    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived."""
+    react = method.__name__ not in STREAMED
 
     def wrapper(self, *args, **kwargs) -> Result:
         try:
-            return method(self, *args, **kwargs)
+            with self.clock.hold(react=react):
+                return method(self, *args, **kwargs)
         except CommandRefused as refusal:
             return refusal.result()
         except Exception as exc:  # noqa: BLE001 — the node must survive any request
@@ -54,9 +61,11 @@ class RobotDriver:
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1):
         self.backend = backend
         self.model = backend.model
+        #: every timeout below runs on the backend's time (wall, or the twin's sim time)
+        self.clock = backend.clock
         self._move_lock = threading.Lock()   # one blocking move at a time
-        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout)
-        self._servo = ServoStream(timeout=servo_timeout)
+        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
+        self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -220,11 +229,13 @@ class RobotDriver:
                                                                "str | None"],
                           period: float = 0.02) -> Result:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
-        ``monitor(t, state)`` is called with the time since the start; a string it returns
-        aborts: the arm is stopped and the result is -12 with that reason. Blocks."""
-        return self._run_move("trajectory",
-                              lambda st: self.backend.start_trajectory(trajectory),
-                              monitor, period)
+        (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
+        string it returns aborts: the arm is stopped and the result is -12 with that reason.
+        Blocks."""
+        with self.clock.hold():
+            return self._run_move("trajectory",
+                                  lambda st: self.backend.start_trajectory(trajectory),
+                                  monitor, period)
 
     def _run_move(self, what: str, start: Callable[[RobotState], Result],
                   monitor: "Callable[[float, RobotState], str | None] | None" = None,
@@ -241,22 +252,23 @@ class RobotDriver:
                 return started
             completion, planned = started.value
             deadline = move_deadline(planned)
-            t0 = time.monotonic()
+            clock = self.clock                  # wall time, or the twin's sim time
+            t0 = clock.now()
             while True:
-                remaining = deadline - (time.monotonic() - t0)
+                remaining = deadline - (clock.now() - t0)
                 # without a monitor there is nothing to do until the move ends or overruns
                 wait = min(period, remaining) if monitor is not None else remaining
-                result = completion.wait(max(wait, 1e-3))
+                result = completion.wait(max(wait, 1e-3), clock)
                 if result is not None:
                     return result
-                elapsed = time.monotonic() - t0
+                elapsed = clock.now() - t0
                 reason = monitor(elapsed, self.backend.state()) if monitor else None
                 if reason is None and elapsed > deadline:
                     reason = (f"{what} not in position {elapsed:.2f} s after its start "
                               f"(planned {planned:.2f} s, allowed {deadline:.2f} s); stopped")
                 if reason is not None:
                     self.backend.stop_move()
-                    completion.wait(1.0)
+                    completion.wait(1.0, clock)
                     return Result.failure(Code.MOTION_STOPPED, reason)
 
     def _jog_expired(self) -> None:

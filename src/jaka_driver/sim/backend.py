@@ -13,6 +13,7 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..clock import make_clock
 from ..completion import Completion
 from ..constants import IN_POSITION, SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
@@ -44,14 +45,19 @@ class SimBackend(Backend):
     sample_period = SERVO_CYCLE
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
-                 q0: Optional[np.ndarray] = None, io_loopback: bool = False):
+                 q0: Optional[np.ndarray] = None, io_loopback: bool = False,
+                 sim_time: bool = False, real_time_factor: float = 1.0):
+        """``sim_time``: the twin owns time (jaka_driver.clock.SimClock, paced at
+        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
         super().__init__(model)
+        self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.kin = Kinematics(model)
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
         q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, SERVO_CYCLE)
-        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE)
+        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE,
+                                   clock=self.clock if sim_time else None)
         self.payload = Payload(self.mj_model)
         self.collisions = CollisionMonitor(self.mj_model, self._collided)
         self.physics.on_step.append(self.collisions.check)
@@ -86,6 +92,9 @@ class SimBackend(Backend):
         info = super().describe()
         info.update(physics_steps=self.physics.steps_total, overruns=self.physics.overruns,
                     timestep_s=self.mj_model.opt.timestep)
+        if self.clock.simulated:
+            info.update(sim_time_s=f"{self.clock.now():.3f}",
+                        real_time_factor=self.clock.real_time_factor or "as fast as possible")
         return info
 
     def state(self) -> RobotState:
@@ -305,6 +314,7 @@ class SimBackend(Backend):
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         target.set(np.asarray(q_target, float))
+        self.clock.streamed()
         return Result.success("servo_j target accepted")
 
     def servo_p(self, target_pose) -> Result:
@@ -331,6 +341,7 @@ class SimBackend(Backend):
                                   f"limit {self.model.max_velocity[j]:.2f} rad/s; the arm "
                                   "holds")
         target.set(q)
+        self.clock.streamed()
         return Result.success("servo_p target accepted", q)
 
     def stop_move(self) -> Result:

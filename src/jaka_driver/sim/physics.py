@@ -1,4 +1,5 @@
-"""The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time.
+"""The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time
+(or, with a simulated clock, whenever ``jaka_driver.clock.SimClock`` lets a cycle start).
 
 Every physics step (``timestep``, 1 ms by default) the servo drives compute torques; every
 ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next setpoint.
@@ -38,7 +39,8 @@ WAKE_MARGIN = 0.0002                # s
 
 @dataclass(frozen=True)
 class Sample:
-    """Measured joints at wall-clock ``stamp`` (s): rad, rad/s, N·m."""
+    """Measured joints at ``stamp`` (s: wall-clock time, or sim time when the twin owns
+    time): rad, rad/s, N·m."""
 
     stamp: float
     q: np.ndarray
@@ -51,7 +53,7 @@ class PhysicsLoop:
     """Owns ``MjData``; all access to it happens in the loop thread (or under ``lock``)."""
 
     def __init__(self, m: mujoco.MjModel, servo: JointServo, q0: np.ndarray,
-                 cycle: float = SERVO_CYCLE):
+                 cycle: float = SERVO_CYCLE, clock=None):
         self.m = m
         self.d = mujoco.MjData(m)
         self.servo = servo
@@ -72,7 +74,10 @@ class PhysicsLoop:
         self._thread: Optional[threading.Thread] = None
         self.on_step: list[Callable[[mujoco.MjData], None]] = []
         self.on_cycle: list[Callable[[], None]] = []
-        self.wall0 = time.time()
+        #: None: paced to the wall clock, samples stamped in wall time; a
+        #: :class:`jaka_driver.clock.SimClock`: the twin owns time, samples stamped in it
+        self.clock = clock
+        self.wall0 = 0.0 if self.simulated else time.time()
         self.steps_total = 0
         self.overruns = 0
         self._record()
@@ -141,7 +146,29 @@ class PhysicsLoop:
         with self._sampled:
             return self._sampled.wait_for(lambda: self._sample.stamp > after, timeout)
 
+    @property
+    def simulated(self) -> bool:
+        return self.clock is not None and self.clock.simulated
+
     def _run(self) -> None:
+        if self.simulated:
+            self._run_in_sim_time()
+        else:
+            self._run_on_the_wall_clock()
+
+    def _run_in_sim_time(self) -> None:
+        """One cycle whenever the clock lets the next one start (its pacing and holds,
+        jaka_driver.clock); sample stamps are sim time (``d.time``)."""
+        dt, clock = self.m.opt.timestep, self.clock
+        while clock.wait_for_cycle(self._quit):
+            with self.lock:
+                for _ in range(self.steps_per_cycle):
+                    self._step(dt)
+            clock.tick()
+            with self._sampled:
+                self._sampled.notify_all()
+
+    def _run_on_the_wall_clock(self) -> None:
         dt, cycle = self.m.opt.timestep, self.cycle
         start = time.monotonic()
         self.wall0 = time.time() - self.d.time
