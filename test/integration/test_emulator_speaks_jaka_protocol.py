@@ -263,9 +263,13 @@ def test_io_outputs_inputs_and_the_status_stream(emu, client):
     assert client.call("get_digital_input", type=0, index=2)["value"] == 1
     assert client.call("get_analog_output", type=0, index=1)["value"] == 2.5
     packet = read_status(emu.status_port, 0.05)[-1][0]
-    assert packet["dout"][3] == 1 and packet["din"][2] == 1 and packet["aout"][1] == 2.5
-    bad = client.call("set_digital_output", type=0, index=99, value=1)
-    assert bad["errorCode"] != "0" and "index 99" in bad["errorMsg"]
+    # the wire counts IO from 1; the packet's arrays from 0 (the SDK's API index)
+    assert packet["dout"][2] == 1 and packet["din"][1] == 1 and packet["aout"][0] == 2.5
+    assert client.call("get_digital_input", type=0, index=1)["value"] == 0
+    bad = client.call("set_digital_output", type=0, index=999, value=1)
+    assert bad["errorCode"] != "0" and "index 999" in bad["errorMsg"]
+    zero = client.call("set_digital_output", type=0, index=0, value=1)
+    assert zero["errorCode"] != "0" and "index" in zero["errorMsg"]
     client.call("set_digital_output", type=0, index=3, value=0)
     client.call("set_analog_output", type=0, index=1, value=0.0)
     client.call("emulator_set_input", signal="digital", type=0, index=2, value=0)

@@ -51,9 +51,9 @@ STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
              ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
 
 
-def _mm_rotvec(pose: np.ndarray) -> np.ndarray:
-    """4x4 pose (m) → [x, y, z mm, rotation vector rad]."""
-    return np.asarray(matrix_to_pose(pose, rotation="rotvec", length_scale=1e-3), float)
+def _mm_rpy(pose: np.ndarray) -> np.ndarray:
+    """4x4 pose (m) → the protocol's [x, y, z mm, rx, ry, rz rad]."""
+    return np.asarray(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3), float)
 
 
 class ControllerBackend(Backend):
@@ -266,7 +266,7 @@ class ControllerBackend(Backend):
 
     @answers
     def linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        pose = _mm_rotvec(target)
+        pose = _mm_rpy(target)
         speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
@@ -363,7 +363,7 @@ class ControllerBackend(Backend):
 
     @answers
     def servo_p(self, target) -> Result:
-        self.send.accepted(commands.servo_p(_mm_rotvec(target)))
+        self.send.accepted(commands.servo_p(_mm_rpy(target)))
         return Result.success("servo_p target sent")
 
     @answers
@@ -402,7 +402,7 @@ class ControllerBackend(Backend):
         """Store the offset (not for id 0, the flange / base itself), then activate the id."""
         if frame_id:
             name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
-            self.send.accepted(store(frame_id, _mm_rotvec(pose), name))
+            self.send.accepted(store(frame_id, _mm_rpy(pose), name))
             self.frame_table.store(kind, frame_id, pose)
         self.send.accepted(activate(frame_id))
 
@@ -481,7 +481,7 @@ class ControllerBackend(Backend):
 
     @answers
     def inverse_kinematics(self, target, ref_q) -> Result:
-        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rotvec(target))
+        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rpy(target))
         reply = self.send.call(request)
         if not reply.ok:
             # The controller's IK refusal means "unreachable": the contract's -4.

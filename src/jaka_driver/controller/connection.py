@@ -30,7 +30,7 @@ from typing import Any, Callable, Mapping, Optional, Tuple
 
 from ..protocol import CommandClient, StatusReceiver, errors
 from ..protocol.replies import Reply
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 
 log = logging.getLogger(__name__)
 
@@ -43,7 +43,7 @@ class NotConnected(errors.ConnectionLost):
     """The link is down; nothing was sent."""
 
 
-StatusHook = Callable[[RobotStatus, float], None]
+StatusHook = Callable[[StatusPacket, float], None]
 
 
 class ControllerLink:
@@ -85,7 +85,7 @@ class ControllerLink:
         self._thread: Optional[threading.Thread] = None
         self._first_packet = threading.Event()
         self._attempted = threading.Event()   # the first connection attempt has ended
-        self._latest: Optional[Tuple[RobotStatus, float]] = None
+        self._latest: Optional[Tuple[StatusPacket, float]] = None
         self._ever_up = False
         self.down_since: Optional[float] = time.monotonic()
         self.down_reason = "not connected yet"
@@ -102,7 +102,7 @@ class ControllerLink:
         return self._up.is_set()
 
     @property
-    def latest(self) -> Optional[Tuple[RobotStatus, float]]:
+    def latest(self) -> Optional[Tuple[StatusPacket, float]]:
         """The last (status, received) pair of any connection, or None before the first."""
         return self._latest
 
@@ -278,7 +278,7 @@ class ControllerLink:
                 raise errors.ConnectionLost("the new connection was lost while starting")
             self._up.set()
 
-    def _status(self, status: RobotStatus, received: float, generation: int) -> None:
+    def _status(self, status: StatusPacket, received: float, generation: int) -> None:
         if generation != self._generation:
             return
         self._latest = (status, received)

@@ -23,9 +23,9 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..completion import Completion
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 from ..results import Code, Result
-from ..transforms import rotation_angle_between, rotvec_to_matrix
+from ..transforms import rotation_angle_between, rpy_to_matrix
 
 IN_POSITION = 1e-3        # rad, contract.md: a joint move is in position within 1e-3 rad
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
@@ -57,7 +57,7 @@ def stretched_speed(distance: float, accel: float, duration: float) -> float:
     return max(1e-6, 0.5 * accel * (duration - math.sqrt(disc)))
 
 
-def fault_of(status: RobotStatus) -> Optional[str]:
+def fault_of(status: StatusPacket) -> Optional[str]:
     """Why the controller cannot be moving a commanded motion any more, or None."""
     if status.emergency_stop:
         return "emergency stop"
@@ -72,28 +72,28 @@ def fault_of(status: RobotStatus) -> Optional[str]:
     return None
 
 
-def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[RobotStatus], bool]:
+def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[StatusPacket], bool]:
     """Predicate: every measured joint within ``tolerance`` rad of ``target`` (rad)."""
     goal = np.asarray(target, float)
 
-    def at(status: RobotStatus) -> bool:
+    def at(status: StatusPacket) -> bool:
         q = status.joint_position
         return bool(np.all(np.isfinite(q)) and np.max(np.abs(q - goal)) <= tolerance)
     return at
 
 
-def tcp_at(target_mm_rotvec: np.ndarray) -> Callable[[RobotStatus], bool]:
-    """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + rotvec)."""
-    goal = np.asarray(target_mm_rotvec, float)
-    goal_rotation = rotvec_to_matrix(goal[3:])
+def tcp_at(target_mm_rpy: np.ndarray) -> Callable[[StatusPacket], bool]:
+    """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + RPY rad)."""
+    goal = np.asarray(target_mm_rpy, float)
+    goal_rotation = rpy_to_matrix(*goal[3:])
 
-    def at(status: RobotStatus) -> bool:
+    def at(status: StatusPacket) -> bool:
         p = status.tcp_pose
         if not np.all(np.isfinite(p)):
             return False
         return bool(np.linalg.norm(p[:3] - goal[:3]) <= TCP_IN_POSITION_MM
-                    # Compare rotations, not vectors: near π one rotation has two rotation vectors.
-                and rotation_angle_between(rotvec_to_matrix(p[3:]), goal_rotation)
+                    # Compare rotations, not angles: near ±π and at gimbal lock one rotation has many RPYs.
+                and rotation_angle_between(rpy_to_matrix(*p[3:]), goal_rotation)
                 <= TCP_IN_POSITION_RAD)
     return at
 
@@ -103,7 +103,7 @@ class MoveWatch:
     ``need_inpos`` False (servo streams, where ``inpos`` is not documented) arriving at the
     target is enough. Feed it every packet with :meth:`on_status`."""
 
-    def __init__(self, label: str, at_target: Callable[[RobotStatus], bool],
+    def __init__(self, label: str, at_target: Callable[[StatusPacket], bool],
                  need_inpos: bool = True):
         self.label = label
         self.completion = Completion()
@@ -118,7 +118,7 @@ class MoveWatch:
         self._armed_at = time.time()
         self._seen_moving = False
 
-    def on_status(self, status: RobotStatus, received: float) -> None:
+    def on_status(self, status: StatusPacket, received: float) -> None:
         if self.completion.done or received < self._armed_at:
             return
         fault = fault_of(status)

@@ -20,19 +20,19 @@ from typing import Optional
 
 import numpy as np
 
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 from ..robot_state import RobotState
 from ..transforms import pose_to_matrix
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
 
 
-def tcp_matrix(pose_mm_rotvec: np.ndarray) -> np.ndarray:
-    """``[x, y, z mm, rotation vector rad]`` → 4x4 pose in metres."""
-    return pose_to_matrix(pose_mm_rotvec, rotation="rotvec", length_scale=1e-3)
+def tcp_matrix(pose_mm_rpy: np.ndarray) -> np.ndarray:
+    """The protocol's ``[x, y, z mm, rx, ry, rz rad]`` → 4x4 pose in metres."""
+    return pose_to_matrix(pose_mm_rpy, rotation="rpy", length_scale=1e-3)
 
 
-def is_collision(status: RobotStatus) -> bool:
+def is_collision(status: StatusPacket) -> bool:
     """JAKA reports a collision as a protective stop; only its message tells them apart (the
     emulator and real controllers both name it), so ``collision_state`` follows the text."""
     return status.protective_stop and "collision" in status.errmsg.lower()
@@ -47,7 +47,7 @@ class StatusView:
 
     def __init__(self):
         self._lock = threading.Lock()
-        self._status: Optional[RobotStatus] = None
+        self._status: Optional[StatusPacket] = None
         self._received = 0.0
         self._velocity = np.zeros(6)
         self._ref: Optional[tuple[float, np.ndarray]] = None   # (received, q) for the difference
@@ -61,7 +61,7 @@ class StatusView:
             self._ref = None
             self._velocity = np.zeros(6)
 
-    def feed(self, status: RobotStatus, received: float) -> None:
+    def feed(self, status: StatusPacket, received: float) -> None:
         q = status.joint_position
         with self._lock:
             if np.all(np.isfinite(q)):
@@ -76,7 +76,7 @@ class StatusView:
             self._serial += 1
 
     @property
-    def latest(self) -> Optional[RobotStatus]:
+    def latest(self) -> Optional[StatusPacket]:
         return self._status
 
     def state(self, connected: bool, servo_mode: bool) -> RobotState:

@@ -37,7 +37,7 @@ EMULATOR_COMMANDS = {
     "emulator_emergency_stop": '{"pressed": 1} presses the e-stop (power cut, arm halts), '
                                '{"pressed": 0} releases it',
     "emulator_protective_stop": 'protective stop, as after a collision; optional "reason"',
-    "emulator_set_input": 'drive an input: "signal" digital/analog, "type", "index", "value"',
+    "emulator_set_input": 'drive an input: "signal" digital/analog, "type", "index" (from 1), "value"',
     "emulator_drop_connections": "reply, then close every client connection on both ports "
                                  "(the listening sockets stay open)",
     "emulator_stats": 'reply "commands": how many times each cmdName was received',
@@ -122,7 +122,7 @@ def _joints(req: Mapping, key: str = Field.JOINT_POSITION) -> np.ndarray:
 
 def _pose(req: Mapping, key: str) -> np.ndarray:
     """Wire pose (mm, RPY deg) → 4x4 (m)."""
-    return pose_to_matrix(units.pose_from_wire(_vec(req, key, 6)), rotation="rotvec",
+    return pose_to_matrix(units.pose_from_wire(_vec(req, key, 6)), rotation="rpy",
                           length_scale=1e-3)
 
 
@@ -355,7 +355,9 @@ class CommandHandlers:
         return Answer()
 
     def _set_user_offsets(self, req) -> Answer:
-        self.c.set_user_offset(self._frame_id(req), _pose(req, Field.USER_OFFSET))
+        # "userffset" (sic) is what JAKA's SDK sends; "useroffset" is read too, for old clients.
+        key = Field.USER_OFFSET if Field.USER_OFFSET in req else "useroffset"
+        self.c.set_user_offset(self._frame_id(req), _pose(req, key))
         return Answer()
 
     def _set_payload(self, req) -> Answer:
@@ -365,8 +367,9 @@ class CommandHandlers:
         return Answer()
 
     def _io_address(self, req, signal: str, path: int, what: str) -> Tuple[int, int]:
+        """(type, 0-based index): the wire counts IO from 1, as JAKA's SDK sends it."""
         io_type = _int(req, Field.IO_TYPE, 0, 2)
-        index = _int(req, Field.INDEX, 0, 10_000)
+        index = _int(req, Field.INDEX, 1, 10_000) - 1
         self.c.check_io(signal, io_type, path, index, what)
         return io_type, index
 
@@ -387,7 +390,7 @@ class CommandHandlers:
     def _set_input(self, req) -> Answer:
         signal = _signal(req)
         io_type = _int(req, Field.IO_TYPE, 0, 2)
-        index = _int(req, Field.INDEX, 0, 10_000)
+        index = _int(req, Field.INDEX, 1, 10_000) - 1   # 1-based, like the IO commands
         value = _num(req, Field.VALUE)
         if signal == "digital":
             value = 1.0 if value else 0.0

@@ -298,8 +298,8 @@ class TwinController:
         count = self.io_count(signal, io_type, path)
         if not 0 <= index < count:
             kind = "output" if path else "input"
-            raise Rejected(f"{what}: {signal} {kind} index {index} of type {io_type} does not "
-                           f"exist (this type has {count})", ERROR_REQUEST)
+            raise Rejected(f"{what}: {signal} {kind} index {index + 1} of type {io_type} does not "
+                           f"exist (this type has {count}, numbered from 1)", ERROR_REQUEST)
 
     # ---- emulator-only faults -------------------------------------------------------------------
     def emergency_stop(self, pressed: bool) -> str:
