@@ -10,15 +10,23 @@ commands and the status stream, clear_error → ``clear_error``, FK/IK →
 Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
 active tool in the active user frame) like every backend.
 
-Blocking moves wait on the status stream (:mod:`.move_watch`); state comes from the stream
-(:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
-reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
-reading extension outputs) is answered -9 with the reason.
+Blocking moves wait on the status packets and on ``get_motion_state`` polled every
+:data:`MOTION_STATE_POLL` s (:mod:`.move_watch`); state comes from the status packets of port
+10000, 10004 or both (``status_source``, :mod:`.connection`; :mod:`.status_view`); requests and
+their failure codes are :mod:`.commander`; the link and its reconnect policy are
+:mod:`.connection`. What the protocol cannot do (entering drag mode, reading extension outputs)
+is answered -9 with the reason.
+
+The controller queues moves: one sent while another runs is acknowledged and runs after it
+(docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
+move or trajectory runs is refused with -5 (busy) before anything is sent, so the arm never
+does a move its caller was told was refused, and ``stop_move`` always has one move to end.
 """
 from __future__ import annotations
 
 import logging
 import threading
+import time
 from typing import Optional
 
 import numpy as np
@@ -43,6 +51,7 @@ log = logging.getLogger(__name__)
 #: ROS jog coord (0 joint, 1 base, 2 tool) → the wire's coord_map (0 base, 1 joint, 2 tool).
 JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
+MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
 LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
 DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
                     "for it); use the teach pendant or the button on the arm")
@@ -68,7 +77,8 @@ class ControllerBackend(Backend):
     kind = "controller"
 
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
-                 status_port: int = 10000, *, connect_timeout: float = 1.0,
+                 status_port: int = 10000, *, status_source: str = "stream",
+                 data_port: int = 10004, connect_timeout: float = 1.0,
                  call_timeout: float = 1.0, stall_timeout: float = 0.5,
                  power_timeout: float = 15.0, trajectory_step_num: int = 1):
         super().__init__(model)
@@ -76,6 +86,7 @@ class ControllerBackend(Backend):
         self.trajectory_step_num = int(trajectory_step_num)
         self.view = StatusView()
         self.link = ControllerLink(host, command_port, status_port,
+                                   status_source=status_source, data_port=data_port,
                                    connect_timeout=connect_timeout, call_timeout=call_timeout,
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
@@ -89,6 +100,7 @@ class ControllerBackend(Backend):
         self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
+        self._motion_state_known = True   # until the controller says it has no such command
         self.version = ""
 
     # ---- life cycle -------------------------------------------------------------------
@@ -115,6 +127,7 @@ class ControllerBackend(Backend):
         info = super().describe()
         info.update({"controller": self.host, "command port": self.link.command_port,
                      "status port": self.link.status_port,
+                     "status source": self.link.status_source,
                      "connected": self.link.connected, "controller version": self.version,
                      "reconnects": self.link.reconnects})
         if not self.link.connected:
@@ -215,6 +228,10 @@ class ControllerBackend(Backend):
         with self._lock:
             if self._streamer is not None and self._streamer.running:
                 raise CommandRefused(Code.BUSY, f"{watch.label} refused: a trajectory runs")
+            if self._watch is not None and not self._watch.completion.done:
+                # The controller would queue it; this driver does not (see the module doc).
+                raise CommandRefused(Code.BUSY, f"{watch.label} refused: {self._watch.label} "
+                                     "is still running (stop_move first)")
             self._watch = watch
         try:
             watch.arm()
@@ -222,7 +239,7 @@ class ControllerBackend(Backend):
                 if watch.completion.done:   # stop_move came first: the move is not sent
                     return watch.completion.result
                 self.send.accepted(request)
-            outcome = watch.completion.wait(timeout)
+            outcome = self._wait_move(watch, timeout)
             if outcome is None:
                 self._stop_quietly()
                 return Result.failure(Code.MOTION_STOPPED, f"{watch.label} did not reach its "
@@ -232,6 +249,32 @@ class ControllerBackend(Backend):
             with self._lock:
                 if self._watch is watch:
                     self._watch = None
+
+    def _wait_move(self, watch: MoveWatch, timeout: float) -> Optional[Result]:
+        """Wait for ``watch``; between status packets ask ``get_motion_state`` as well."""
+        deadline = time.monotonic() + timeout
+        while True:
+            left = deadline - time.monotonic()
+            outcome = watch.completion.wait(max(0.0, min(MOTION_STATE_POLL, left)))
+            if outcome is not None or left <= 0:
+                return outcome
+            if self._motion_state_known and self.link.connected:
+                self._poll_motion_state(watch)
+
+    def _poll_motion_state(self, watch: MoveWatch) -> None:
+        try:
+            reply = self.link.call(commands.get_motion_state())
+        except errors.JakaProtocolError as exc:
+            log.debug("get_motion_state failed: %s", exc)   # the link handles a lost link
+            return
+        try:
+            state = commands.reply_motion_state(reply)
+        except errors.JakaProtocolError as exc:
+            log.info("the controller does not answer get_motion_state (%s); waiting on the "
+                     "status packets only", exc)
+            self._motion_state_known = False
+            return
+        watch.on_motion_state(state.inpos, state.queue, self.link.latest)
 
     def _stop_quietly(self) -> None:
         try:

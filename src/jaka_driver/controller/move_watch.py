@@ -1,9 +1,12 @@
-"""Knowing from the status stream when a move the controller accepted has ended.
+"""Knowing when a move the controller accepted has ended.
 
-A JAKA controller replies to ``joint_move``/``moveL`` as soon as it accepts the move
-(jaka_facts.md §2.2); the end of the move is visible only in the status stream, as ``inpos``
-turning true again. A packet read before the command went out, or produced before the
-controller started the move, still says ``inpos`` — so a watch counts a move as done only when
+A JAKA controller acknowledges ``joint_move``/``moveL`` as soon as it has queued the move
+(docs/protocol.md, "Motion queue"); the end of the move shows as ``inpos`` turning true again,
+in the status packets and in the reply to ``get_motion_state``, which the backend polls while it
+waits (a controller whose status port stalls, or a status source polled slowly, must not make a
+finished move look unfinished). A packet read before the command went out, or produced before
+the controller started the move, still says ``inpos`` — so a watch counts a move as done only
+when
 
 * ``inpos`` is true after it has been seen false since the command, or
 * ``inpos`` is true and the arm is already at the target (a move too short to show up in a
@@ -130,6 +133,20 @@ class MoveWatch:
             self._seen_moving = True
             return
         if self._seen_moving or self._at_target(status):
+            self.completion.finish(Result.success(
+                f"{self.label} done in {time.monotonic() - self.started:.3f} s"))
+
+    def on_motion_state(self, inpos: bool, queued: int, latest=None) -> None:
+        """A ``get_motion_state`` reply read after :meth:`arm`: ``inpos`` and the number of
+        moves ``queued`` (waiting or running); ``latest`` is the newest (packet, received) pair,
+        used to recognise a move that had nothing to do."""
+        if self.completion.done:
+            return
+        if not inpos or queued > 0:
+            self._seen_moving = True
+            return
+        fresh = latest is not None and latest[1] >= self._armed_at
+        if self._seen_moving or (fresh and self._at_target(latest[0])):
             self.completion.finish(Result.success(
                 f"{self.label} done in {time.monotonic() - self.started:.3f} s"))
 
