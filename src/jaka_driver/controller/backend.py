@@ -256,10 +256,23 @@ class ControllerBackend(Backend):
         while True:
             left = deadline - time.monotonic()
             outcome = watch.completion.wait(max(0.0, min(MOTION_STATE_POLL, left)))
-            if outcome is not None or left <= 0:
+            if outcome is not None:
+                self._await_packet_after(time.time())
                 return outcome
+            if left <= 0:
+                return None
             if self._motion_state_known and self.link.connected:
                 self._poll_motion_state(watch)
+
+    def _await_packet_after(self, moment: float, limit: float = 0.2) -> None:
+        """Wait (at most ``limit`` s) for a status packet received after ``moment``: a move
+        that ``get_motion_state`` ended must read as ended in :meth:`state` too."""
+        deadline = time.monotonic() + limit
+        while time.monotonic() < deadline:
+            latest = self.link.latest
+            if latest is not None and latest[1] > moment:
+                return
+            time.sleep(0.002)
 
     def _poll_motion_state(self, watch: MoveWatch) -> None:
         try:
