@@ -1,7 +1,7 @@
 """The ``controller`` backend: a real JAKA controller (or ``jaka_emulator``) over the TCP
 protocol, behind the same :class:`~jaka_driver.backend.Backend` contract as the twin.
 
-Mapping (issue 4): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
+Mapping (docs/protocol.md): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
 servo → ``servo_move`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
 ``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id``, payload →
 ``set_tool_id`` + ``set_payload``, collision → ``set_clsn_sensitivity``, IO → the set/get

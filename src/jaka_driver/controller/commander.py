@@ -2,7 +2,7 @@
 
 :class:`Commander` sends one request over a :class:`~.connection.ControllerLink` and turns what
 can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the contract's code
-(contract.md, "Result codes"):
+(docs/interface.md, "Result codes"):
 
 * link down, or lost during the call → -1 at once (nothing waits for a link that is not there);
 * no reply within the call timeout, or a reply that is not a valid one → -3 (the link then

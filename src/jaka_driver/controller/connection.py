@@ -16,7 +16,7 @@ It treats them as one thing: the link is *up* when all are open and a first stat
 arrived, and *down* as soon as any of them fails (peer closed, socket error, a call timed out, or no status packet for
 ``stall_timeout`` s). Going down closes both, so the two never disagree about the controller.
 
-Policy (issue 4, "Reconnect"):
+Policy (docs/design.md, "Reconnect"):
 
 * While down, :meth:`call` raises :class:`NotConnected` at once: a service never waits for a
   link that is not there.

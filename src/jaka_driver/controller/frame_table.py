@@ -1,7 +1,7 @@
 """The tool and user frames of a controller, as far as this driver knows them.
 
 JAKA's TCP protocol can store and activate frames but not read their offsets back
-(jaka_facts.md §2.2), so the backend keeps the offsets it has set itself. The *active* ids come
+(docs/protocol.md, "Frames"), so the backend keeps the offsets it has set itself. The *active* ids come
 from the status stream (``current_tool_id``/``current_user_id``), which also sees a change made
 on the teach pendant; an active id this driver never set has an unknown offset — the identity
 is assumed and a warning is logged once per id.

@@ -30,7 +30,7 @@ from ..protocol.status_stream import StatusPacket
 from ..results import Code, Result
 from ..transforms import rotation_angle_between, rpy_to_matrix
 
-IN_POSITION = 1e-3        # rad, contract.md: a joint move is in position within 1e-3 rad
+IN_POSITION = 1e-3        # rad, docs/interface.md: a joint move is in position within 1e-3 rad
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
 TCP_IN_POSITION_RAD = 2e-3
 TIMEOUT_FACTOR = 1.5      # a move may take this × its estimated duration ...

@@ -1,7 +1,7 @@
 """From the controller's status stream to the driver's :class:`RobotState`.
 
-The stream carries positions but no velocities, efforts or servo-mode flag (jaka_facts.md
-§2.3), so this view derives what it can and says what it cannot:
+The stream carries positions but no velocities, efforts or servo-mode flag (docs/protocol.md,
+"Status packet"), so this view derives what it can and says what it cannot:
 
 * joint velocity, rad/s: finite difference of consecutive packets on their receipt times. Packets
   that arrive in the same TCP read share one receipt time; the difference is therefore taken

@@ -191,7 +191,7 @@ class JogMode(IntEnum):
 
 class CoordMap(IntEnum):
     """``coord_map`` of ``jog``. Note: the official ROS jog service numbers 0 joint, 1 base;
-    the wire numbers 0 base, 1 joint (jaka_facts.md §1.4)."""
+    the wire numbers 0 base, 1 joint (docs/protocol.md, "Jog")."""
     BASE = 0
     JOINT = 1
     TOOL = 2
