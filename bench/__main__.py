@@ -1,4 +1,4 @@
-"""``python -m bench`` (``make bench``): every benchmark of issue 6 in one run.
+"""``python -m bench`` (``make bench``): every benchmark in one run.
 
 Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
@@ -181,7 +181,7 @@ def main(argv=None) -> int:
             run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
                         lambda: _startup(run))
             run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
-                        "see issue 6", lambda: _sim(run))
+                        "see the table", lambda: _sim(run))
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                         "report", lambda: _emulator(run))
     try:

@@ -8,7 +8,7 @@ import numpy as np
 
 
 class MotionState(IntEnum):
-    """``robot_states.motion_state`` (doc §3.3)."""
+    """``robot_states.motion_state`` (docs/interface.md, "Topics")."""
 
     STOP = 0
     PAUSE = 1

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from fake_controller import FakeController, load_status_packet, load_transcript
+from move_helpers import run_move
 
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.models import load_model
@@ -102,7 +103,7 @@ def test_a_blocking_move_ends_when_the_queue_is_done(layout):
         backend = start_backend(fake)
         try:
             target = np.radians(START_DEG) + 0.2
-            result = backend.joint_move(target, 1.0, 4.0)
+            result = run_move(backend.start_joint_move(target, 1.0, 4.0))
             assert result.ok, result.message
             np.testing.assert_allclose(backend.state().joint_position, target, atol=1e-9)
             # it waited for the queue, asking the controller, not only reading the stream
@@ -117,11 +118,12 @@ def test_a_move_while_one_runs_is_refused_and_never_reaches_the_controllers_queu
                                                                                     backend):
     first = {}
     target = np.radians(START_DEG) + 0.1
-    runner = threading.Thread(target=lambda: first.update(r=backend.joint_move(target, 1, 4)))
+    runner = threading.Thread(target=lambda: first.update(
+        r=run_move(backend.start_joint_move(target, 1, 4))))
     runner.start()
     try:
         assert _wait(lambda: fake.received("joint_move"), 2.0)
-        second = backend.joint_move(np.radians(START_DEG), 1.0, 4.0)
+        second = backend.start_joint_move(np.radians(START_DEG), 1.0, 4.0)
         assert second.code == Code.BUSY and "still running" in second.message
     finally:
         runner.join(10)
@@ -131,7 +133,8 @@ def test_a_move_while_one_runs_is_refused_and_never_reaches_the_controllers_queu
 def test_stop_move_empties_the_controllers_queue_and_ends_the_wait(fake, backend):
     outcome = {}
     target = np.radians(START_DEG) - 0.1
-    runner = threading.Thread(target=lambda: outcome.update(r=backend.joint_move(target, 1, 4)))
+    runner = threading.Thread(target=lambda: outcome.update(
+        r=run_move(backend.start_joint_move(target, 1, 4))))
     fake.move_time = 5.0
     runner.start()
     assert _wait(lambda: fake.received("joint_move"), 2.0)

@@ -1,5 +1,5 @@
-"""Losing the controller and getting it back (issue 4, "Reconnect"): services answer -1 within
-1 s and never hang, the state says the link is down, the backend reconnects by itself within
+"""Losing the controller and getting it back (docs/interface.md, "Backends"): services answer -1
+within 1 s and never hang, the state says the link is down, the backend reconnects by itself within
 5 s of the controller returning, and no motion command is replayed."""
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from jaka_driver.emulator.process import EmulatorProcess
 from jaka_driver.models import load_model
 from jaka_driver.results import Code
 from jaka_driver.robot_state import MotionState
+from move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 FAR = HOME + np.array([1.2, 0, 0, 0, 0, 0])   # ~4 s at 0.3 rad/s: long enough to interrupt
@@ -47,7 +48,7 @@ class MoveInThread:
         self._thread.start()
 
     def _run(self, backend, target, speed):
-        self.result = backend.joint_move(target, speed, 1.0)
+        self.result = run_move(backend.start_joint_move(target, speed, 1.0))
         self.answered = time.monotonic()
 
     def join(self, timeout):
@@ -58,8 +59,8 @@ class MoveInThread:
 def services_answer_minus_1_quickly(backend):
     """Every kind of service, while the link is down: -1, each well within 1 s."""
     calls = {
-        "joint_move": lambda: backend.joint_move(HOME, 0.5, 1.0),
-        "linear_move": lambda: backend.linear_move(np.eye(4), 0.1, 0.5),
+        "joint_move": lambda: run_move(backend.start_joint_move(HOME, 0.5, 1.0)),
+        "linear_move": lambda: run_move(backend.start_linear_move(np.eye(4), 0.1, 0.5)),
         "jog": lambda: backend.jog(0, 0, 1, 0.1),
         "servo_enable": lambda: backend.servo_enable(True),
         "servo_j": lambda: backend.servo_j(HOME),
@@ -91,20 +92,28 @@ def assert_shows_the_loss(backend):
     assert time.time() - st.stamp < 0.1, "states keep coming, stamped now"
 
 
+def lose_the_link_mid_move(backend, cut):
+    """A long move runs and ``cut()`` breaks the link: the move answers -1 within 1 s of the cut
+    and the state shows the loss. Returns (the move's result, when the cut happened)."""
+    move = MoveInThread(backend, FAR)
+    time.sleep(0.5)
+    t_cut = time.monotonic()
+    cut()
+    result = move.join(2.0)
+    assert result.code == Code.NOT_CONNECTED
+    assert move.answered - t_cut < 1.0
+    assert_shows_the_loss(backend)
+    return result, t_cut
+
+
 def test_dropped_connections(caplog):
     with Emulator("zu5", command_port=0, status_port=0) as emu:
         backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
         backend.start()
         try:
             assert backend.state().connected
-            move = MoveInThread(backend, FAR)
-            time.sleep(0.5)
-            t_drop = time.monotonic()
-            emu.drop_clients()
-            result = move.join(2.0)
-            assert result.code == Code.NOT_CONNECTED and "not resumed" in result.message
-            assert move.answered - t_drop < 1.0
-            assert_shows_the_loss(backend)
+            result, t_drop = lose_the_link_mid_move(backend, emu.drop_clients)
+            assert "not resumed" in result.message
             services_answer_minus_1_quickly(backend)
 
             assert wait_until(lambda: backend.state().connected, 5.0)
@@ -117,7 +126,7 @@ def test_dropped_connections(caplog):
             assert emu.handlers.counts["joint_move"] == 1
             assert backend.stop_move().ok   # the original move was accepted: stop it
             assert wait_until(lambda: not backend.state().moving, 2.0)
-            assert backend.joint_move(HOME, 1.0, 4.0).ok
+            assert run_move(backend.start_joint_move(HOME, 1.0, 4.0)).ok
             assert emu.handlers.counts["joint_move"] == 2
             lost = [r for r in caplog.records if "lost" in r.getMessage()]
             assert len(lost) == 1, "the loss is logged once"
@@ -134,15 +143,8 @@ def test_controller_process_killed_and_restarted():
     try:
         backend.start()
         assert backend.state().connected
-        move = MoveInThread(backend, FAR)
-        time.sleep(0.5)
-        t_kill = time.monotonic()
-        first.kill()
-        result = move.join(2.0)
-        assert result.code == Code.NOT_CONNECTED
-        assert move.answered - t_kill < 1.0
-        assert_shows_the_loss(backend)
-        assert backend.joint_move(HOME, 0.5, 1.0).code == Code.NOT_CONNECTED
+        lose_the_link_mid_move(backend, first.kill)
+        assert run_move(backend.start_joint_move(HOME, 0.5, 1.0)).code == Code.NOT_CONNECTED
 
         second = EmulatorProcess("zu5", **ports).start()
         t_back = time.monotonic()
@@ -155,7 +157,7 @@ def test_controller_process_killed_and_restarted():
         assert not {"joint_move", "moveL", "jog", "servo_j", "servo_p"} & set(counts), counts
         np.testing.assert_allclose(backend.state().joint_position, q0, atol=1e-5)
         target = HOME + np.array([0.1, 0, 0, 0, 0, 0])
-        result = backend.joint_move(target, 1.0, 4.0)
+        result = run_move(backend.start_joint_move(target, 1.0, 4.0))
         assert result.ok, result.message
         assert np.max(np.abs(backend.state().joint_position - target)) <= 1e-3
     finally:
@@ -174,7 +176,7 @@ def test_start_without_a_controller_then_it_appears():
         backend.start()                       # nobody listens: starts anyway, disconnected
         assert time.monotonic() - t0 < 3.0
         assert not backend.state().connected
-        assert backend.joint_move(HOME, 0.5, 1.0).code == Code.NOT_CONNECTED
+        assert run_move(backend.start_joint_move(HOME, 0.5, 1.0)).code == Code.NOT_CONNECTED
         emulator = Emulator("zu5", **ports).start()
         t_up = time.monotonic()
         assert wait_until(lambda: backend.state().connected, 5.0)

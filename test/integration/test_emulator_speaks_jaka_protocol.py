@@ -1,5 +1,5 @@
 """The emulator talks JAKA's TCP protocol to a client that uses no project code: plain sockets
-and ``json``, the way a third-party JAKA client would (jaka_facts.md §2)."""
+and ``json``, the way a third-party JAKA client would (docs/protocol.md)."""
 from __future__ import annotations
 
 import json

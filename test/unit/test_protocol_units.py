@@ -97,7 +97,7 @@ def test_joint_round_trip(q):
 def test_pose_known_values():
     # quarter turn about z = yaw 90°
     assert to_wire([1, 2, 3, 0, 0, math.pi / 2]) == pytest.approx([1, 2, 3, 0, 0, 90])
-    # rpy (90, 0, 0) - the flange at q = 0 (jaka_facts §3.2) - is a quarter turn about x
+    # rpy (90, 0, 0) - the flange at q = 0 (docs/models.md) - is a quarter turn about x
     np.testing.assert_allclose(from_wire([798.5, 7, 6.65, 90, 0, 0]),
                                [798.5, 7, 6.65, math.pi / 2, 0, 0], atol=1e-12)
     # half turn about x: roll ±180

@@ -10,12 +10,12 @@ commands and the status stream, clear_error → ``clear_error``, FK/IK →
 Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
 active tool in the active user frame) like every backend.
 
-Blocking moves wait on the status packets and on ``get_motion_state`` polled every
-:data:`MOTION_STATE_POLL` s (:mod:`.move_watch`); state comes from the status packets of port
-10000, 10004 or both (``status_source``, :mod:`.connection`; :mod:`.status_view`); requests and
-their failure codes are :mod:`.commander`; the link and its reconnect policy are
-:mod:`.connection`. What the protocol cannot do (entering drag mode, reading extension outputs)
-is answered -9 with the reason.
+A move ends when the status packets say so or, between packets, when ``get_motion_state``
+polled every :data:`MOTION_STATE_POLL` s says so (:mod:`.move_watch`); state comes from the status
+packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
+:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
+reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
+reading extension outputs) is answered -9 with the reason.
 
 The controller queues moves: one sent while another runs is acknowledged and runs after it
 (docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
@@ -32,7 +32,9 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..frames import TOOL, USER_FRAME, FrameTable
 from ..models import RobotModel
+from ..motion.profiles import TrapezoidProfile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, JogMode
 from ..results import Code, CommandRefused, Result
@@ -40,9 +42,7 @@ from ..robot_state import RobotState
 from ..transforms import matrix_to_pose, rotation_angle_between
 from .commander import Commander, answers
 from .connection import ControllerLink
-from .frame_table import FrameTable
-from .move_watch import (MoveWatch, joints_at, move_timeout, stretched_speed, tcp_at,
-                         trapezoid_time)
+from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView, tcp_matrix
 
@@ -52,6 +52,7 @@ log = logging.getLogger(__name__)
 JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
 MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
+MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
 LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
 DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
                     "for it); use the teach pendant or the button on the arm")
@@ -63,6 +64,12 @@ STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
 def _mm_rpy(pose: np.ndarray) -> np.ndarray:
     """4x4 pose (m) → the protocol's [x, y, z mm, rx, ry, rz rad]."""
     return np.asarray(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3), float)
+
+
+def _warn_unknown_frame(kind: str, frame_id: int) -> None:
+    log.warning("%s %d is active but was set outside this driver: the protocol cannot read its "
+                "offset, so the identity is assumed in conversions; set it again with set_%s",
+                kind, frame_id, "toolframe" if kind == TOOL else "userframe")
 
 
 class ControllerBackend(Backend):
@@ -91,7 +98,7 @@ class ControllerBackend(Backend):
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
         self.send = Commander(self.link, power_timeout)
-        self.frame_table = FrameTable()
+        self.frame_table = FrameTable(on_unknown=_warn_unknown_frame)
         self._lock = threading.RLock()
         self._send_lock = threading.Lock()   # orders sending a move against stop_move
         self._watch: Optional[MoveWatch] = None
@@ -221,9 +228,10 @@ class ControllerBackend(Backend):
         self.send.confirmed(request, lambda s: s.enabled == on, "enable")
         return Result.success("enabled" if on else "disabled")
 
-    # ---- blocking moves -------------------------------------------------------------------------
-    def _blocking(self, request, watch: MoveWatch, timeout: float) -> Result:
-        """Send a move, then wait on the status stream until it ends (see move_watch)."""
+    # ---- moves --------------------------------------------------------------------------------
+    def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
+        """Send a move; ``Result.value`` is ``(watch.completion, estimate)``. The watch ends the
+        move from the status packets and get_motion_state (see move_watch); RobotDriver waits and stops an overrun."""
         self.send.require_link()
         with self._lock:
             if self._streamer is not None and self._streamer.running:
@@ -233,40 +241,45 @@ class ControllerBackend(Backend):
                 raise CommandRefused(Code.BUSY, f"{watch.label} refused: {self._watch.label} "
                                      "is still running (stop_move first)")
             self._watch = watch
-        try:
-            watch.arm()
-            with self._send_lock:
-                if watch.completion.done:   # stop_move came first: the move is not sent
-                    return watch.completion.result
-                self.send.accepted(request)
-            outcome = self._wait_move(watch, timeout)
-            if outcome is None:
-                self._stop_quietly()
-                return Result.failure(Code.MOTION_STOPPED, f"{watch.label} did not reach its "
-                                      f"target within {timeout:.1f} s; stopped")
-            return outcome
-        finally:
-            with self._lock:
-                if self._watch is watch:
-                    self._watch = None
+        watch.arm()
+        with self._send_lock:
+            # stop_move or a lost link may end the watch before the move goes out: then it
+            # is not sent, and the completion already says why
+            if not watch.completion.done:
+                try:
+                    self.send.accepted(request)
+                except CommandRefused as refusal:
+                    watch.abort(refusal.result())
+                    raise
+        if self._motion_state_known and not watch.completion.done:
+            threading.Thread(target=self._follow_motion_state, args=(watch,), daemon=True,
+                             name="jaka-motion-state").start()
+        return Result.success(f"{watch.label} started", (watch.completion, estimate))
 
-    def _wait_move(self, watch: MoveWatch, timeout: float) -> Optional[Result]:
-        """Wait for ``watch``; between status packets ask ``get_motion_state`` as well."""
-        deadline = time.monotonic() + timeout
-        while True:
-            left = deadline - time.monotonic()
-            outcome = watch.completion.wait(max(0.0, min(MOTION_STATE_POLL, left)))
-            if outcome is not None:
+    def _follow_motion_state(self, watch: MoveWatch) -> None:
+        """While ``watch`` runs, ask ``get_motion_state`` every :data:`MOTION_STATE_POLL` s."""
+        while not watch.completion.wait(MOTION_STATE_POLL):
+            if not (self._motion_state_known and self.link.connected):
+                return
+            try:
+                reply = self.link.call(commands.get_motion_state())
+            except errors.JakaProtocolError as exc:
+                log.debug("get_motion_state failed: %s", exc)   # the link handles a lost link
+                continue
+            try:
+                state = commands.reply_motion_state(reply)
+            except errors.JakaProtocolError as exc:
+                log.info("the controller does not answer get_motion_state (%s); waiting on the "
+                         "status packets only", exc)
+                self._motion_state_known = False
+                return
+            if state.inpos and state.queue == 0:
+                # the move ended: let a packet from after now arrive, so state() shows it ended
                 self._await_packet_after(time.time())
-                return outcome
-            if left <= 0:
-                return None
-            if self._motion_state_known and self.link.connected:
-                self._poll_motion_state(watch)
+            watch.on_motion_state(state.inpos, state.queue, self.link.latest)
 
     def _await_packet_after(self, moment: float, limit: float = 0.2) -> None:
-        """Wait (at most ``limit`` s) for a status packet received after ``moment``: a move
-        that ``get_motion_state`` ended must read as ended in :meth:`state` too."""
+        """Wait (at most ``limit`` s) for a status packet received after ``moment``."""
         deadline = time.monotonic() + limit
         while time.monotonic() < deadline:
             latest = self.link.latest
@@ -274,54 +287,28 @@ class ControllerBackend(Backend):
                 return
             time.sleep(0.002)
 
-    def _poll_motion_state(self, watch: MoveWatch) -> None:
-        try:
-            reply = self.link.call(commands.get_motion_state())
-        except errors.JakaProtocolError as exc:
-            log.debug("get_motion_state failed: %s", exc)   # the link handles a lost link
-            return
-        try:
-            state = commands.reply_motion_state(reply)
-        except errors.JakaProtocolError as exc:
-            log.info("the controller does not answer get_motion_state (%s); waiting on the "
-                     "status packets only", exc)
-            self._motion_state_known = False
-            return
-        watch.on_motion_state(state.inpos, state.queue, self.link.latest)
-
-    def _stop_quietly(self) -> None:
-        try:
-            self.link.call(commands.stop_program())
-        except errors.JakaProtocolError as exc:
-            log.warning("stop_program failed: %s", exc)
-
     @answers
-    def joint_move(self, q_target, speed, accel, duration=None) -> Result:
+    def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
         q_target = np.asarray(q_target, float)
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].joint_position)):
             # The controller synchronises the joints: the longest travel sets the time.
             longest = float(np.max(np.abs(q_target - latest[0].joint_position)))
-            estimate = trapezoid_time(longest, speed, accel)
+            estimate = TrapezoidProfile(longest, speed, accel).min_duration
             if duration:
                 if estimate > duration + 1e-6:
                     raise CommandRefused(Code.INVALID_PARAMETER,
                                          f"mvtime {duration:g} s is too short: the move needs "
                                          f"at least {estimate:.3f} s at the allowed speed")
                 # The wire has no duration: lower the peak speed so the move takes that long.
-                speed, estimate = stretched_speed(longest, accel, duration), duration
-        result = self._blocking(commands.joint_move(q_target, speed, accel),
-                                MoveWatch("joint_move", joints_at(q_target)),
-                                move_timeout(estimate))
-        latest = self.link.latest
-        if result.ok and latest is not None:
-            error = float(np.max(np.abs(latest[0].joint_position - q_target)))
-            return Result.success(f"{result.message}, final error {error:.1e} rad")
-        return result
+                stretched = TrapezoidProfile(longest, speed, accel, duration=duration)
+                speed, estimate = max(stretched.peak_speed, MIN_WIRE_SPEED), duration
+        watch = MoveWatch("joint_move", joints_at(q_target), final_error=joint_error(q_target))
+        return self._start_move(commands.joint_move(q_target, speed, accel), watch, estimate)
 
     @answers
-    def linear_move(self, target, speed, accel, ref_q=None) -> Result:
+    def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
         pose = _mm_rpy(target)
         speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
         latest = self.link.latest
@@ -330,13 +317,12 @@ class ControllerBackend(Backend):
             here = tcp_matrix(latest[0].tcp_pose)
             distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
             angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
-            estimate = trapezoid_time(distance, speed_mm, accel_mm) + angle / LINEAR_ROTATION_SPEED
-        result = self._blocking(commands.moveL(pose, speed_mm, accel_mm),
-                                MoveWatch("linear_move", tcp_at(pose)), move_timeout(estimate))
-        if result.ok and ref_q is not None:
-            return Result.success(f"{result.message} (ref_joint is not sent: moveL chooses the "
-                                  "configuration itself)")
-        return result
+            estimate = (TrapezoidProfile(distance, speed_mm, accel_mm).min_duration
+                        + angle / LINEAR_ROTATION_SPEED)
+        note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
+                                           "configuration itself")
+        watch = MoveWatch("linear_move", tcp_at(pose), note=note)
+        return self._start_move(commands.moveL(pose, speed_mm, accel_mm), watch, estimate)
 
     # ---- trajectories ---------------------------------------------------------------------------
     @answers
@@ -442,14 +428,14 @@ class ControllerBackend(Backend):
     @answers
     def set_tool_frame(self, tool_id, pose) -> Result:
         tool_id = int(tool_id)
-        self._set_frame("tool", tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
+        self._set_frame(TOOL, tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
         self._ids = (tool_id, self._ids[1])
         return Result.success(f"tool {tool_id} set and active")
 
     @answers
     def set_user_frame(self, user_id, pose) -> Result:
         user_id = int(user_id)
-        self._set_frame("user frame", user_id, pose, commands.set_user_offsets,
+        self._set_frame(USER_FRAME, user_id, pose, commands.set_user_offsets,
                         commands.set_user_id)
         self._ids = (self._ids[0], user_id)
         return Result.success(f"user frame {user_id} set and active")

@@ -30,6 +30,7 @@ from ..protocol.fields import Cmd, CoordMap, ERROR_CODE_OK, Field, JogMode, Stat
 from ..protocol.status_stream import encode_status
 from ..protocol.wire import as_flag
 from ..protocol.errors import ProtocolError
+from ..frames import TOOL, USER_FRAME
 from ..transforms import pose_to_matrix
 from .status_packet import status_fields, wire_pose, zeros_of
 from .twin_controller import (ERROR_REFUSED, ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected,
@@ -221,9 +222,9 @@ class CommandHandlers:
             Cmd.GET_ANALOG_INPUT: lambda r: self._read_io(r, "analog", 0),
             Cmd.GET_RAPID_RATE: lambda r: Answer({Field.VALUE: float(self.c.rapid_rate)}),
             Cmd.GET_TOOL_OFFSETS: lambda r: Answer(
-                {Field.TOOL_OFFSETS: wire_pose(self.c.tools[self.c.twin.tool_id])}),
+                {Field.TOOL_OFFSETS: wire_pose(self.c.frames.get(TOOL, self.c.twin.tool_id))}),
             Cmd.GET_USER_OFFSETS: lambda r: Answer(
-                {Field.USER_OFFSETS: wire_pose(self.c.users[self.c.twin.user_id])}),
+                {Field.USER_OFFSETS: wire_pose(self.c.frames.get(USER_FRAME, self.c.twin.user_id))}),
             Cmd.GET_DRAG_STATUS: lambda r: Answer({Field.STATUS: bool(self.c.twin.drag_mode)}),
             Cmd.TORQUE_CONTROL_ENABLE: self._torque_control_enable,
             Cmd.SET_INSTALLATION_ANGLE: self._set_installation_angle,

@@ -26,8 +26,11 @@ from typing import Callable, Deque, Optional, Tuple
 import numpy as np
 
 from ..completion import Completion
+from ..constants import SERVO_CYCLE
+from ..frames import TOOL, USER_FRAME, FrameTable
 from ..results import Code, Result
-from ..sim.backend import CYCLE, SimBackend
+from ..sim.backend import SimBackend
+from ..validation import fastest_step, outside_limits
 
 log = logging.getLogger(__name__)
 
@@ -77,8 +80,7 @@ class TwinController:
         self._worker.start()
         self.installation_angle = (0.0, 0.0)          # deg, (angleX, angleZ)
         self.tio_vout = (0, 0)                        # (enable, voltage code)
-        self.tools = {i: np.eye(4) for i in FRAME_IDS}
-        self.users = {i: np.eye(4) for i in FRAME_IDS}
+        self.frames = FrameTable()
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
         self.collision_level = twin.collision_level
@@ -182,9 +184,8 @@ class TwinController:
 
     def check_limits(self, q: np.ndarray, what: str) -> None:
         m = self.model
-        outside = np.flatnonzero((q < m.lower - 1e-9) | (q > m.upper + 1e-9))
-        if outside.size:
-            i = int(outside[0])
+        i = outside_limits(m, q, tolerance=1e-9)   # the wire's degrees round-trip to ~1e-12
+        if i is not None:
             raise Rejected(f"{what}: joint {i + 1} target {np.degrees(q[i]):.3f} deg is outside "
                            f"[{np.degrees(m.lower[i]):.1f}, {np.degrees(m.upper[i]):.1f}] deg",
                            ERROR_REFUSED)   # a controller answers "2" (call ... failed)
@@ -316,12 +317,12 @@ class TwinController:
             self.require_can_move(what, servo_ok=True)
             goal = self.servo_reference(what)
             self.check_limits(q, what)
-            step = np.abs(q - goal) / (steps * CYCLE)
-            worst = int(np.argmax(step / self.model.max_velocity))
-            if step[worst] > self.model.max_velocity[worst]:
-                raise Rejected(f"{what}: joint {worst + 1} would move at "
-                               f"{np.degrees(step[worst]):.1f} deg/s, limit "
-                               f"{np.degrees(self.model.max_velocity[worst]):.1f} deg/s")
+            too_fast = fastest_step(self.model, goal, q, steps * SERVO_CYCLE)
+            if too_fast is not None:
+                j, speed = too_fast
+                raise Rejected(f"{what}: joint {j + 1} would move at "
+                               f"{np.degrees(speed):.1f} deg/s, limit "
+                               f"{np.degrees(self.model.max_velocity[j]):.1f} deg/s")
             result = self.twin.servo_ramp(q, steps)
             if not result.ok:
                 raise Rejected(f"{what}: {result.message}")
@@ -337,23 +338,23 @@ class TwinController:
     # ---- frames, payload, settings ------------------------------------------------------------
     def set_tool_offset(self, tool_id: int, pose: np.ndarray) -> None:
         with self.lock:
-            self.tools[tool_id] = pose.copy()
+            self.frames.store(TOOL, tool_id, pose)
             if self.twin.tool_id == tool_id:
                 self.twin.set_tool_frame(tool_id, pose)   # re-apply the active tool
 
     def activate_tool(self, tool_id: int) -> None:
         with self.lock:
-            self.twin.set_tool_frame(tool_id, self.tools[tool_id])
+            self.twin.set_tool_frame(tool_id, self.frames.get(TOOL, tool_id))
 
     def set_user_offset(self, user_id: int, pose: np.ndarray) -> None:
         with self.lock:
-            self.users[user_id] = pose.copy()
+            self.frames.store(USER_FRAME, user_id, pose)
             if self.twin.user_id == user_id:
                 self.twin.set_user_frame(user_id, pose)
 
     def activate_user(self, user_id: int) -> None:
         with self.lock:
-            self.twin.set_user_frame(user_id, self.users[user_id])
+            self.twin.set_user_frame(user_id, self.frames.get(USER_FRAME, user_id))
 
     def set_payload(self, mass: float, centroid_mm: np.ndarray) -> None:
         with self.lock:

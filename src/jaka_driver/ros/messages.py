@@ -1,4 +1,4 @@
-"""RobotState → the driver's ROS messages (contract.md, "Topics").
+"""RobotState → the driver's ROS messages (docs/interface.md, "Topics").
 
 Plain conversions, no publishing; numpy values are turned into Python floats and bools
 because rospy's serialiser mishandles numpy 2 scalars.
@@ -21,7 +21,8 @@ def user_frame_id(user_id: int) -> str:
 
 
 def tool_position(st: RobotState, stamp: rospy.Time) -> TwistStamped:
-    """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad (doc §3.1),
+    """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad
+    (docs/interface.md, "Topics"),
     of the active tool in the active user frame."""
     msg = TwistStamped()
     msg.header.stamp = stamp
@@ -45,7 +46,7 @@ def joint_state(st: RobotState, names, stamp: rospy.Time) -> JointState:
 
 
 def robot_msg(st: RobotState) -> RobotMsg:
-    """``servo_state`` is servo *mode* (the doc's meaning), not robot enable."""
+    """``servo_state`` is servo *mode* (JAKA's documented meaning), not robot enable."""
     return RobotMsg(motion_state=int(st.motion_state), power_state=int(bool(st.powered)),
                     servo_state=int(bool(st.servo_mode)),
                     collision_state=int(bool(st.collision)))

@@ -41,7 +41,7 @@ def _logged(name: str, handler):
 
 
 def advertise(driver: RobotDriver) -> list[rospy.Service]:
-    """Advertise every service of contract.md; returns them so the node can shut them down."""
+    """Advertise every service of docs/interface.md; returns them so the node can shut them down."""
     d = driver
     move = _ret(jaka.MoveResponse)
     servo = _ret(jaka.ServoMoveResponse)
