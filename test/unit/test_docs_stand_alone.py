@@ -78,15 +78,7 @@ def _outside_citations(path: Path, text: str) -> list[str]:
     return found
 
 
-def _area_param(area: str):
-    if area in PROTOCOL_SIDE:
-        return pytest.param(area, marks=pytest.mark.xfail(
-            strict=False, reason="protocol/, controller/ and emulator/ are swept on the protocol "
-            "branch; remove this mark when it is merged"))
-    return area
-
-
-@pytest.mark.parametrize("area", [_area_param(a) for a in AREAS])
+@pytest.mark.parametrize("area", AREAS)
 def test_nothing_cites_a_path_outside_the_repository_or_an_issue(area):
     files = list(_area_files(area))
     assert files, f"no files found under {area}"

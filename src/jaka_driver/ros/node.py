@@ -7,6 +7,9 @@ Parameters (private, ``~name``):
   ``ip``             controller address (controller backend; default 10.5.5.100)
   ``command_port``   controller command port (default 10001)
   ``status_port``    controller status port (default 10000)
+  ``status_source``  ``stream`` (port 10000, default), ``request`` (port ``data_port``, as JAKA's
+                     SDK reads status) or ``both``
+  ``data_port``      controller data_request port (default 10004)
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
@@ -61,7 +64,9 @@ def make_backend(kind: str, model_name: str, params: dict):
     if kind == "controller":
         from ..controller.backend import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
-                                 status_port=params["status_port"])
+                                 status_port=params["status_port"],
+                                 status_source=params["status_source"],
+                                 data_port=params["data_port"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -203,6 +208,8 @@ def _params() -> dict:
         "ip": rospy.get_param("~ip", rospy.get_param("ip", "10.5.5.100")),
         "command_port": int(rospy.get_param("~command_port", 10001)),
         "status_port": int(rospy.get_param("~status_port", 10000)),
+        "status_source": str(rospy.get_param("~status_source", "stream")),
+        "data_port": int(rospy.get_param("~data_port", 10004)),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),

@@ -29,7 +29,7 @@ from ..validation import fastest_step, outside_limits
 from . import jog_steps
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
-from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
+from .motions import Hold, Jog, RampedServoTarget, ServoTarget, Stopping, TrajectoryRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
@@ -299,7 +299,8 @@ class SimBackend(Backend):
             if on:
                 if self.physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
-                self.physics.switch(ServoTarget(self.physics.servo.setpoint))
+                # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
+                self.physics.switch(RampedServoTarget(self.physics.servo.setpoint))
             else:
                 self.physics.switch(Hold())
             self.servo_mode = on
@@ -358,6 +359,41 @@ class SimBackend(Backend):
     def _stop_motion(self, reason: Result) -> None:
         with self._lock:
             self.physics.switch(Stopping(self._stop_decel, SERVO_CYCLE)).abort(reason)
+
+    # ---- what a controller built on the twin reads and drives (the emulator) ------------------
+    # A narrow public section: the emulator uses these and the Backend contract, never
+    # ``physics`` or ``kin`` directly. Joints rad, poses 4x4 in metres (active tool, user frame).
+    def commanded_joints(self) -> np.ndarray:
+        """The servo setpoint (rad): where the twin is driving the arm this cycle."""
+        return self.physics.servo.setpoint.copy()
+
+    def commanded_tcp(self) -> np.ndarray:
+        """The TCP of :meth:`commanded_joints` (4x4, m)."""
+        tool, user = self.frames()
+        return self.kin.tcp_pose(self.commanded_joints(), tool, user)
+
+    @property
+    def motion_active(self) -> bool:
+        """A motion source is running (a move, jog, or a stop decelerating); the live source,
+        not the last physics sample."""
+        return bool(self.physics.motion.active)
+
+    def servo_goal(self) -> Optional[np.ndarray]:
+        """The latest servo target (rad, the end of a ramp), or None outside servo mode."""
+        target = self._servo_target()
+        return target.goal if isinstance(target, RampedServoTarget) else None
+
+    def servo_ramp(self, q_target, steps: int) -> Result:
+        """servo_j reached over ``steps`` cycles (8 ms each), interpolated linearly."""
+        target = self._servo_target()
+        if not isinstance(target, RampedServoTarget):
+            return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
+        q = np.asarray(q_target, float)
+        if steps <= 1:
+            target.set(q)
+        else:
+            target.ramp(q, int(steps))
+        return Result.success("servo target accepted")
 
     # ---- frames, payload, settings ---------------------------------------------------------------
     def frames(self):
