@@ -19,7 +19,7 @@ reading extension outputs) is answered -9 with the reason.
 
 The controller queues moves: one sent while another runs is acknowledged and runs after it
 (docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
-move or trajectory runs is refused with -5 (busy) before anything is sent, so the arm never
+move or trajectory runs is refused with -10 (busy) before anything is sent, so the arm never
 does a move its caller was told was refused, and ``stop_move`` always has one move to end.
 """
 from __future__ import annotations
@@ -231,7 +231,8 @@ class ControllerBackend(Backend):
     # ---- moves --------------------------------------------------------------------------------
     def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
         """Send a move; ``Result.value`` is ``(watch.completion, estimate)``. The watch ends the
-        move from the status packets and get_motion_state (see move_watch); RobotDriver waits and stops an overrun."""
+        move from the status packets and get_motion_state (see move_watch); RobotDriver waits
+        and stops an overrun."""
         self.send.require_link()
         with self._lock:
             if self._streamer is not None and self._streamer.running:
