@@ -70,10 +70,10 @@ def scenario(driver: RobotDriver) -> int:
                                  driver.get_fk(driver.state().joint_position).value[3:]])
         assert driver.linear_move(target, 200.0, 1000.0, coord_mode=1).ok
         assert driver.servo_move_enable(True).ok
-        q = driver.state().joint_position.copy()
-        for _ in range(100):
-            q = q + np.array([0.002, -0.001, 0.0015, 0.0, 0.0, 0.003])
-            assert driver.servo_j(q).ok
+        q0 = driver.state().joint_position.copy()
+        swing = np.array([0.04, -0.02, 0.03, 0.0, 0.0, 0.06])       # rad, a 0.8 s sine
+        for k in range(1, 101):
+            assert driver.servo_j(q0 + swing * np.sin(np.pi * k / 50)).ok
             clock.sleep(CYCLE)
         assert driver.servo_move_enable(False).ok
         assert driver.jog(0, 0, 0.3).ok

@@ -28,7 +28,7 @@ import numpy as np
 from ..protocol import units
 from ..protocol.fields import Cmd, CoordMap, ERROR_CODE_OK, Field, JogMode, StatusField
 from ..protocol.status_stream import encode_status
-from ..protocol.wire import as_flag
+from ..protocol.wire import as_flag, float_vector
 from ..protocol.errors import ProtocolError
 from ..frames import TOOL, USER_FRAME
 from ..transforms import pose_to_matrix
@@ -81,11 +81,8 @@ def _get(req: Mapping, key: str, default: Any = None) -> Any:
 
 def _vec(req: Mapping, key: str, n: int) -> np.ndarray:
     raw = _get(req, key)
-    try:
-        v = np.asarray(raw, dtype=float)
-    except (TypeError, ValueError):
-        v = np.empty(0)
-    if v.shape != (n,) or not np.all(np.isfinite(v)):
+    v = float_vector(raw, n)
+    if v is None:
         raise Rejected(f"{req.get(Field.CMD_NAME)}: {key!r} must be {n} finite numbers; got "
                        f"{raw!r}", ERROR_REQUEST)
     return v

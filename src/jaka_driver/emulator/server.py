@@ -166,15 +166,15 @@ class EmulatorServer:
                 conn.close()
 
     def _serve_commands(self, conn: socket.socket) -> None:
-        thread = threading.Thread(target=self._command_loop, args=(conn,), daemon=True,
-                                  name="emulator-client")
-        with self._lock:
-            self._command_clients[conn] = thread
-        thread.start()
+        self._serve_client(conn, self._command_loop, "emulator-client")
 
     def _serve_data(self, conn: socket.socket) -> None:
-        thread = threading.Thread(target=self._data_loop, args=(conn,), daemon=True,
-                                  name="emulator-data-client")
+        self._serve_client(conn, self._data_loop, "emulator-data-client")
+
+    def _serve_client(self, conn: socket.socket, loop: Callable[[socket.socket], None],
+                      name: str) -> None:
+        """One thread per request/reply client (command and data ports alike)."""
+        thread = threading.Thread(target=loop, args=(conn,), daemon=True, name=name)
         with self._lock:
             self._command_clients[conn] = thread
         thread.start()

@@ -342,12 +342,15 @@ class StatusReceiver:
         finally:
             sock.close()
         if reason is not None and not stop.is_set():
-            _log.warning("%s", reason)
-            if self.on_connection_lost is not None:
-                try:
-                    self.on_connection_lost(reason)
-                except Exception:  # noqa: BLE001 - a callback must not kill the reader
-                    _log.exception("on_connection_lost callback raised")
+            self._lost(reason)
+
+    def _lost(self, reason: str) -> None:
+        _log.warning("%s", reason)
+        if self.on_connection_lost is not None:
+            try:
+                self.on_connection_lost(reason)
+            except Exception:  # noqa: BLE001 - a callback must not kill the reader
+                _log.exception("on_connection_lost callback raised")
 
     def _deliver(self, status: StatusPacket, received: float) -> None:
         self._latest = (status, received)
@@ -402,12 +405,7 @@ class StatusPoller(StatusReceiver):
         finally:
             sock.close()
         if reason is not None and not stop.is_set():
-            _log.warning("%s", reason)
-            if self.on_connection_lost is not None:
-                try:
-                    self.on_connection_lost(reason)
-                except Exception:  # noqa: BLE001 - a callback must not kill the reader
-                    _log.exception("on_connection_lost callback raised")
+            self._lost(reason)
 
     def _read_reply(self, sock: socket.socket, stop: threading.Event,
                     wait: float) -> Optional[bytes]:

@@ -22,7 +22,7 @@ import numpy as np
 from . import units
 from .errors import CommandRejected, ProtocolError
 from .fields import ERROR_CODE_OK, Field
-from .wire import as_flag, clean_text
+from .wire import as_flag, clean_text, float_vector
 
 
 @dataclass(frozen=True)
@@ -74,13 +74,10 @@ def _field(reply: Reply, *keys: str) -> Any:
 
 def _wire_vector(reply: Reply, key: str, n: int) -> np.ndarray:
     raw = _field(reply, key)
-    try:
-        v = np.asarray(raw, dtype=float)
-    except (TypeError, ValueError):
-        v = np.empty(0)
-    if v.shape != (n,):
-        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} should be {n} numbers; "
-                            f"got {raw!r}")
+    v = float_vector(raw, n)
+    if v is None:
+        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} should be {n} finite "
+                            f"numbers; got {raw!r}")
     return v
 
 

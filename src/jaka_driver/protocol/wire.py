@@ -17,7 +17,7 @@ It also reads the loosely typed values the controller sends (flags as bools, num
 from __future__ import annotations
 
 import json
-from typing import Any, Tuple
+from typing import Any, Optional, Tuple
 
 import numpy as np
 
@@ -76,6 +76,15 @@ def clean_text(value: Any) -> str:
 
 _TRUE = {"1", "true", "on", "yes", "powered_on", "robot_enabled", "enabled"}
 _FALSE = {"0", "false", "off", "no", "powered_off", "robot_disabled", "disabled"}
+
+
+def float_vector(value: Any, n: int) -> Optional[np.ndarray]:
+    """``value`` (a JSON array) as ``n`` finite floats, or None when it is anything else."""
+    try:
+        v = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return v if v.shape == (n,) and np.all(np.isfinite(v)) else None
 
 
 def as_flag(value: Any, what: str) -> bool:
