@@ -171,7 +171,7 @@ def main(argv=None) -> int:
 
     run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
                 "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
-    run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 50",
+    run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 150",
                 lambda: _twin(run))
     with ExitStack() as ros:
         from . import ros_session
