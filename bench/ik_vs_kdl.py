@@ -120,7 +120,7 @@ def _structure(profile: list[tuple[str, float]]) -> str:
     """What the profile says about the solver's shape (the IK module may change)."""
     names = " ".join(name for name, _ in profile).lower()
     if "solve_seeded" in names:
-        return ("The solution itself is one compiled call (native/jaka_ik.c: closed form and "
+        return ("The solution itself is one compiled call (kinematics/jaka_ik.c: closed form and "
                 "Newton steps, ~3 µs); the rest is the Python call around it (type checks, "
                 "ctypes views of the arrays, the result tuple). Timed interleaved with KDL, "
                 "whose ~60 µs of C++ evict the interpreter's caches between two of our calls, "

@@ -18,7 +18,7 @@ from geometry_msgs.msg import TwistStamped
 from jaka_msgs.srv import ClearErr, Move
 from jaka_driver.kinematics import Kinematics
 from jaka_driver.motion.linear_path import PlanningError, plan_linear_move
-from jaka_driver.transforms import matrix_to_pose
+from jaka_driver.transforms import matrix_to_pose_mm
 
 from . import ros_session
 from .poses import HOME, PoseSampler
@@ -80,7 +80,7 @@ def run(model, driver, calls, n: int = N_LINES) -> dict:
                 lines.append({"ret": reply.ret, "message": f"reaching the start: {reply.message}"})
                 continue
             time.sleep(SETTLE_S)
-            pose = matrix_to_pose(goal, rotation="rotvec", length_scale=1e-3)
+            pose = matrix_to_pose_mm(goal)
             t0 = time.time()
             reply = calls("linear_move", Move, pose=pose.tolist(), mvvelo=SPEED_MM_S,
                           mvacc=ACCEL_MM_S2, coord_mode=1)

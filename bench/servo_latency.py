@@ -25,8 +25,8 @@ from jaka_msgs.srv import ServoMove, ServoMoveEnable
 from . import ros_session
 from .report import REPORT, Row, judged
 from .stats import fmt, summary
+from jaka_driver.constants import SERVO_CYCLE
 
-CYCLE_S = 0.008
 ROUND_TRIP_P99_MS = 1.0
 OBSERVED_P99_MS = 16.0
 TOLERANCE_RAD = 1e-4
@@ -72,7 +72,7 @@ def round_trip(driver, calls, joints_rec, n: int = 2000) -> dict:
 def sine_stream(driver, calls, joints_rec, seconds: float) -> dict:
     """Stream the sine for ``seconds``; returns sends, targets, replies and the samples."""
     center = np.array(ros_session.wait_until(joints_rec.latest, 5.0).position)
-    n = int(round(seconds / CYCLE_S))
+    n = int(round(seconds / SERVO_CYCLE))
     sent = np.empty(n)
     rtt = np.empty(n)
     targets = np.empty((n, 6))
@@ -81,11 +81,11 @@ def sine_stream(driver, calls, joints_rec, seconds: float) -> dict:
     with ServoSession(driver, calls) as servo:
         start = time.monotonic() + 0.05
         for k in range(n):
-            deadline = start + k * CYCLE_S
+            deadline = start + k * SERVO_CYCLE
             delay = deadline - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
-            q = center + AMPLITUDE_RAD * np.sin(2 * np.pi * FREQUENCY_HZ * k * CYCLE_S)
+            q = center + AMPLITUDE_RAD * np.sin(2 * np.pi * FREQUENCY_HZ * k * SERVO_CYCLE)
             targets[k] = q
             sent[k] = time.time()
             t0 = time.perf_counter()
@@ -182,10 +182,10 @@ def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True
             "" if rtt_ok or not judge else _round_trip_note(r), data={"rtt_ms": r}),
         Row(group, f"servo command → observed p50 / p99 / max, {condition}",
             f"{fmt(o['p50'])} / {fmt(p99)} / {fmt(o['max'])} ms = "
-            f"{fmt(p99 / (CYCLE_S * 1e3) if p99 is not None else None)} cycles p99 "
+            f"{fmt(p99 / (SERVO_CYCLE * 1e3) if p99 is not None else None)} cycles p99 "
             f"({stream['sent'].size} targets, {missed} never reached, "
             f"{stream['refused']} refused)",
-            f"p99 ≤ 2 cycles ({2 * CYCLE_S * 1e3:g} ms)", verdict(obs_ok),
+            f"p99 ≤ 2 cycles ({2 * SERVO_CYCLE * 1e3:g} ms)", verdict(obs_ok),
             method if obs_ok or not judge else _observed_note(o, method),
             data={"latency_ms": o, "p99_ms_with_misses": p99, "never_reached": missed,
                   "strict_hit_percent": strict, "stream_rtt_ms": s}),

@@ -49,9 +49,9 @@ else
   say "messages: up to date"
 fi
 
-# 4. The compiled IK fast path (src/jaka_driver/native_ik.py) -------------------------
+# 4. The compiled IK fast path (src/jaka_driver/kinematics/native.py) ----------------
 lib=devel/lib/libjaka_ik.so
-src=src/jaka_driver/native/jaka_ik.c
+src=src/jaka_driver/kinematics/jaka_ik.c
 if [ ! -f "$lib" ] || [ "$src" -nt "$lib" ]; then
   mkdir -p devel/lib
   gcc -O2 -Wall -Wextra -shared -fPIC -o "$lib.tmp" "$src" -lm && mv "$lib.tmp" "$lib"

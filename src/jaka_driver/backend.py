@@ -11,7 +11,9 @@ metres. Unless a method says otherwise, it is the pose of the *active tool* expr
 *active user frame* (contract.md, "Frames").
 
 Concurrency: every method may be called from any thread (rospy serves each service connection
-in its own thread). Blocking moves block the calling thread only; ``state()`` never blocks.
+in its own thread). No method blocks for the length of a motion: moves are *started* and
+answer a completion with the planned duration; the one place that waits for them, and stops
+one that overruns, is :class:`jaka_driver.driver.RobotDriver`. ``state()`` never blocks.
 """
 from __future__ import annotations
 
@@ -84,18 +86,22 @@ class Backend(ABC):
 
     # ---- motion ---------------------------------------------------------------------------
     @abstractmethod
-    def joint_move(self, q_target: np.ndarray, speed: float, accel: float,
-                   duration: Optional[float] = None) -> Result:
-        """Synchronised joint move to ``q_target`` (rad) with peak speed ``speed`` (rad/s) and
-        acceleration ``accel`` (rad/s²), both already clamped to the model; ``duration`` (s)
-        stretches the motion. Blocks until in position (1e-3 rad) or stopped (-12)."""
+    def start_joint_move(self, q_target: np.ndarray, speed: float, accel: float,
+                         duration: Optional[float] = None) -> Result:
+        """Start a synchronised joint move to ``q_target`` (rad) with peak speed ``speed``
+        (rad/s) and acceleration ``accel`` (rad/s²), both already clamped to the model;
+        ``duration`` (s) stretches the motion. Returns at once; ``Result.value`` is
+        ``(completion, planned_duration_s)``: the :class:`jaka_driver.completion.Completion`
+        finishes with success once in position (``constants.IN_POSITION``), or -12 if stopped.
+        :class:`jaka_driver.driver.RobotDriver` does the waiting (and stops an overrun)."""
 
     @abstractmethod
-    def linear_move(self, target: np.ndarray, speed: float, accel: float,
-                    ref_q: Optional[np.ndarray] = None) -> Result:
-        """Straight-line TCP move to ``target`` (4x4, active tool in the active user frame, m)
-        at ``speed`` m/s and ``accel`` m/s²; ``ref_q`` seeds the IK. The whole path is
-        checked before anything moves (-4 if unreachable). Blocks until in position."""
+    def start_linear_move(self, target: np.ndarray, speed: float, accel: float,
+                          ref_q: Optional[np.ndarray] = None) -> Result:
+        """Start a straight-line TCP move to ``target`` (4x4, active tool in the active user
+        frame, m) at ``speed`` m/s and ``accel`` m/s²; ``ref_q`` seeds the IK. The whole path is
+        checked before anything moves (-4 if unreachable). Returns at once, like
+        :meth:`start_joint_move`."""
 
     @abstractmethod
     def start_trajectory(self, trajectory: "JointTrajectory") -> Result:
@@ -130,7 +136,7 @@ class Backend(ABC):
 
     @abstractmethod
     def stop_move(self) -> Result:
-        """Decelerate any motion to rest; a blocking move in progress returns -12."""
+        """Decelerate any motion to rest; the completion of a started move finishes with -12."""
 
     # ---- frames, payload, settings ----------------------------------------------------------
     @abstractmethod

@@ -17,23 +17,16 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from . import move_duration
 from . import validation as check
 from .backend import Backend
+from .constants import SERVO_CYCLE, move_deadline
 from .results import Code, CommandRefused, Result, invalid
 from .robot_state import RobotState
-from .transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
+from .transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
 
-SERVO_CYCLE = 0.008            # s, the controller's servo period
-JOG_AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
-MAX_JOG_ROTATION_SPEED = np.pi  # rad/s, cap for RX–RZ jogs
-TOOL_REACH_MM = 1000.0          # |tool offset| bound
-USER_REACH_MM = 10000.0         # |user frame origin| bound
-CENTROID_REACH_MM = 1000.0
-ANALOG_LIMIT = 10.0             # V; the twin's analog outputs are ±10 V
 
 
 def _answers(method: Callable) -> Callable:
@@ -154,14 +147,12 @@ class RobotDriver:
         duration = check.finite("mvtime", mvtime, "s")
         if duration < 0:
             raise invalid(f"mvtime is {duration:g} s, expected ≥ 0 (0 = as fast as allowed)")
-        move_duration.check_joint_move(self.backend.state().joint_position, q,
-                                       np.minimum(v, self.model.max_velocity),
-                                       np.minimum(a, self.model.max_acceleration),
-                                       duration or None, mvvelo, mvacc)
-        self._not_jogging()
-        with self._blocking_move("joint_move"):
-            self._ready()
-            result = self.backend.joint_move(q, v, a, duration or None)
+        check.joint_move_duration(self.backend.state().joint_position, q,
+                                  np.minimum(v, self.model.max_velocity),
+                                  np.minimum(a, self.model.max_acceleration),
+                                  duration or None, mvvelo, mvacc)
+        result = self._run_move("joint_move", lambda st: self.backend.start_joint_move(
+            q, v, a, duration or None))
         return _with_notes(result, notes)
 
     @_answers
@@ -178,19 +169,19 @@ class RobotDriver:
         a = check.speed("mvacc", mvacc, self.model.max_tcp_accel_mm_s2, "mm/s²",
                         default=self.model.max_tcp_accel_mm_s2 / 4, notes=notes)
         ref_q = check.joint_targets("ref_joint", ref_joint, self.model) if has_ref else None
-        self._not_jogging()
-        with self._blocking_move("linear_move"):
-            st = self._ready()
-            target = pose_to_matrix(target_mm, rotation="rotvec", length_scale=1e-3)
+
+        def start(st: RobotState) -> Result:
+            target = pose_mm_to_matrix(target_mm)
             if mode == 1:
                 _, user = self.backend.frames()
                 target = np.linalg.inv(user) @ target
             elif mode == 2:
                 target = st.tcp_pose @ target
-            move_duration.check_linear_move(st.tcp_pose, target, v / 1000.0, a / 1000.0,
-                                            mvvelo, mvacc)
-            result = self.backend.linear_move(target, v / 1000.0, a / 1000.0, ref_q)
-        return _with_notes(result, notes)
+            check.linear_move_duration(st.tcp_pose, target, v / 1000.0, a / 1000.0,
+                                       mvvelo, mvacc)
+            return self.backend.start_linear_move(target, v / 1000.0, a / 1000.0, ref_q)
+
+        return _with_notes(self._run_move("linear_move", start), notes)
 
     @_answers
     def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
@@ -205,15 +196,7 @@ class RobotDriver:
         if raw == 0 and check.finite("mvacc", mvacc) > 0:
             raw, name = float(mvacc), "mvacc"
             notes.append("mvvelo is 0: using mvacc as the speed, like JAKA's driver")
-        if coord == 0:
-            label, unit = self.model.joint_names[axis], "rad/s"
-            speed = check.speed(name, raw, float(self.model.max_velocity[axis]), unit, notes=notes)
-        elif axis < 3:
-            label, unit = JOG_AXES[axis], "mm/s"
-            speed = check.speed(name, raw, self.model.max_tcp_speed_mm_s, unit, notes=notes) / 1000
-        else:
-            label, unit = JOG_AXES[axis], "rad/s"
-            speed = check.speed(name, raw, MAX_JOG_ROTATION_SPEED, unit, notes=notes)
+        label, unit, speed = check.jog_speed(self.model, coord, axis, name, raw, notes)
         if self._move_lock.locked():
             raise CommandRefused(Code.BUSY, "jog refused: a blocking move is running")
         self._ready()
@@ -231,35 +214,49 @@ class RobotDriver:
                                           f"(stops {self._jog.timeout:g} s after the last call)"),
                            notes)
 
+    @_answers
     def follow_trajectory(self, trajectory, monitor: Callable[[float, RobotState],
                                                                "str | None"],
                           period: float = 0.02) -> Result:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
         ``monitor(t, state)`` is called with the time since the start; a string it returns
         aborts: the arm is stopped and the result is -12 with that reason. Blocks."""
-        try:
-            self._not_jogging()
-            with self._blocking_move("trajectory"):
-                self._ready()
-                started = self.backend.start_trajectory(trajectory)
-                if not started.ok:
-                    return started
-                completion, duration = started.value
-                t0 = time.monotonic()
-                while True:
-                    result = completion.wait(period)
-                    if result is not None:
-                        return result
-                    elapsed = time.monotonic() - t0
-                    reason = monitor(elapsed, self.backend.state())
-                    if reason is None and elapsed > duration + 2.0:
-                        reason = f"not in position {elapsed - duration:.1f} s after the end"
-                    if reason is not None:
-                        self.backend.stop_move()
-                        completion.wait(1.0)
-                        return Result.failure(Code.MOTION_STOPPED, reason)
-        except CommandRefused as refusal:
-            return refusal.result()
+        return self._run_move("trajectory",
+                              lambda st: self.backend.start_trajectory(trajectory),
+                              monitor, period)
+
+    def _run_move(self, what: str, start: Callable[[RobotState], Result],
+                  monitor: "Callable[[float, RobotState], str | None] | None" = None,
+                  period: float = 0.02) -> Result:
+        """The one place a move is waited for: checks the arm may move, ``start(state)`` asks
+        the backend to start it (``Result.value`` = completion, planned duration s), then waits
+        for the completion. A move still running ``constants.move_deadline(planned)`` s after
+        its start, or one ``monitor`` objects to, is stopped and answered -12; a stop_move or
+        fault meanwhile finishes the completion with -12 itself."""
+        self._not_jogging()
+        with self._blocking_move(what):
+            started = start(self._ready())
+            if not started.ok:
+                return started
+            completion, planned = started.value
+            deadline = move_deadline(planned)
+            t0 = time.monotonic()
+            while True:
+                remaining = deadline - (time.monotonic() - t0)
+                # without a monitor there is nothing to do until the move ends or overruns
+                wait = min(period, remaining) if monitor is not None else remaining
+                result = completion.wait(max(wait, 1e-3))
+                if result is not None:
+                    return result
+                elapsed = time.monotonic() - t0
+                reason = monitor(elapsed, self.backend.state()) if monitor else None
+                if reason is None and elapsed > deadline:
+                    reason = (f"{what} not in position {elapsed:.2f} s after its start "
+                              f"(planned {planned:.2f} s, allowed {deadline:.2f} s); stopped")
+                if reason is not None:
+                    self.backend.stop_move()
+                    completion.wait(1.0)
+                    return Result.failure(Code.MOTION_STOPPED, reason)
 
     def _jog_expired(self) -> None:
         log.info("jog stopped: no jog call for %.1f s", self._jog.timeout)
@@ -288,13 +285,7 @@ class RobotDriver:
         q = check.joint_targets("pose", pose, self.model)
         st = self._ready(servo=True)
         reference, gap = self._servo.reference(st.joint_position)
-        step = np.abs(q - reference) / SERVO_CYCLE
-        worst = int(np.argmax(step / self.model.max_velocity))
-        if step[worst] > self.model.max_velocity[worst]:
-            raise invalid(f"{self.model.joint_names[worst]} step of {abs(q - reference)[worst]:.4f}"
-                          f" rad in one {SERVO_CYCLE * 1000:g} ms cycle needs "
-                          f"{step[worst]:.2f} rad/s, limit {self.model.max_velocity[worst]:.2f}"
-                          " rad/s; the arm holds")
+        check.servo_step(self.model, q, reference)
         result = self.backend.servo_j(q)
         if result.ok:
             self._servo.accepted(q)
@@ -309,11 +300,8 @@ class RobotDriver:
         target[:3, :3] = rpy_to_matrix(*p[3:])
         target[:3, 3] = p[:3]
         _, gap = self._servo.reference(st.joint_position)
-        tcp_speed = np.linalg.norm(target[:3, 3] - st.tcp_pose[:3, 3]) / SERVO_CYCLE * 1000
-        if gap is None and tcp_speed > self.model.max_tcp_speed_mm_s:
-            raise invalid(f"pose step needs {tcp_speed:.0f} mm/s in one "
-                          f"{SERVO_CYCLE * 1000:g} ms cycle, limit "
-                          f"{self.model.max_tcp_speed_mm_s:.0f} mm/s; the arm holds")
+        if gap is None:   # after a gap the arm held still: the step is from where it stands
+            check.servo_tcp_step(self.model, target, st.tcp_pose)
         result = self.backend.servo_p(target)
         if result.ok:
             # the joint target, when the backend solved the IK itself (the twin), else the
@@ -327,38 +315,22 @@ class RobotDriver:
     def set_toolframe(self, pose: Sequence[float], tool_num: int) -> Result:
         """Tool ``tool_num`` (1–11, 0 = flange) = ``pose`` (mm + rotvec, flange frame)."""
         num = check.integer_in("tool_num", tool_num, 0, 11)
-        frame = np.eye(4) if num == 0 else self._frame_pose(pose, TOOL_REACH_MM)
+        frame = np.eye(4) if num == 0 else check.frame_pose(pose, check.TOOL_REACH_MM)
         return self.backend.set_tool_frame(num, frame)
 
     @_answers
     def set_userframe(self, pose: Sequence[float], user_num: int) -> Result:
         """User frame ``user_num`` (1–10, 0 = base) = ``pose`` (mm + rotvec, base frame)."""
         num = check.integer_in("user_num", user_num, 0, 10)
-        frame = np.eye(4) if num == 0 else self._frame_pose(pose, USER_REACH_MM)
+        frame = np.eye(4) if num == 0 else check.frame_pose(pose, check.USER_REACH_MM)
         return self.backend.set_user_frame(num, frame)
-
-    @staticmethod
-    def _frame_pose(pose: Sequence[float], reach_mm: float) -> np.ndarray:
-        p = check.vector("pose", pose)
-        distance = float(np.linalg.norm(p[:3]))
-        if distance > reach_mm:
-            raise invalid(f"pose origin is {distance:.1f} mm away, limit {reach_mm:g} mm")
-        return pose_to_matrix(p, rotation="rotvec", length_scale=1e-3)
 
     @_answers
     def set_payload(self, tool_num: int, mass: float, xc: float, yc: float, zc: float) -> Result:
         """Payload ``mass`` kg at (xc, yc, zc) mm in the flange frame; activates tool_num."""
         num = check.integer_in("tool_num", tool_num, 0, 11)
-        m = check.finite("mass", mass, "kg")
-        limit = 1.5 * self.model.rated_payload_kg
-        if not 0 <= m <= limit:
-            raise invalid(f"mass is {m:g} kg, expected 0–{limit:g} kg (1.5 × rated payload "
-                          f"of {self.model.name})")
-        c = np.array([check.finite(n, v, "mm") for n, v in (("xc", xc), ("yc", yc), ("zc", zc))])
-        if np.linalg.norm(c) > CENTROID_REACH_MM:
-            raise invalid(f"centroid is {np.linalg.norm(c):.1f} mm from the flange, limit "
-                          f"{CENTROID_REACH_MM:g} mm")
-        return self.backend.set_payload(num, m, c / 1000.0)
+        m, centroid = check.payload(self.model, mass, (("xc", xc), ("yc", yc), ("zc", zc)))
+        return self.backend.set_payload(num, m, centroid)
 
     @_answers
     def drag_mode(self, on: bool) -> Result:
@@ -383,11 +355,10 @@ class RobotDriver:
         """Set an output (doc §2.6); digital non-zero → 1."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, 1, type, index)
-        v = check.finite("value", value)
         if sig == "digital":
-            v = 1.0 if v != 0 else 0.0
-        elif abs(v) > ANALOG_LIMIT:
-            raise invalid(f"value is {v:g}, analog outputs are ±{ANALOG_LIMIT:g} V")
+            v = 1.0 if check.finite("value", value) != 0 else 0.0
+        else:
+            v = check.analog_value(value)
         return self.backend.set_io(sig, int(type), int(index), v)
 
     @_answers
@@ -433,7 +404,7 @@ class RobotDriver:
         result = self.backend.forward_kinematics(q)
         if not result.ok:
             return result
-        pose = matrix_to_pose(result.value, rotation="rotvec", length_scale=1e-3)
+        pose = matrix_to_pose_mm(result.value)
         return Result.success(result.message, [float(x) for x in pose])
 
     @_answers
@@ -445,7 +416,7 @@ class RobotDriver:
         else:
             ref = check.vector("ref_joint", ref_joint)
         pose = check.vector("cartesian_pose", cartesian_pose)
-        target = pose_to_matrix(pose, rotation="rotvec", length_scale=1e-3)
+        target = pose_mm_to_matrix(pose)
         result = self.backend.inverse_kinematics(target, ref)
         if not result.ok:
             return result

@@ -22,10 +22,12 @@ import yaml
 
 MODEL_NAMES = ("zu3", "zu5", "zu7", "zu12", "zu18")
 
-# io_sizes keys: (signal, type, path) with the numbering of jaka_msgs/SetIO and GetIO.
+# The IO numbering of jaka_msgs/SetIO and GetIO, one table: ``type`` indexes IO_TYPES, ``path``
+# indexes IO_PATHS; config/<model>.yaml counts them as ``<type>: {<signal>_<path>: n}``.
+# io_sizes keys: (signal, type, path).
 IO_SIGNALS = ("digital", "analog")
-IO_TYPES = {"cabinet": 0, "tool": 1, "extension": 2}
-IO_PATHS = {"in": 0, "out": 1}
+IO_TYPES = ("cabinet", "tool", "extension")
+IO_PATHS = ("in", "out")
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,10 +87,10 @@ def _urdf_joints(xml: str, path: Path) -> list[tuple[str, float, float, float, f
 
 def _io_sizes(io: dict) -> Mapping[tuple[str, int, int], int]:
     sizes = {}
-    for type_name, type_id in IO_TYPES.items():
+    for type_id, type_name in enumerate(IO_TYPES):
         counts = io.get(type_name, {})
         for signal in IO_SIGNALS:
-            for path_name, path_id in IO_PATHS.items():
+            for path_id, path_name in enumerate(IO_PATHS):
                 sizes[(signal, type_id, path_id)] = int(counts.get(f"{signal}_{path_name}", 0))
     return MappingProxyType(sizes)
 

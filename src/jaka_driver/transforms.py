@@ -158,6 +158,17 @@ def matrix_to_pose(T, *, rotation: str = "rotvec", length_scale: float = 1.0) ->
     return np.concatenate([T[..., :3, 3] / length_scale, r], -1)
 
 
+def pose_mm_to_matrix(pose_mm_rotvec) -> np.ndarray:
+    """The driver's pose at its edges — mm + rotation vector (rad), as the services and the
+    protocol library speak it — as a 4x4 in metres."""
+    return pose_to_matrix(pose_mm_rotvec, rotation="rotvec", length_scale=1e-3)
+
+
+def matrix_to_pose_mm(T) -> np.ndarray:
+    """A 4x4 in metres as mm + rotation vector (rad); the inverse of :func:`pose_mm_to_matrix`."""
+    return matrix_to_pose(T, rotation="rotvec", length_scale=1e-3)
+
+
 def rotation_angle_between(R0, R1) -> np.ndarray | float:
     """Angle (rad, [0, π]) of the rotation taking ``R0`` to ``R1``, accurate at 0 and π."""
     D = np.swapaxes(np.asarray(R0, dtype=float), -1, -2) @ np.asarray(R1, dtype=float)

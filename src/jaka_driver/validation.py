@@ -1,22 +1,42 @@
-"""Checks at the door: each raises :class:`CommandRefused` (-2) with a message that names the
-field, the value and the limit, and returns the value converted to numpy / Python types."""
+"""Checks at the door, in one place: each raises :class:`CommandRefused` (-2) with a message that
+names the field, the value and the limit, and returns the value converted to numpy / Python
+types. RobotDriver calls them before anything moves; the twin, the emulator and the controller
+backend share :func:`outside_limits` and :func:`fastest_step` for the checks they repeat
+in their own terms.
+
+Units: joints rad, speeds rad/s or mm/s, accelerations rad/s² or mm/s², poses 4x4 in m unless a
+name says mm, durations s.
+
+Move durations: a move slower than :data:`~jaka_driver.motion.trajectory.MAX_MOTION_DURATION`
+(10 min) comes from a units mistake (``mvvelo`` 1e-7, ``mvtime`` 3e38) and is refused; so is an
+``mvtime`` shorter than the move needs. The planners refuse both too, but only the request knows
+which field was at fault: these checks name it (docs/interface.md, "Result codes").
+"""
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
-from .models import RobotModel
+from .constants import SERVO_CYCLE
+from .models import IO_PATHS, IO_SIGNALS, IO_TYPES, RobotModel
+from .motion.linear_path import line_duration
+from .motion.profiles import SyncJointProfile
+from .motion.trajectory import MAX_MOTION_DURATION
 from .results import invalid
+from .transforms import pose_mm_to_matrix
 
 #: A requested speed or acceleration above this many times the model's limit is taken for a
 #: unit mistake (deg for rad, m for mm) and refused instead of silently clamped.
 ABSURD_FACTOR = 10.0
 
-IO_SIGNALS = ("digital", "analog")
-IO_TYPES = {0: "cabinet", 1: "tool", 2: "extension"}
-IO_PATHS = {0: "input", 1: "output"}
+JOG_AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
+MAX_JOG_ROTATION_SPEED = np.pi  # rad/s, cap for RX–RZ jogs
+TOOL_REACH_MM = 1000.0          # |tool offset| bound
+USER_REACH_MM = 10000.0         # |user frame origin| bound
+CENTROID_REACH_MM = 1000.0      # |payload centroid| from the flange
+ANALOG_LIMIT = 10.0             # V; analog outputs are ±10 V
 
 
 def vector(name: str, values: Sequence[float], n: int = 6) -> np.ndarray:
@@ -93,11 +113,162 @@ def io_address(model: RobotModel, signal: str, path: int, io_type: int, index: i
     integer_in("type", io_type, 0, 2)
     integer_in("path", path, 0, 1)
     count = model.io_sizes.get((signal, int(io_type), int(path)), 0)
-    where = f"{IO_TYPES[int(io_type)]} {signal} {IO_PATHS[int(path)]}s"
+    where = f"{IO_TYPES[int(io_type)]} {signal} {IO_PATHS[int(path)]}puts"
     if count == 0:
         raise invalid(f"the {where} do not exist on {model.name} (index {index})")
     if not 0 <= int(index) < count:
         raise invalid(f"index is {index}, {where} are 0–{count - 1}")
+
+def analog_value(value: float) -> float:
+    """An analog output value (V) within ±:data:`ANALOG_LIMIT`."""
+    v = finite("value", value)
+    if abs(v) > ANALOG_LIMIT:
+        raise invalid(f"value is {v:g}, analog outputs are ±{ANALOG_LIMIT:g} V")
+    return v
+
+
+# ---- joints: limits and servo steps (shared with the backends) ------------------------------
+def outside_limits(model: RobotModel, q: np.ndarray, tolerance: float = 0.0) -> Optional[int]:
+    """The first joint of ``q`` (rad) outside the model's position limits widened by
+    ``tolerance`` (rad; a wire in degrees needs ~1e-9 for its round trip), or None."""
+    outside = (q < model.lower - tolerance) | (q > model.upper + tolerance)
+    return int(np.argmax(outside)) if outside.any() else None
+
+
+def fastest_step(model: RobotModel, q_from: np.ndarray, q_to: np.ndarray,
+                 seconds: float = SERVO_CYCLE) -> Optional[tuple[int, float]]:
+    """(joint, speed rad/s) of the joint that most exceeds its speed limit when going from
+    ``q_from`` to ``q_to`` (rad) in ``seconds``, or None when every joint is within its limit."""
+    step = np.abs(np.asarray(q_to) - np.asarray(q_from)) / seconds
+    worst = int(np.argmax(step / model.max_velocity))
+    return (worst, float(step[worst])) if step[worst] > model.max_velocity[worst] else None
+
+
+def servo_step(model: RobotModel, q: np.ndarray, reference: np.ndarray) -> None:
+    """A servo_j target (rad) reachable from ``reference`` within one cycle."""
+    too_fast = fastest_step(model, reference, q)
+    if too_fast is not None:
+        j, speed_needed = too_fast
+        raise invalid(f"{model.joint_names[j]} step of {abs(q - reference)[j]:.4f} rad in one "
+                      f"{SERVO_CYCLE * 1000:g} ms cycle needs {speed_needed:.2f} rad/s, limit "
+                      f"{model.max_velocity[j]:.2f} rad/s; the arm holds")
+
+
+def servo_tcp_step(model: RobotModel, target: np.ndarray, tcp: np.ndarray) -> None:
+    """A servo_p target (4x4, m) whose origin is within one cycle of ``tcp`` at the model's
+    TCP speed limit."""
+    tcp_speed = np.linalg.norm(target[:3, 3] - tcp[:3, 3]) / SERVO_CYCLE * 1000
+    if tcp_speed > model.max_tcp_speed_mm_s:
+        raise invalid(f"pose step needs {tcp_speed:.0f} mm/s in one {SERVO_CYCLE * 1000:g} ms "
+                      f"cycle, limit {model.max_tcp_speed_mm_s:.0f} mm/s; the arm holds")
+
+
+# ---- jog, frames, payload -----------------------------------------------------------------------
+def jog_speed(model: RobotModel, coord: int, axis: int, field: str, value: float,
+              notes: list[str]) -> tuple[str, str, float]:
+    """(axis label, unit of the request, speed in SI: rad/s or m/s) of a jog along ``axis``
+    of ``coord`` (0 joint, 1 base, 2 tool); ``value`` is in rad/s, or mm/s for X–Z."""
+    if coord == 0:
+        label, unit = model.joint_names[axis], "rad/s"
+        return label, unit, speed(field, value, float(model.max_velocity[axis]), unit,
+                                  notes=notes)
+    if axis < 3:
+        return JOG_AXES[axis], "mm/s", speed(field, value, model.max_tcp_speed_mm_s, "mm/s",
+                                             notes=notes) / 1000
+    return JOG_AXES[axis], "rad/s", speed(field, value, MAX_JOG_ROTATION_SPEED, "rad/s",
+                                          notes=notes)
+
+
+def frame_pose(pose: Sequence[float], reach_mm: float) -> np.ndarray:
+    """A tool or user frame (mm + rotation vector) as a 4x4 (m), its origin within
+    ``reach_mm``."""
+    p = vector("pose", pose)
+    distance = float(np.linalg.norm(p[:3]))
+    if distance > reach_mm:
+        raise invalid(f"pose origin is {distance:.1f} mm away, limit {reach_mm:g} mm")
+    return pose_mm_to_matrix(p)
+
+
+def payload(model: RobotModel, mass: float, centroid_mm: Sequence[tuple[str, float]]
+            ) -> tuple[float, np.ndarray]:
+    """(mass kg, centroid m in the flange frame) of a payload; ``centroid_mm`` is the
+    (field name, value mm) of xc, yc, zc. The mass may be up to 1.5 × the rated payload."""
+    m = finite("mass", mass, "kg")
+    limit = 1.5 * model.rated_payload_kg
+    if not 0 <= m <= limit:
+        raise invalid(f"mass is {m:g} kg, expected 0–{limit:g} kg (1.5 × rated payload "
+                      f"of {model.name})")
+    c = np.array([finite(n, v, "mm") for n, v in centroid_mm])
+    if np.linalg.norm(c) > CENTROID_REACH_MM:
+        raise invalid(f"centroid is {np.linalg.norm(c):.1f} mm from the flange, limit "
+                      f"{CENTROID_REACH_MM:g} mm")
+    return m, c / 1000.0
+
+
+# ---- move durations -----------------------------------------------------------------------------
+# A requested duration this little shorter than the minimum is float noise (profiles.py).
+_DURATION_RTOL = 1e-9
+
+
+def joint_move_duration(q_start: np.ndarray, q_goal: np.ndarray, speed: np.ndarray,
+                     accel: np.ndarray, mvtime: Optional[float],
+                     mvvelo: float, mvacc: float) -> float:
+    """Duration (s) of the joint move ``q_start`` → ``q_goal`` at the per-joint ``speed`` and
+    ``accel`` the backend will use (request clamped to the model), stretched to ``mvtime``
+    when given. Raises -2 naming ``mvtime``, ``mvvelo`` or ``mvacc`` (as requested) when the
+    move would be too short or too long."""
+    fastest = SyncJointProfile(q_start, q_goal, speed, accel)
+    needed = fastest.predicted_duration
+    if mvtime is not None:
+        if mvtime < needed * (1.0 - _DURATION_RTOL):
+            k = fastest.limiting_joint
+            raise invalid(f"mvtime is {mvtime:.3f} s, shorter than the {needed:.3f} s this move "
+                          f"needs (limit: joint_{k + 1} moves "
+                          f"{abs(q_goal[k] - q_start[k]):.3f} rad at most {speed[k]:.2f} rad/s, "
+                          f"{accel[k]:.2f} rad/s²)")
+        if mvtime > MAX_MOTION_DURATION:
+            raise invalid(f"mvtime is {mvtime:.4g} s, above the limit of "
+                          f"{MAX_MOTION_DURATION:g} s for one move")
+        return max(mvtime, needed)
+    if needed > MAX_MOTION_DURATION:
+        field, value, unit = _slow_field(mvvelo, mvacc, "rad/s", "rad/s²",
+                                         speed_is_short=_fits_at_any_speed(q_start, q_goal,
+                                                                           accel))
+        raise invalid(f"{field} is {value:g} {unit}: the move would take {needed:.4g} s, above "
+                      f"the limit of {MAX_MOTION_DURATION:g} s for one move")
+    return needed
+
+
+def linear_move_duration(T_start: np.ndarray, T_goal: np.ndarray, speed: float, accel: float,
+                      mvvelo: float, mvacc: float) -> float:
+    """Duration (s) of the straight line ``T_start`` → ``T_goal`` (m) at ``speed`` m/s and
+    ``accel`` m/s² (request clamped to the model). Raises -2 naming ``mvvelo`` or ``mvacc``
+    when it would be longer than the limit."""
+    needed = line_duration(T_start, T_goal, speed, accel)
+    if needed > MAX_MOTION_DURATION:
+        quick = line_duration(T_start, T_goal, max(speed, 1.0), accel)
+        field, value, unit = _slow_field(mvvelo, mvacc, "mm/s", "mm/s²",
+                                         speed_is_short=quick <= MAX_MOTION_DURATION)
+        raise invalid(f"{field} is {value:g} {unit}: the {1000 * _length(T_start, T_goal):.1f} "
+                      f"mm line would take {needed:.4g} s, above the limit of "
+                      f"{MAX_MOTION_DURATION:g} s for one move")
+    return needed
+
+
+def _fits_at_any_speed(q_start, q_goal, accel) -> bool:
+    """Would the move fit in the limit at any speed? Then the speed is what made it long."""
+    quick = SyncJointProfile(q_start, q_goal, np.full_like(accel, 1e3), accel)
+    return quick.predicted_duration <= MAX_MOTION_DURATION
+
+
+def _slow_field(mvvelo: float, mvacc: float, v_unit: str, a_unit: str, *,
+                speed_is_short: bool) -> tuple[str, float, str]:
+    """The field to blame: the speed when a faster one would fit, else the acceleration."""
+    return ("mvvelo", mvvelo, v_unit) if speed_is_short else ("mvacc", mvacc, a_unit)
+
+
+def _length(T_start: np.ndarray, T_goal: np.ndarray) -> float:
+    return float(np.linalg.norm(T_goal[:3, 3] - T_start[:3, 3]))
 
 
 def _u(unit: str) -> str:

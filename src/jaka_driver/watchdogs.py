@@ -1,4 +1,5 @@
-"""Watchdogs shared by both backends: the jog keep-alive and the servo stream.
+"""The driver's watchdogs, kept by RobotDriver whatever the backend: the jog keep-alive and the
+servo stream.
 
 A jog runs only while its client keeps calling: 3.0 s after the last call it is stopped
 (doc §1.3). A servo stream that stops leaves the arm holding its last target, and the next

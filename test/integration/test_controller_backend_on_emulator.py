@@ -17,7 +17,8 @@ from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.motion.trajectory import JointTrajectory
 from jaka_driver.results import Code
 from jaka_driver.robot_state import MotionState
-from jaka_driver.transforms import pose_to_matrix
+from jaka_driver.transforms import pose_mm_to_matrix
+from move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 
@@ -41,7 +42,7 @@ def twin_q(emu) -> np.ndarray:
 
 
 def go_home(backend):
-    result = backend.joint_move(HOME, 2.0, 8.0)
+    result = run_move(backend.start_joint_move(HOME, 2.0, 8.0))
     assert result.ok, result.message
 
 
@@ -71,7 +72,7 @@ def test_start_powers_on_and_enables_like_jakas_driver(emu):
 def test_joint_move_blocks_until_within_1e3_rad(emu, backend):
     target = HOME + np.array([0.3, -0.2, 0.25, 0.1, -0.15, 0.2])
     t0 = time.monotonic()
-    result = backend.joint_move(target, 1.0, 4.0)
+    result = run_move(backend.start_joint_move(target, 1.0, 4.0))
     elapsed = time.monotonic() - t0
     assert result.ok, result.message
     assert np.max(np.abs(twin_q(emu) - target)) <= 1e-3
@@ -83,11 +84,11 @@ def test_joint_move_blocks_until_within_1e3_rad(emu, backend):
 def test_joint_move_with_mvtime_takes_that_long(emu, backend):
     target = HOME + np.array([0.2, 0, 0, 0, 0, 0])
     t0 = time.monotonic()
-    result = backend.joint_move(target, 3.0, 8.0, duration=1.5)
+    result = run_move(backend.start_joint_move(target, 3.0, 8.0, duration=1.5))
     assert result.ok, result.message
     assert 1.4 < time.monotonic() - t0 < 2.3
-    too_short = backend.joint_move(HOME + np.array([2.0, 0, 0, 0, 0, 0]), 1.0, 4.0,
-                                   duration=0.5)
+    too_short = run_move(backend.start_joint_move(HOME + np.array([2.0, 0, 0, 0, 0, 0]),
+                                                  1.0, 4.0, duration=0.5))
     assert too_short.code == Code.INVALID_PARAMETER
     go_home(backend)
 
@@ -96,7 +97,7 @@ def test_linear_move_reaches_the_pose(emu, backend):
     start = backend.state().tcp_pose
     target = start.copy()
     target[:3, 3] += [0.05, -0.03, 0.02]
-    result = backend.linear_move(target, 0.2, 1.0)
+    result = run_move(backend.start_linear_move(target, 0.2, 1.0))
     assert result.ok, result.message
     reached = emu.twin.state().tcp_pose
     assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) < 1e-3
@@ -134,7 +135,7 @@ def test_servo_j_stream(emu, backend):
             assert backend.servo_j(q).ok
             time.sleep(0.008)
         assert wait_until(lambda: np.max(np.abs(twin_q(emu) - q)) <= 1e-3, 1.0)
-        blocked = backend.joint_move(HOME, 1.0, 4.0)
+        blocked = run_move(backend.start_joint_move(HOME, 1.0, 4.0))
         assert blocked.code == Code.CONTROLLER_REJECTED and "servo mode" in blocked.message
     finally:
         assert backend.servo_enable(False).ok
@@ -162,7 +163,8 @@ def test_stop_move_makes_a_blocking_move_return_minus_12(emu, backend):
     outcome = {}
 
     def move():
-        outcome["result"] = backend.joint_move(HOME + np.array([1.0, 0, 0, 0, 0, 0]), 0.4, 2.0)
+        outcome["result"] = run_move(backend.start_joint_move(
+            HOME + np.array([1.0, 0, 0, 0, 0, 0]), 0.4, 2.0))
         outcome["at"] = time.monotonic()
 
     mover = threading.Thread(target=move)
@@ -183,7 +185,8 @@ def test_stop_move_makes_a_blocking_move_return_minus_12(emu, backend):
 def test_protective_stop_ends_a_blocking_move_and_clear_error_recovers(emu, backend):
     outcome = {}
     mover = threading.Thread(target=lambda: outcome.setdefault(
-        "result", backend.joint_move(HOME + np.array([0.8, 0, 0, 0, 0, 0]), 0.4, 2.0)))
+        "result", run_move(backend.start_joint_move(
+            HOME + np.array([0.8, 0, 0, 0, 0, 0]), 0.4, 2.0))))
     mover.start()
     time.sleep(0.4)
     emu.controller.protective_stop("collision on link 3 (injected)")
@@ -198,8 +201,8 @@ def test_protective_stop_ends_a_blocking_move_and_clear_error_recovers(emu, back
 
 
 def test_frames_collision_and_kinematics(emu, backend):
-    tool = pose_to_matrix([0, 0, 100, 0, 0, np.pi / 2], rotation="rotvec", length_scale=1e-3)
-    user = pose_to_matrix([300, -200, 50, 0, 0, 0.3], rotation="rotvec", length_scale=1e-3)
+    tool = pose_mm_to_matrix([0, 0, 100, 0, 0, np.pi / 2])
+    user = pose_mm_to_matrix([300, -200, 50, 0, 0, 0.3])
     try:
         assert backend.set_tool_frame(2, tool).ok
         assert backend.set_user_frame(3, user).ok

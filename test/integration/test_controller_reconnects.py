@@ -19,6 +19,7 @@ from jaka_driver.emulator.process import EmulatorProcess
 from jaka_driver.models import load_model
 from jaka_driver.results import Code
 from jaka_driver.robot_state import MotionState
+from move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 FAR = HOME + np.array([1.2, 0, 0, 0, 0, 0])   # ~4 s at 0.3 rad/s: long enough to interrupt
@@ -47,7 +48,7 @@ class MoveInThread:
         self._thread.start()
 
     def _run(self, backend, target, speed):
-        self.result = backend.joint_move(target, speed, 1.0)
+        self.result = run_move(backend.start_joint_move(target, speed, 1.0))
         self.answered = time.monotonic()
 
     def join(self, timeout):
@@ -58,8 +59,8 @@ class MoveInThread:
 def services_answer_minus_1_quickly(backend):
     """Every kind of service, while the link is down: -1, each well within 1 s."""
     calls = {
-        "joint_move": lambda: backend.joint_move(HOME, 0.5, 1.0),
-        "linear_move": lambda: backend.linear_move(np.eye(4), 0.1, 0.5),
+        "joint_move": lambda: run_move(backend.start_joint_move(HOME, 0.5, 1.0)),
+        "linear_move": lambda: run_move(backend.start_linear_move(np.eye(4), 0.1, 0.5)),
         "jog": lambda: backend.jog(0, 0, 1, 0.1),
         "servo_enable": lambda: backend.servo_enable(True),
         "servo_j": lambda: backend.servo_j(HOME),
@@ -117,7 +118,7 @@ def test_dropped_connections(caplog):
             assert emu.handlers.counts["joint_move"] == 1
             assert backend.stop_move().ok   # the original move was accepted: stop it
             assert wait_until(lambda: not backend.state().moving, 2.0)
-            assert backend.joint_move(HOME, 1.0, 4.0).ok
+            assert run_move(backend.start_joint_move(HOME, 1.0, 4.0)).ok
             assert emu.handlers.counts["joint_move"] == 2
             lost = [r for r in caplog.records if "lost" in r.getMessage()]
             assert len(lost) == 1, "the loss is logged once"
@@ -142,7 +143,7 @@ def test_controller_process_killed_and_restarted():
         assert result.code == Code.NOT_CONNECTED
         assert move.answered - t_kill < 1.0
         assert_shows_the_loss(backend)
-        assert backend.joint_move(HOME, 0.5, 1.0).code == Code.NOT_CONNECTED
+        assert run_move(backend.start_joint_move(HOME, 0.5, 1.0)).code == Code.NOT_CONNECTED
 
         second = EmulatorProcess("zu5", **ports).start()
         t_back = time.monotonic()
@@ -155,7 +156,7 @@ def test_controller_process_killed_and_restarted():
         assert not {"joint_move", "moveL", "jog", "servo_j", "servo_p"} & set(counts), counts
         np.testing.assert_allclose(backend.state().joint_position, q0, atol=1e-5)
         target = HOME + np.array([0.1, 0, 0, 0, 0, 0])
-        result = backend.joint_move(target, 1.0, 4.0)
+        result = run_move(backend.start_joint_move(target, 1.0, 4.0))
         assert result.ok, result.message
         assert np.max(np.abs(backend.state().joint_position - target)) <= 1e-3
     finally:
@@ -174,7 +175,7 @@ def test_start_without_a_controller_then_it_appears():
         backend.start()                       # nobody listens: starts anyway, disconnected
         assert time.monotonic() - t0 < 3.0
         assert not backend.state().connected
-        assert backend.joint_move(HOME, 0.5, 1.0).code == Code.NOT_CONNECTED
+        assert run_move(backend.start_joint_move(HOME, 0.5, 1.0)).code == Code.NOT_CONNECTED
         emulator = Emulator("zu5", **ports).start()
         t_up = time.monotonic()
         assert wait_until(lambda: backend.state().connected, 5.0)

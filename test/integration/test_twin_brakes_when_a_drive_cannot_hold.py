@@ -17,6 +17,7 @@ import pytest
 from jaka_driver.models import load_model
 from jaka_driver.sim.backend import SimBackend
 from jaka_driver.sim.overload import FOLLOWING_ERROR_LIMIT, holding_torque
+from move_helpers import run_move
 
 
 @pytest.fixture
@@ -63,7 +64,7 @@ def test_overload_on_the_way_is_a_protective_stop_on_brakes(twin):
     # tilts it towards horizontal
     assert twin.set_payload(1, 7.0, np.array([0.0, 0.0, 0.45])).ok
     target = twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0])
-    reply = twin.joint_move(target, 1.0, 2.0)
+    reply = run_move(twin.start_joint_move(target, 1.0, 2.0))
     assert reply.code == -12 and "joint_5" in reply.message and "brakes" in reply.message
     assert f"limit {FOLLOWING_ERROR_LIMIT:g} rad" in reply.message
     st = twin.state()
@@ -76,13 +77,14 @@ def test_overload_on_the_way_is_a_protective_stop_on_brakes(twin):
     assert twin.set_payload(1, 1.0, np.array([0.0, 0.0, 0.1])).ok
     assert twin.clear_error().ok and not twin.physics.braked
     assert still_for(twin, 0.3) < 0.01
-    back = twin.joint_move(braked_at - np.array([0, 0, 0, 0, 0.5, 0]), 1.0, 2.0)
+    back = run_move(twin.start_joint_move(braked_at - np.array([0, 0, 0, 0, 0.5, 0]), 1.0, 2.0))
     assert back.ok, back.message
 
 
 def test_clear_err_keeps_the_brakes_on_an_arm_it_could_not_hold(twin):
     assert twin.set_payload(1, 7.0, np.array([0.0, 0.0, 0.45])).ok
-    twin.joint_move(twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0]), 1.0, 2.0)
+    run_move(twin.start_joint_move(twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0]),
+                                   1.0, 2.0))
     assert twin.physics.braked
     # heavier still, as if the payload were changed on a braked arm: the brakes stay closed
     with twin.physics.lock:

@@ -152,7 +152,7 @@ def test_joint_limits_are_respected_and_named_when_they_forbid_a_target():
 
 def test_damped_least_squares_fallback_solves_without_the_closed_form():
     kin = Kinematics(load_model("zu5"))
-    kin._dh = kin._native = None  # as for an arm that is not UR-type
+    kin._closed_form = kin._native = None  # as for an arm that is not UR-type
     q = np.array([0.3, 1.2, -1.0, 0.5, 0.7, 0.2])
     r = kin.ik(kin.flange_pose(q), seed=q + 0.05)
     assert r.success and "damped least squares" in r.message

@@ -1,4 +1,4 @@
-"""The compiled IK fast path (native/jaka_ik.c) answers exactly what the Python path answers.
+"""The compiled IK fast path (kinematics/jaka_ik.c) answers exactly what the Python path answers.
 
 For every model, seeded targets over the whole joint range — with and without a tool and a
 user frame — are solved twice, once through the library and once with it switched off: both
@@ -86,7 +86,7 @@ def test_a_seed_outside_the_limits_is_clamped_like_the_python_path(kin):
 
 
 def test_arrays_c_cannot_read_as_they_are_still_get_the_right_answer(kin):
-    """Fortran-ordered, strided or read-only inputs take the Python path, never a misread."""
+    """Fortran-ordered, strided or read-only inputs are copied for C, never misread."""
     q = np.array([0.1, 1.5, -1.4, 1.5, 1.6, 0.2])
     T = kin.flange_pose(q)
     frozen = T.copy()

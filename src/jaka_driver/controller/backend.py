@@ -10,7 +10,7 @@ commands and the status stream, clear_error → ``clear_error``, FK/IK →
 Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
 active tool in the active user frame) like every backend.
 
-Blocking moves wait on the status stream (:mod:`.move_watch`); state comes from the stream
+A move ends when the status stream says so (:mod:`.move_watch`); state comes from the stream
 (:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
 reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
 reading extension outputs) is answered -9 with the reason.
@@ -24,25 +24,26 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..frames import TOOL, USER_FRAME, FrameTable
 from ..models import RobotModel
+from ..motion.profiles import TrapezoidProfile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, JogMode
 from ..results import Code, CommandRefused, Result
 from ..robot_state import RobotState
-from ..transforms import matrix_to_pose, rotation_angle_between
+from ..transforms import matrix_to_pose_mm, pose_mm_to_matrix, rotation_angle_between
 from .commander import Commander, answers
 from .connection import ControllerLink
-from .frame_table import FrameTable
-from .move_watch import (MoveWatch, joints_at, move_timeout, stretched_speed, tcp_at,
-                         trapezoid_time)
+from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
-from .status_view import StatusView, tcp_matrix
+from .status_view import StatusView
 
 log = logging.getLogger(__name__)
 
 #: ROS jog coord (0 joint, 1 base, 2 tool) → the wire's coord_map (0 base, 1 joint, 2 tool).
 JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
+MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
 LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
 DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
                     "for it); use the teach pendant or the button on the arm")
@@ -51,9 +52,10 @@ STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
              ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
 
 
-def _mm_rotvec(pose: np.ndarray) -> np.ndarray:
-    """4x4 pose (m) → [x, y, z mm, rotation vector rad]."""
-    return np.asarray(matrix_to_pose(pose, rotation="rotvec", length_scale=1e-3), float)
+def _warn_unknown_frame(kind: str, frame_id: int) -> None:
+    log.warning("%s %d is active but was set outside this driver: the protocol cannot read its "
+                "offset, so the identity is assumed in conversions; set it again with set_%s",
+                kind, frame_id, "toolframe" if kind == TOOL else "userframe")
 
 
 class ControllerBackend(Backend):
@@ -80,7 +82,7 @@ class ControllerBackend(Backend):
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
         self.send = Commander(self.link, power_timeout)
-        self.frame_table = FrameTable()
+        self.frame_table = FrameTable(on_unknown=_warn_unknown_frame)
         self._lock = threading.RLock()
         self._send_lock = threading.Lock()   # orders sending a move against stop_move
         self._watch: Optional[MoveWatch] = None
@@ -208,79 +210,63 @@ class ControllerBackend(Backend):
         self.send.confirmed(request, lambda s: s.enabled == on, "enable")
         return Result.success("enabled" if on else "disabled")
 
-    # ---- blocking moves -------------------------------------------------------------------------
-    def _blocking(self, request, watch: MoveWatch, timeout: float) -> Result:
-        """Send a move, then wait on the status stream until it ends (see move_watch)."""
+    # ---- moves --------------------------------------------------------------------------------
+    def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
+        """Send a move; ``Result.value`` is ``(watch.completion, estimate)``. The watch ends the
+        move from the status stream (see move_watch); RobotDriver waits and stops an overrun."""
         self.send.require_link()
         with self._lock:
             if self._streamer is not None and self._streamer.running:
                 raise CommandRefused(Code.BUSY, f"{watch.label} refused: a trajectory runs")
             self._watch = watch
-        try:
-            watch.arm()
-            with self._send_lock:
-                if watch.completion.done:   # stop_move came first: the move is not sent
-                    return watch.completion.result
-                self.send.accepted(request)
-            outcome = watch.completion.wait(timeout)
-            if outcome is None:
-                self._stop_quietly()
-                return Result.failure(Code.MOTION_STOPPED, f"{watch.label} did not reach its "
-                                      f"target within {timeout:.1f} s; stopped")
-            return outcome
-        finally:
-            with self._lock:
-                if self._watch is watch:
-                    self._watch = None
-
-    def _stop_quietly(self) -> None:
-        try:
-            self.link.call(commands.stop_program())
-        except errors.JakaProtocolError as exc:
-            log.warning("stop_program failed: %s", exc)
+        watch.arm()
+        with self._send_lock:
+            # stop_move or a lost link may end the watch before the move goes out: then it
+            # is not sent, and the completion already says why
+            if not watch.completion.done:
+                try:
+                    self.send.accepted(request)
+                except CommandRefused as refusal:
+                    watch.abort(refusal.result())
+                    raise
+        return Result.success(f"{watch.label} started", (watch.completion, estimate))
 
     @answers
-    def joint_move(self, q_target, speed, accel, duration=None) -> Result:
+    def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
         q_target = np.asarray(q_target, float)
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].joint_position)):
             # The controller synchronises the joints: the longest travel sets the time.
             longest = float(np.max(np.abs(q_target - latest[0].joint_position)))
-            estimate = trapezoid_time(longest, speed, accel)
+            estimate = TrapezoidProfile(longest, speed, accel).min_duration
             if duration:
                 if estimate > duration + 1e-6:
                     raise CommandRefused(Code.INVALID_PARAMETER,
                                          f"mvtime {duration:g} s is too short: the move needs "
                                          f"at least {estimate:.3f} s at the allowed speed")
                 # The wire has no duration: lower the peak speed so the move takes that long.
-                speed, estimate = stretched_speed(longest, accel, duration), duration
-        result = self._blocking(commands.joint_move(q_target, speed, accel),
-                                MoveWatch("joint_move", joints_at(q_target)),
-                                move_timeout(estimate))
-        latest = self.link.latest
-        if result.ok and latest is not None:
-            error = float(np.max(np.abs(latest[0].joint_position - q_target)))
-            return Result.success(f"{result.message}, final error {error:.1e} rad")
-        return result
+                stretched = TrapezoidProfile(longest, speed, accel, duration=duration)
+                speed, estimate = max(stretched.peak_speed, MIN_WIRE_SPEED), duration
+        watch = MoveWatch("joint_move", joints_at(q_target), final_error=joint_error(q_target))
+        return self._start_move(commands.joint_move(q_target, speed, accel), watch, estimate)
 
     @answers
-    def linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        pose = _mm_rotvec(target)
+    def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
+        pose = matrix_to_pose_mm(target)
         speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
-            here = tcp_matrix(latest[0].tcp_pose)
+            here = pose_mm_to_matrix(latest[0].tcp_pose)
             distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
             angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
-            estimate = trapezoid_time(distance, speed_mm, accel_mm) + angle / LINEAR_ROTATION_SPEED
-        result = self._blocking(commands.moveL(pose, speed_mm, accel_mm),
-                                MoveWatch("linear_move", tcp_at(pose)), move_timeout(estimate))
-        if result.ok and ref_q is not None:
-            return Result.success(f"{result.message} (ref_joint is not sent: moveL chooses the "
-                                  "configuration itself)")
-        return result
+            estimate = (TrapezoidProfile(distance, speed_mm, accel_mm).min_duration
+                        + angle / LINEAR_ROTATION_SPEED)
+        note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
+                                           "configuration itself")
+        watch = MoveWatch("linear_move", tcp_at(pose), note=note)
+        return self._start_move(commands.moveL(pose, speed_mm, accel_mm), watch, estimate)
 
     # ---- trajectories ---------------------------------------------------------------------------
     @answers
@@ -363,7 +349,7 @@ class ControllerBackend(Backend):
 
     @answers
     def servo_p(self, target) -> Result:
-        self.send.accepted(commands.servo_p(_mm_rotvec(target)))
+        self.send.accepted(commands.servo_p(matrix_to_pose_mm(target)))
         return Result.success("servo_p target sent")
 
     @answers
@@ -386,14 +372,14 @@ class ControllerBackend(Backend):
     @answers
     def set_tool_frame(self, tool_id, pose) -> Result:
         tool_id = int(tool_id)
-        self._set_frame("tool", tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
+        self._set_frame(TOOL, tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
         self._ids = (tool_id, self._ids[1])
         return Result.success(f"tool {tool_id} set and active")
 
     @answers
     def set_user_frame(self, user_id, pose) -> Result:
         user_id = int(user_id)
-        self._set_frame("user frame", user_id, pose, commands.set_user_offsets,
+        self._set_frame(USER_FRAME, user_id, pose, commands.set_user_offsets,
                         commands.set_user_id)
         self._ids = (self._ids[0], user_id)
         return Result.success(f"user frame {user_id} set and active")
@@ -402,7 +388,7 @@ class ControllerBackend(Backend):
         """Store the offset (not for id 0, the flange / base itself), then activate the id."""
         if frame_id:
             name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
-            self.send.accepted(store(frame_id, _mm_rotvec(pose), name))
+            self.send.accepted(store(frame_id, matrix_to_pose_mm(pose), name))
             self.frame_table.store(kind, frame_id, pose)
         self.send.accepted(activate(frame_id))
 
@@ -477,11 +463,11 @@ class ControllerBackend(Backend):
         pose = self.send.read(commands.kine_forward(np.asarray(q, float)),
                               commands.reply_kine_forward)
         return Result.success("controller's forward kinematics (active tool, active user "
-                              "frame)", tcp_matrix(pose))
+                              "frame)", pose_mm_to_matrix(pose))
 
     @answers
     def inverse_kinematics(self, target, ref_q) -> Result:
-        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rotvec(target))
+        request = commands.kine_inverse(np.asarray(ref_q, float), matrix_to_pose_mm(target))
         reply = self.send.call(request)
         if not reply.ok:
             # The controller's IK refusal means "unreachable": the contract's -4.

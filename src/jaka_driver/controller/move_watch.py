@@ -11,51 +11,24 @@ controller started the move, still says ``inpos`` — so a watch counts a move a
 
 A fault in the stream (e-stop, protective stop, controller error, power or enable lost) ends
 the watch with -12; :meth:`MoveWatch.abort` ends it from outside (stop_move: -12; link lost:
--1). The caller waits on ``completion``, at most :func:`move_timeout` of the move's estimated
-duration (the controller does not say how long a move will take).
+-1). RobotDriver waits on ``completion``, at most ``constants.move_deadline`` of the move's
+estimated duration (the controller does not say how long a move will take).
 """
 from __future__ import annotations
 
-import math
 import time
 from typing import Callable, Optional
 
 import numpy as np
 
 from ..completion import Completion
+from ..constants import IN_POSITION
 from ..protocol.status_stream import RobotStatus
 from ..results import Code, Result
 from ..transforms import rotation_angle_between, rotvec_to_matrix
 
-IN_POSITION = 1e-3        # rad, contract.md: a joint move is in position within 1e-3 rad
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
 TCP_IN_POSITION_RAD = 2e-3
-TIMEOUT_FACTOR = 1.5      # a move may take this × its estimated duration ...
-TIMEOUT_MARGIN = 2.0      # ... plus this many seconds, before it counts as failed
-
-
-def move_timeout(estimate: float) -> float:
-    """How long (s) to wait for a move estimated to take ``estimate`` s."""
-    return TIMEOUT_FACTOR * estimate + TIMEOUT_MARGIN
-
-
-def trapezoid_time(distance: float, speed: float, accel: float) -> float:
-    """Duration (s) of a rest-to-rest trapezoidal move over ``distance`` at peak ``speed`` and
-    ``accel`` (any consistent units)."""
-    distance = abs(distance)
-    if speed <= 0 or accel <= 0:
-        return math.inf
-    if distance * accel > speed * speed:
-        return distance / speed + speed / accel
-    return 2.0 * math.sqrt(distance / accel)
-
-
-def stretched_speed(distance: float, accel: float, duration: float) -> float:
-    """The peak speed at which a trapezoidal move over ``distance`` with ``accel`` takes
-    ``duration`` s (the slower root of d/v + v/a = T); the move must be possible that fast."""
-    disc = max(0.0, duration * duration - 4.0 * abs(distance) / accel)
-    return max(1e-6, 0.5 * accel * (duration - math.sqrt(disc)))
-
 
 def fault_of(status: RobotStatus) -> Optional[str]:
     """Why the controller cannot be moving a commanded motion any more, or None."""
@@ -82,6 +55,15 @@ def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[R
     return at
 
 
+def joint_error(target: np.ndarray) -> Callable[[RobotStatus], str]:
+    """Describes how far the measured joints ended from ``target`` (rad)."""
+    goal = np.asarray(target, float)
+
+    def error(status: RobotStatus) -> str:
+        return f"final error {float(np.max(np.abs(status.joint_position - goal))):.1e} rad"
+    return error
+
+
 def tcp_at(target_mm_rotvec: np.ndarray) -> Callable[[RobotStatus], bool]:
     """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + rotvec)."""
     goal = np.asarray(target_mm_rotvec, float)
@@ -104,8 +86,12 @@ class MoveWatch:
     target is enough. Feed it every packet with :meth:`on_status`."""
 
     def __init__(self, label: str, at_target: Callable[[RobotStatus], bool],
-                 need_inpos: bool = True):
+                 need_inpos: bool = True,
+                 final_error: Optional[Callable[[RobotStatus], str]] = None,
+                 note: Optional[str] = None):
         self.label = label
+        self._final_error = final_error
+        self._note = note
         self.completion = Completion()
         self._at_target = at_target
         self._need_inpos = need_inpos
@@ -130,8 +116,12 @@ class MoveWatch:
             self._seen_moving = True
             return
         if self._seen_moving or self._at_target(status):
-            self.completion.finish(Result.success(
-                f"{self.label} done in {time.monotonic() - self.started:.3f} s"))
+            message = f"{self.label} done in {time.monotonic() - self.started:.3f} s"
+            if self._final_error is not None:
+                message += f", {self._final_error(status)}"
+            if self._note is not None:
+                message += f" ({self._note})"
+            self.completion.finish(Result.success(message))
 
     def abort(self, result: Result) -> None:
         self.completion.finish(result)

@@ -20,17 +20,17 @@ from typing import Callable, Iterator, Optional, Tuple
 import numpy as np
 
 from ..completion import Completion
+from ..constants import SERVO_CYCLE
 from ..protocol import commands, errors
 from ..results import Code, Result
 from .move_watch import MoveWatch, joints_at
 
 log = logging.getLogger(__name__)
 
-CYCLE = 0.008         # s, the controller's servo period
 SETTLE_TIMEOUT = 2.0  # s after the last set-point for the arm to arrive within 1e-3 rad
 
 
-def setpoints(trajectory, step_num: int, cycle: float = CYCLE
+def setpoints(trajectory, step_num: int, cycle: float = SERVO_CYCLE
               ) -> Iterator[Tuple[float, np.ndarray, int]]:
     """``(t, q, n)``: joints ``q`` (rad) to be reached at ``t`` s in ``n`` cycles; the last
     one is the trajectory's final point."""
@@ -106,7 +106,7 @@ class TrajectoryStreamer:
         for t, q, n in setpoints(self.trajectory, self._step_num):
             if self.watch.completion.done:
                 return
-            delay = t0 + t - n * CYCLE - time.monotonic()   # due when its interval starts
+            delay = t0 + t - n * SERVO_CYCLE - time.monotonic()   # due when its interval starts
             if delay > 0:
                 time.sleep(delay)
             try:

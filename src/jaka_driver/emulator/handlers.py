@@ -25,7 +25,7 @@ from ..protocol.fields import Cmd, CoordMap, ERROR_CODE_OK, Field, JogMode, Stat
 from ..protocol.status_stream import encode_status
 from ..protocol.wire import as_flag
 from ..protocol.errors import ProtocolError
-from ..transforms import pose_to_matrix
+from ..transforms import pose_mm_to_matrix
 from .status_packet import status_fields, wire_pose
 from .twin_controller import (ERROR_REFUSED, ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected,
                               TwinController)
@@ -122,8 +122,7 @@ def _joints(req: Mapping, key: str = Field.JOINT_POSITION) -> np.ndarray:
 
 def _pose(req: Mapping, key: str) -> np.ndarray:
     """Wire pose (mm, RPY deg) → 4x4 (m)."""
-    return pose_to_matrix(units.pose_from_wire(_vec(req, key, 6)), rotation="rotvec",
-                          length_scale=1e-3)
+    return pose_mm_to_matrix(units.pose_from_wire(_vec(req, key, 6)))
 
 
 def _relative(base: np.ndarray, increment: np.ndarray) -> np.ndarray:

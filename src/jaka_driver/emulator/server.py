@@ -19,6 +19,7 @@ import threading
 import time
 from typing import Callable, Dict, List
 
+from ..constants import SERVO_CYCLE
 from ..protocol.status_stream import encode_status
 from ..protocol.wire import encode_json
 from .framing import RequestSplitter
@@ -26,7 +27,7 @@ from .handlers import CommandHandlers
 
 log = logging.getLogger(__name__)
 
-STATUS_PERIOD = 0.008    # s, the controller cycle
+STATUS_PERIOD = SERVO_CYCLE     # s, the controller publishes once per cycle
 SEND_TIMEOUT = 0.5       # s a status client may block a send before it is dropped
 IDLE_TIMEOUT = 1.0       # s an incomplete request may wait for its remaining bytes
 _POLL = 0.1              # s, how often blocked threads look at the stop flag

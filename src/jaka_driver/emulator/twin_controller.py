@@ -19,9 +19,12 @@ from typing import Optional
 import numpy as np
 
 from ..completion import Completion
+from ..constants import SERVO_CYCLE
+from ..frames import TOOL, USER_FRAME, FrameTable
 from ..results import Result
-from ..sim.backend import CYCLE, SimBackend
+from ..sim.backend import SimBackend
 from ..sim.motions import ServoTarget
+from ..validation import fastest_step, outside_limits
 
 #: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
 #: missing or malformed field); "2": a valid command refused in the current state.
@@ -84,8 +87,7 @@ class TwinController:
         self.version = f"{version} ({twin.model.name} twin)"
         self.lock = threading.RLock()
         self._pending: Optional[Completion] = None    # the accepted move, until it ends
-        self.tools = {i: np.eye(4) for i in FRAME_IDS}
-        self.users = {i: np.eye(4) for i in FRAME_IDS}
+        self.frames = FrameTable()
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
         self.collision_level = twin.collision_level
@@ -123,9 +125,8 @@ class TwinController:
 
     def check_limits(self, q: np.ndarray, what: str) -> None:
         m = self.model
-        outside = np.flatnonzero((q < m.lower - 1e-9) | (q > m.upper + 1e-9))
-        if outside.size:
-            i = int(outside[0])
+        i = outside_limits(m, q, tolerance=1e-9)   # the wire's degrees round-trip to ~1e-12
+        if i is not None:
             raise Rejected(f"{what}: joint {i + 1} target {np.degrees(q[i]):.3f} deg is outside "
                            f"[{np.degrees(m.lower[i]):.1f}, {np.degrees(m.upper[i]):.1f}] deg",
                            ERROR_REQUEST)
@@ -235,12 +236,12 @@ class TwinController:
             self.require_can_move(what, servo_ok=True)
             target = self._servo_target(what)
             self.check_limits(q, what)
-            step = np.abs(q - target.goal) / (steps * CYCLE)
-            worst = int(np.argmax(step / self.model.max_velocity))
-            if step[worst] > self.model.max_velocity[worst]:
-                raise Rejected(f"{what}: joint {worst + 1} would move at "
-                               f"{np.degrees(step[worst]):.1f} deg/s, limit "
-                               f"{np.degrees(self.model.max_velocity[worst]):.1f} deg/s")
+            too_fast = fastest_step(self.model, target.goal, q, steps * SERVO_CYCLE)
+            if too_fast is not None:
+                j, speed = too_fast
+                raise Rejected(f"{what}: joint {j + 1} would move at "
+                               f"{np.degrees(speed):.1f} deg/s, limit "
+                               f"{np.degrees(self.model.max_velocity[j]):.1f} deg/s")
             if steps == 1:
                 target.set(q)
             else:
@@ -257,23 +258,23 @@ class TwinController:
     # ---- frames, payload, settings ------------------------------------------------------------
     def set_tool_offset(self, tool_id: int, pose: np.ndarray) -> None:
         with self.lock:
-            self.tools[tool_id] = pose.copy()
+            self.frames.store(TOOL, tool_id, pose)
             if self.twin.tool_id == tool_id:
                 self.twin.set_tool_frame(tool_id, pose)   # re-apply the active tool
 
     def activate_tool(self, tool_id: int) -> None:
         with self.lock:
-            self.twin.set_tool_frame(tool_id, self.tools[tool_id])
+            self.twin.set_tool_frame(tool_id, self.frames.get(TOOL, tool_id))
 
     def set_user_offset(self, user_id: int, pose: np.ndarray) -> None:
         with self.lock:
-            self.users[user_id] = pose.copy()
+            self.frames.store(USER_FRAME, user_id, pose)
             if self.twin.user_id == user_id:
                 self.twin.set_user_frame(user_id, pose)
 
     def activate_user(self, user_id: int) -> None:
         with self.lock:
-            self.twin.set_user_frame(user_id, self.users[user_id])
+            self.twin.set_user_frame(user_id, self.frames.get(USER_FRAME, user_id))
 
     def set_payload(self, mass: float, centroid_mm: np.ndarray) -> None:
         with self.lock:

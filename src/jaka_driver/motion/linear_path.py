@@ -15,6 +15,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..constants import SERVO_CYCLE
 from ..results import Code, CommandRefused
 from ..transforms import rotation_angle_between, slerp
 from .profiles import TrapezoidProfile
@@ -72,7 +73,7 @@ def _joints(name: str, value, n: int) -> np.ndarray:
 
 
 def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: IK, lower,
-                     upper, v_max, cycle: float = 0.008, ref_q=None,
+                     upper, v_max, cycle: float = SERVO_CYCLE, ref_q=None,
                      angular_speed: Optional[float] = None,
                      angular_accel: Optional[float] = None) -> JointTrajectory:
     """Plan a straight-line TCP move from ``T_start`` (the pose at ``q_start``) to ``T_goal``.

@@ -18,11 +18,11 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
                               FollowJointTrajectoryResult)
 from trajectory_msgs.msg import JointTrajectoryPoint
 
+from ..constants import SERVO_CYCLE
 from ..driver import RobotDriver
 from ..motion.spline import Waypoint, sample_waypoints
 from ..motion.trajectory import MAX_MOTION_DURATION, JointTrajectory
 
-CYCLE = 0.008
 START_TOLERANCE = 0.05      # rad: a point at t = 0 must be this close to the arm
 Result = FollowJointTrajectoryResult
 
@@ -88,7 +88,7 @@ class TrajectoryActionServer:
                     raise GoalRejected(Result.INVALID_GOAL, f"the point at t = 0 is {gap:.3f} rad "
                                        f"from the arm (tolerance {START_TOLERANCE} rad)")
             waypoints.append(Waypoint(t, q, qd, qdd))
-        times, q, qd = sample_waypoints(state.joint_position, waypoints, CYCLE)
+        times, q, qd = sample_waypoints(state.joint_position, waypoints, SERVO_CYCLE)
         ratio = np.max(np.abs(qd), axis=0) / self.model.max_velocity
         worst = int(np.argmax(ratio))
         if ratio[worst] > 1.0 + 1e-6:

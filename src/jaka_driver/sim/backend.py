@@ -13,6 +13,9 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..completion import Completion
+from ..constants import IN_POSITION, SERVO_CYCLE
+from ..frames import TOOL, USER_FRAME, FrameTable
 from ..kinematics import Kinematics
 from ..models import RobotModel
 from ..motion.linear_path import PlanningError, plan_linear_move
@@ -20,20 +23,17 @@ from ..motion.profiles import SyncJointProfile
 from ..motion.trajectory import JointTrajectory
 from ..results import Code, Result
 from ..robot_state import RobotState
-from ..transforms import matrix_to_pose
+from ..transforms import matrix_to_pose_mm
+from ..validation import fastest_step, outside_limits
 from . import jog_steps
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
-from ..completion import Completion
 from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
 from .twin_model import Payload, build_twin_model
 
-CYCLE = 0.008                 # s, controller cycle
-IN_POSITION = 1e-3            # rad
-SETTLE_MARGIN = 2.0           # s a blocking move may take beyond its plan before it fails
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])  # JAKA "pose_1"
 JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
@@ -41,7 +41,7 @@ JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
 
 class SimBackend(Backend):
     kind = "sim"
-    sample_period = CYCLE
+    sample_period = SERVO_CYCLE
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False):
@@ -50,16 +50,15 @@ class SimBackend(Backend):
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
         q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
-        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, CYCLE)
-        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=CYCLE)
+        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, SERVO_CYCLE)
+        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE)
         self.payload = Payload(self.mj_model)
         self.collisions = CollisionMonitor(self.mj_model, self._collided)
         self.overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
         self.physics.on_cycle += [self.collisions.check, self.overload.check]
         self.io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._lock = threading.RLock()
-        self._tools = {0: np.eye(4)}
-        self._users = {0: np.eye(4)}
+        self.frame_table = FrameTable()
         self.tool_id = 0
         self.user_id = 0
         self.powered = True
@@ -205,7 +204,7 @@ class SimBackend(Backend):
         """Hand a planned trajectory to the physics thread; ``Result.value`` is the
         :class:`Completion` to wait on (the emulator replies at once, like a controller)."""
         completion = Completion()
-        run = TrajectoryRun(trajectory, CYCLE, IN_POSITION, completion, label)
+        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, completion, label)
         with self._lock:
             if self.physics.motion.active:
                 return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
@@ -216,19 +215,8 @@ class SimBackend(Backend):
                 self.physics.switch(run)
         return Result.success(f"{label} started", (completion, trajectory.duration))
 
-    def _wait_run(self, started: Result, label: str) -> Result:
-        if not started.ok:
-            return started
-        completion, duration = started.value
-        result = completion.wait(duration + SETTLE_MARGIN)
-        if result is None:
-            self._stop_motion(stopped(f"{label} did not settle within {IN_POSITION:g} rad"))
-            return Result.failure(Code.MOTION_STOPPED, f"{label} did not reach the target "
-                                  f"within {duration + SETTLE_MARGIN:.2f} s")
-        return result
-
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
-        """Plan and start a joint move without waiting (see :meth:`joint_move`)."""
+        """Plan the synchronised profile and hand it to the physics thread."""
         q0 = self.physics.servo.setpoint.copy()
         v = np.minimum(speed, self.model.max_velocity)
         a = np.minimum(accel, self.model.max_acceleration)
@@ -236,14 +224,11 @@ class SimBackend(Backend):
             profile = SyncJointProfile(q0, q_target, v, a, duration=duration)
         except ValueError as exc:
             return Result.failure(Code.INVALID_PARAMETER, str(exc))
-        return self._start_run(JointTrajectory.from_profile(profile, CYCLE), "joint_move")
-
-    def joint_move(self, q_target, speed, accel, duration=None) -> Result:
-        return self._wait_run(self.start_joint_move(q_target, speed, accel, duration),
-                              "joint_move")
+        return self._start_run(JointTrajectory.from_profile(profile, SERVO_CYCLE), "joint_move")
 
     def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        """Plan the whole line and start it without waiting (see :meth:`linear_move`)."""
+        """Plan the whole line (IK at every cycle, limits, speeds) before anything moves, then
+        hand it to the physics thread."""
         tool, user = self.frames()
         q0 = self.physics.servo.setpoint.copy()
         start = self.kin.tcp_pose(q0, tool, user)
@@ -255,13 +240,10 @@ class SimBackend(Backend):
         try:
             trajectory = plan_linear_move(start, target, speed, accel, q0, ik, self.model.lower,
                                           self.model.upper, self.model.max_velocity,
-                                          cycle=CYCLE, ref_q=ref_q)
+                                          cycle=SERVO_CYCLE, ref_q=ref_q)
         except PlanningError as exc:
             return Result.failure(exc.code, str(exc))
         return self._start_run(trajectory, "linear_move")
-
-    def linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        return self._wait_run(self.start_linear_move(target, speed, accel, ref_q), "linear_move")
 
     def start_trajectory(self, trajectory: JointTrajectory) -> Result:
         return self._start_run(trajectory, "trajectory")
@@ -278,7 +260,7 @@ class SimBackend(Backend):
             jog = self._make_jog(coord, axis, direction, speed)
             if isinstance(current, Jog) and current.active:
                 # Switching direction: brake the old axis first, then start the new one.
-                self.physics.switch(Stopping(self._stop_decel, CYCLE,
+                self.physics.switch(Stopping(self._stop_decel, SERVO_CYCLE,
                                              on_rest=lambda: self.physics.switch(jog)))
             else:
                 self.physics.switch(jog)
@@ -289,13 +271,13 @@ class SimBackend(Backend):
         if coord == 0:
             accel = float(self.model.max_acceleration[axis])
             step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel,
-                                        CYCLE)
+                                        SERVO_CYCLE)
         else:
             accel = self.model.max_tcp_accel_mm_s2 / 1000.0 if axis < 3 else JOG_ROTATION_ACCEL
             tool, _ = self.frames()
             step = jog_steps.cartesian_step(self.kin, self.model, axis, direction, coord == 2,
-                                            tool, CYCLE)
-        jog = Jog(speed, accel, CYCLE, step, (coord, axis, direction))
+                                            tool, SERVO_CYCLE)
+        jog = Jog(speed, accel, SERVO_CYCLE, step, (coord, axis, direction))
         return jog
 
     def jog_stop(self) -> Result:
@@ -340,18 +322,17 @@ class SimBackend(Backend):
             return Result.failure(Code.IK_FAILED, f"servo_p target has no IK solution near the "
                                   f"current joints: {solution.message}")
         q = solution.q
-        outside = (q < self.model.lower) | (q > self.model.upper)
-        if outside.any():
-            i = int(np.argmax(outside))
+        i = outside_limits(self.model, q)
+        if i is not None:
             return Result.failure(Code.IK_FAILED, f"servo_p target needs "
                                   f"{self.model.joint_names[i]} = {q[i]:.3f} rad, outside its "
                                   "limits")
-        step = np.abs(q - seed) / CYCLE
-        worst = int(np.argmax(step / self.model.max_velocity))
-        if step[worst] > self.model.max_velocity[worst]:
+        too_fast = fastest_step(self.model, seed, q)
+        if too_fast is not None:
+            j, speed = too_fast
             return Result.failure(Code.INVALID_PARAMETER, f"servo_p target needs "
-                                  f"{self.model.joint_names[worst]} at {step[worst]:.2f} rad/s, "
-                                  f"limit {self.model.max_velocity[worst]:.2f} rad/s; the arm "
+                                  f"{self.model.joint_names[j]} at {speed:.2f} rad/s, "
+                                  f"limit {self.model.max_velocity[j]:.2f} rad/s; the arm "
                                   "holds")
         target.set(q)
         return Result.success("servo_p target accepted", q)
@@ -369,25 +350,22 @@ class SimBackend(Backend):
 
     def _stop_motion(self, reason: Result) -> None:
         with self._lock:
-            self.physics.switch(Stopping(self._stop_decel, CYCLE)).abort(reason)
+            self.physics.switch(Stopping(self._stop_decel, SERVO_CYCLE)).abort(reason)
 
     # ---- frames, payload, settings ---------------------------------------------------------------
     def frames(self):
         with self._lock:
-            return self._tools.get(self.tool_id, np.eye(4)), self._users.get(self.user_id,
-                                                                              np.eye(4))
+            return self.frame_table.active(self.tool_id, self.user_id)
 
     def set_tool_frame(self, tool_id, pose) -> Result:
         with self._lock:
-            if tool_id:
-                self._tools[tool_id] = pose.copy()
+            self.frame_table.store(TOOL, tool_id, pose)
             self.tool_id = tool_id
         return Result.success(f"tool {tool_id} set {_mm(pose)} and active")
 
     def set_user_frame(self, user_id, pose) -> Result:
         with self._lock:
-            if user_id:
-                self._users[user_id] = pose.copy()
+            self.frame_table.store(USER_FRAME, user_id, pose)
             self.user_id = user_id
         return Result.success(f"user frame {user_id} set {_mm(pose)} and active")
 
@@ -470,12 +448,11 @@ class SimBackend(Backend):
         if not solution.success:
             return Result.failure(Code.IK_FAILED, f"no IK solution: {solution.message}")
         q = solution.q
-        outside = (q < self.model.lower) | (q > self.model.upper)
-        if outside.any():
+        if outside_limits(self.model, q) is not None:
             return Result.failure(Code.IK_FAILED, "the IK solution leaves the joint limits")
         return Result.success("inverse kinematics nearest ref_joint", q)
 
 
 def _mm(pose: np.ndarray) -> str:
-    p = matrix_to_pose(pose, rotation="rotvec", length_scale=1e-3)
+    p = matrix_to_pose_mm(pose)
     return f"to ({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm, ({p[3]:.4f}, {p[4]:.4f}, {p[5]:.4f}) rad"

@@ -27,6 +27,7 @@ from typing import Callable, Optional
 import mujoco
 import numpy as np
 
+from ..constants import SERVO_CYCLE
 from .motions import Hold, Motion
 from .servo import JointServo
 
@@ -52,7 +53,7 @@ class PhysicsLoop:
     """Owns ``MjData``; all access to it happens in the loop thread (or under ``lock``)."""
 
     def __init__(self, m: mujoco.MjModel, servo: JointServo, q0: np.ndarray,
-                 cycle: float = 0.008):
+                 cycle: float = SERVO_CYCLE):
         self.m = m
         self.d = mujoco.MjData(m)
         self.servo = servo

@@ -276,7 +276,8 @@ static int sane(double x) { return fabs(x) <= 1e150; }
  * (= joint-6 frame: the flange placement is identity), seed the reference joints (rad), no
  * tool offset. Checks what the Python side would (every value finite) and clamps the seed
  * into the limits; returns 0 for anything it does not solve (the Python path then answers,
- * with the proper error for bad input). out: q (6) then the errors (2). */
+ * with the proper error for bad input, without entering C again: jk_ik would only repeat this
+ * same search). out: q (6) then the errors (2). */
 int jk_ik_seeded(const jk_chain *c, const double *T, const double *seed, double pos_tol,
                  double rot_tol, double *out) {
     double ref[6];

@@ -1,16 +1,18 @@
-"""The compiled fast path of the seeded IK (``native/jaka_ik.c``), through ctypes.
+"""The compiled fast path of the IK (``jaka_ik.c`` beside this file), through ctypes.
 
-:class:`jaka_driver.kinematics.Kinematics` calls it first for every IK request on a UR-type
+:class:`jaka_driver.kinematics.Kinematics` enters it once for every IK request on a UR-type
 chain: closed form of the nearest configuration + Newton steps, in one C call instead of
-dozens of Python → Pinocchio calls (the benchmark's IK row: issue 6). It answers only
-successes; anything else (no closed-form solution, a singular spot, no convergence) goes to
-the Python path, which also explains failures. Both compute the same solution.
+dozens of Python → Pinocchio calls. It answers only successes; anything else (no closed-form
+solution, a singular spot, no convergence) goes to the Python path, which also explains
+failures — without a second C call, which would only compute the same refusal again. Both
+paths compute the same solution.
 
 ``make setup`` compiles the library to ``devel/lib/libjaka_ik.so`` (``JAKA_IK_LIB`` names
 another file). Without it — a catkin workspace that did not run the setup, a machine without
 a C compiler — :func:`load` answers None and the Python path does everything, only slower.
 
-Units: m, rad; matrices row-major 4x4 (joint-6 frame in the base frame).
+Units: m, rad. Frames: matrices are row-major 4x4 poses in the base frame (``base_link``), of
+the flange (:meth:`NativeIk.solve_seeded`) or of the joint-6 frame (:meth:`NativeIk.solve`).
 """
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ _Out = ctypes.c_double * 8
 
 
 class _Chain(ctypes.Structure):
-    """``jk_chain`` of jaka_ik.c, field for field."""
+    """``jk_chain`` of jaka_ik.c, field for field (m, rad)."""
 
     _fields_ = [("R", (ctypes.c_double * 9) * 6), ("t", (ctypes.c_double * 3) * 6),
                 ("a2", ctypes.c_double), ("a3", ctypes.c_double), ("d4", ctypes.c_double),
@@ -40,10 +42,11 @@ class _Chain(ctypes.Structure):
 
 
 def library_path() -> Path:
+    """The compiled library: ``$JAKA_IK_LIB``, else ``devel/lib/libjaka_ik.so`` of this tree."""
     explicit = os.environ.get("JAKA_IK_LIB")
     if explicit:
         return Path(explicit)
-    return Path(__file__).resolve().parents[2] / "devel" / "lib" / LIBRARY
+    return Path(__file__).resolve().parents[3] / "devel" / "lib" / LIBRARY
 
 
 def _open() -> Optional[ctypes.CDLL]:
@@ -77,20 +80,28 @@ class NativeIk:
         self._chain = chain          # kept alive: C reads it on every call
         self._chain_addr = ctypes.addressof(chain)
 
-    def solve_seeded(self, flange: np.ndarray, seed: np.ndarray, pos_tol: float,
-                     rot_tol: float):
-        """:meth:`solve` for a flange pose (4x4, base frame) and a seed (rad), no tool, no
-        user frame: the arrays go to C as they are (finiteness and the seed's clamping are
-        checked there), the cheapest call of all. None when the arrays are not plain
-        float64 (4x4) / (6,) or C does not solve it."""
-        if not (_plain(flange) and _plain(seed) and flange.shape == (4, 4)
-                and seed.shape == (6,)):
-            return None
-        try:
-            # ctypes views of the caller's memory: half the cost of ndarray.ctypes.data
-            pose, joints = _Pose.from_buffer(flange), _Joints.from_buffer(seed)
-        except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
-            return None
+    def solve_seeded(self, flange, seed, pos_tol: float, rot_tol: float):
+        """``(q rad, position error m, rotation error rad, Newton steps)`` for a flange pose
+        (4x4, base frame) and a seed (rad, J1..J6), no tool, no user frame; None when C does
+        not solve it. ``pos_tol`` (m) and ``rot_tol`` (rad) bound the TCP error.
+
+        C checks finiteness and clamps the seed into the limits as the Python path does.
+        Float64 numpy arrays go to C as they are, the cheapest call of all; anything else of
+        the right shape (lists, read-only, Fortran-ordered or strided arrays) is copied first,
+        so every well-formed request enters C exactly once. None without entering C when the
+        shapes are wrong or the values are not numbers (the Python path refuses those)."""
+        pose = joints = None
+        if _plain(flange) and _plain(seed) and flange.shape == (4, 4) and seed.shape == (6,):
+            try:
+                # ctypes views of the caller's memory: half the cost of ndarray.ctypes.data
+                pose, joints = _Pose.from_buffer(flange), _Joints.from_buffer(seed)
+            except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
+                pass
+        if pose is None:
+            views = _copied_views(flange, seed)
+            if views is None:
+                return None
+            pose, joints = views
         out = _Out()
         steps = self._lib.jk_ik_seeded(self._chain_addr, pose, joints, pos_tol, rot_tol, out)
         if steps <= 0:
@@ -99,8 +110,10 @@ class NativeIk:
 
     def solve(self, goal: np.ndarray, ref: Sequence[float], tcp_offset, pos_tol: float,
               rot_tol: float):
-        """``(q, position error m, rotation error rad, Newton steps)`` or None (the Python
-        path decides). ``goal``: joint-6 pose, 4x4 float64."""
+        """``(q rad, position error m, rotation error rad, Newton steps)`` or None (the Python
+        path decides). ``goal``: joint-6 pose (4x4, m, base frame); ``ref``: the reference
+        joints (rad, inside the limits); ``tcp_offset``: joint 6 → TCP (m, joint-6 frame) or
+        None; ``pos_tol`` (m) and ``rot_tol`` (rad) bound the TCP error."""
         if not (goal.flags.c_contiguous and goal.dtype == np.float64):
             goal = np.ascontiguousarray(goal, dtype=np.float64)
         ref_buf = _Joints(*ref)
@@ -123,6 +136,19 @@ def _plain(a) -> bool:
     what is not contiguous and writable). ``is``: numpy's float64 dtype is one object; a
     dtype that is not it only costs the slower path."""
     return type(a) is np.ndarray and a.dtype is _FLOAT64
+
+
+def _copied_views(flange, seed):
+    """ctypes views of fresh float64 C-ordered copies of a flange pose (4x4) and a seed (6,),
+    or None when the shapes are wrong or the values are not numbers."""
+    try:
+        flange = np.array(flange, dtype=np.float64, order="C")
+        seed = np.array(seed, dtype=np.float64, order="C")
+    except (TypeError, ValueError):
+        return None
+    if flange.shape != (4, 4) or seed.shape != (6,):
+        return None
+    return _Pose.from_buffer(flange), _Joints.from_buffer(seed)
 
 
 def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],

@@ -1,0 +1,25 @@
+"""Numbers every layer of the driver shares, defined once.
+
+The JAKA controller runs an 8 ms cycle: a servo set-point is meant for one cycle, the status
+stream publishes once per cycle, and the twin plans and steps its drives on the same cycle.
+"""
+from __future__ import annotations
+
+#: s — the controller cycle: servo set-point period, status period, the twin's control cycle
+SERVO_CYCLE = 0.008
+
+#: rad — a joint move is in position once every joint is this close to its target
+#: (docs/interface.md, "Motion")
+IN_POSITION = 1e-3
+
+#: A started move may take ``MOVE_OVERRUN_FACTOR`` × its planned duration plus
+#: ``MOVE_OVERRUN_MARGIN`` s before the driver stops it and answers -12. The factor covers a
+#: controller that plans its own (slower) profile; the margin covers settling and a short move
+#: whose plan is a few cycles.
+MOVE_OVERRUN_FACTOR = 1.5
+MOVE_OVERRUN_MARGIN = 2.0   # s
+
+
+def move_deadline(planned_duration: float) -> float:
+    """How long (s) the driver waits for a move planned to take ``planned_duration`` s."""
+    return MOVE_OVERRUN_FACTOR * planned_duration + MOVE_OVERRUN_MARGIN

@@ -1,0 +1,55 @@
+"""Tool and user frames by id — the one table the twin, the emulator and the controller backend
+keep.
+
+A tool is a pose relative to the flange, a user frame a pose relative to the robot base, both
+4x4 in metres. Id 0 is the flange / the base itself and cannot be stored. An id never stored
+reads as the identity; whoever keeps the table decides whether that deserves a word: the
+controller backend warns once (JAKA's protocol can store and activate frames but not read their
+offsets back — docs/protocol.md — so an id set on the teach pendant is unknown to the driver).
+"""
+from __future__ import annotations
+
+import threading
+from typing import Callable, Dict, Optional, Tuple
+
+import numpy as np
+
+TOOL = "tool"
+USER_FRAME = "user frame"
+
+
+class FrameTable:
+    """Offsets (4x4, m) by id; thread-safe. ``on_unknown(kind, frame_id)`` is called the first
+    time an id that was never stored is read."""
+
+    def __init__(self, on_unknown: Optional[Callable[[str, int], None]] = None):
+        self._lock = threading.Lock()
+        self._frames: Dict[str, Dict[int, np.ndarray]] = {TOOL: {0: np.eye(4)},
+                                                          USER_FRAME: {0: np.eye(4)}}
+        self._on_unknown = on_unknown
+        self._reported: set = set()
+
+    def store(self, kind: str, frame_id: int, pose: np.ndarray) -> None:
+        """Keep ``pose`` as ``kind`` (:data:`TOOL` or :data:`USER_FRAME`) ``frame_id``; id 0
+        stays the identity."""
+        if int(frame_id) == 0:
+            return
+        with self._lock:
+            self._frames[kind][int(frame_id)] = np.array(pose, float)
+
+    def get(self, kind: str, frame_id: int) -> np.ndarray:
+        """The stored pose of ``kind`` ``frame_id`` (a copy), the identity if never stored."""
+        with self._lock:
+            pose = self._frames[kind].get(int(frame_id))
+            first = pose is None and (kind, int(frame_id)) not in self._reported
+            if first:
+                self._reported.add((kind, int(frame_id)))
+        if pose is None:
+            if first and self._on_unknown is not None:
+                self._on_unknown(kind, int(frame_id))
+            return np.eye(4)
+        return pose.copy()
+
+    def active(self, tool_id: int, user_id: int) -> Tuple[np.ndarray, np.ndarray]:
+        """(flange→tool, base→user) of the given active ids."""
+        return self.get(TOOL, tool_id), self.get(USER_FRAME, user_id)

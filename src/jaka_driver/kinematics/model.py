@@ -1,0 +1,292 @@
+"""What the robot is: a JAKA Zu arm's Pinocchio model, its FK, Jacobian, frames and IK dispatch.
+
+Frames and units: everything is SI (m, rad) and every pose is a 4x4 homogeneous matrix.
+
+* base frame = the URDF root ``base_link`` (the robot's mounting face);
+* flange frame = the URDF link ``flange`` (= ``link_6``, JAKA's flange / "end" frame);
+* ``tool`` = pose of the TCP in the flange frame (JAKA "tool frame"), identity by default;
+* ``user`` = pose of the user frame in the base frame (JAKA "user frame"), identity by default.
+
+Thread safety: one :class:`Kinematics` may be shared by any number of threads. The Pinocchio
+``Model`` is read-only; each thread gets its own ``Data`` (scratch space) on first use.
+
+IK strategy, closed form first, numeric fallback: the Zu arms are UR-type, so the up-to-8
+solutions of the ideal geometry have a closed form (:mod:`.closed_form`); the chosen branch is
+finished by one or two Newton steps on Pinocchio's exact model (:mod:`.numeric`). If that fails
+(a non-UR model, or a singular spot), damped least squares with restarts takes over. The closed
+form + Newton also exists compiled (:mod:`.native`): ``ik`` enters it once per request when the
+library is built, and it computes the same solution as the Python path.
+"""
+from __future__ import annotations
+
+import math
+import threading
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from ..models import RobotModel
+from . import native
+from .closed_form import ClosedForm, ur_lengths
+from .numeric import NumericIk
+
+_I4 = np.eye(4)
+_I4.setflags(write=False)
+
+
+class IkResult(NamedTuple):
+    """Outcome of an IK request.
+
+    ``q`` (rad, J1..J6) is ``None`` unless ``success``. ``position_error`` (m) and
+    ``rotation_error`` (rad) are those of the returned ``q`` (or of the best attempt on failure),
+    measured at the TCP. ``iterations`` counts Newton/DLS steps over all attempts. (A named
+    tuple, not a dataclass: built on every IK call, it costs a third of the time.)
+    """
+
+    success: bool
+    q: np.ndarray | None
+    position_error: float
+    rotation_error: float
+    iterations: int
+    message: str
+
+
+def _finite(a: np.ndarray) -> bool:
+    """No NaN/inf in ``a`` (values beyond 1e150 count as infinite): one dot product is several
+    times cheaper than ``np.isfinite(a).all()``, and this runs on every FK/IK call."""
+    v = a.reshape(-1)
+    return math.isfinite(v @ v)
+
+
+def _as_pose(T, name: str) -> np.ndarray:
+    """``T`` as a finite 4x4 float array (identity for None); ValueError naming ``name``."""
+    if T is None:
+        return _I4
+    a = np.asarray(T, dtype=float)
+    if a.shape != (4, 4) or not _finite(a):
+        raise ValueError(f"{name} must be a finite 4x4 homogeneous matrix, got shape {a.shape}")
+    return a
+
+
+def _inv(T: np.ndarray) -> np.ndarray:
+    """Inverse of a rigid 4x4 transform."""
+    out = np.eye(4)
+    R = T[:3, :3].T
+    out[:3, :3] = R
+    out[:3, 3] = -R @ T[:3, 3]
+    return out
+
+
+class Kinematics:
+    """FK, Jacobian and IK of one :class:`RobotModel` (see the module docstring for frames)."""
+
+    def __init__(self, model: RobotModel):
+        self.model = model
+        self._pin = pin.buildModelFromXML(model.urdf_xml)
+        names = tuple(self._pin.names[1:])
+        if names != tuple(model.joint_names) or self._pin.nq != 6:
+            raise ValueError(f"{model.urdf_path}: Pinocchio sees joints {names}, "
+                             f"expected {model.joint_names}")
+        self._flange_id = self._pin.getFrameId("flange")
+        frame = self._pin.frames[self._flange_id]
+        self._joint6 = frame.parentJoint
+        # Flange pose in the joint-6 frame; identity in our URDFs, kept general.
+        self._F = frame.placement.homogeneous
+        self._F_is_identity = bool(np.allclose(self._F, _I4, atol=0.0))
+        self._lower = np.asarray(model.lower, dtype=float)
+        self._upper = np.asarray(model.upper, dtype=float)
+        self._middle = 0.5 * (self._lower + self._upper)
+        # Distance between configurations is measured in seconds of joint travel: a big joint
+        # that moves slowly weighs more than a fast wrist.
+        self._weight = 1.0 / np.asarray(model.max_velocity, dtype=float)
+        self._weight2 = self._weight ** 2
+        self._local = threading.local()
+        # Plain-float copies for the hot path of the seed's clamping.
+        self._lower_list = self._lower.tolist()
+        self._upper_list = self._upper.tolist()
+        self._middle_list = self._middle.tolist()
+        self._numeric = NumericIk(self._pin, self._joint6, self._lower, self._upper,
+                                  self._weight2)
+        # The closed form and its compiled twin exist for UR-type chains only; the compiled
+        # one is None without the built library too.
+        self._closed_form: ClosedForm | None = None
+        self._native: native.NativeIk | None = None
+        lengths = ur_lengths(self._pin)
+        if lengths is not None:
+            # Joint-1 frame origin in the base (base offset + d1); its rotation is identity.
+            shoulder = self._pin.jointPlacements[1].translation.tolist()
+            self._closed_form = ClosedForm(lengths, shoulder, self._lower, self._upper,
+                                           self._weight2, model.joint_names)
+            self._native = native.load(
+                [(p.rotation, p.translation) for p in list(self._pin.jointPlacements)[1:7]],
+                lengths, shoulder, self._lower, self._upper, self._weight2)
+
+    # ------------------------------------------------------------------ helpers
+    def _data(self) -> pin.Data:
+        d = getattr(self._local, "data", None)
+        if d is None:
+            d = self._local.data = self._pin.createData()
+        return d
+
+    def _check_q(self, q) -> np.ndarray:
+        """``q`` as 6 finite joint positions (rad); ValueError otherwise."""
+        a = np.asarray(q, dtype=float)
+        if a.shape != (6,) or not _finite(a):
+            raise ValueError(f"joint positions must be 6 finite values in rad, got {np.shape(q)}")
+        return a
+
+    def _seed_ref(self, seed) -> list[float]:
+        """The seed (rad) checked and clamped into the joint limits, as plain floats."""
+        return [min(h, max(lo, x)) for x, lo, h in
+                zip(self._check_q(seed).tolist(), self._lower_list, self._upper_list)]
+
+    # ------------------------------------------------------------------ forward kinematics
+    def flange_pose(self, q) -> np.ndarray:
+        """Flange pose (4x4, m) in the base frame for joint positions ``q`` (rad)."""
+        d = self._data()
+        pin.forwardKinematics(self._pin, d, self._check_q(q))
+        return pin.updateFramePlacement(self._pin, d, self._flange_id).homogeneous
+
+    def tcp_pose(self, q, tool=None, user=None) -> np.ndarray:
+        """TCP pose (4x4, m) in the user frame for joint positions ``q`` (rad):
+        ``user⁻¹ · flange(q) · tool``, with ``tool`` the TCP pose in the flange frame and
+        ``user`` the user frame's pose in the base frame (4x4, m; None = identity)."""
+        T = self.flange_pose(q)
+        if tool is not None:
+            T = T @ _as_pose(tool, "tool")
+        if user is not None:
+            T = _inv(_as_pose(user, "user")) @ T
+        return T
+
+    def jacobian(self, q, tool=None) -> np.ndarray:
+        """6x6 Jacobian of the TCP at joint positions ``q`` (rad): rows (vx, vy, vz, ωx, ωy, ωz)
+        in base-frame axes; ``tool`` is the TCP pose in the flange frame (4x4, m; None = the
+        flange).
+
+        Linear rows are the velocity (m/s per rad/s) of the TCP point, angular rows the angular
+        velocity — Pinocchio's LOCAL_WORLD_ALIGNED convention.
+        """
+        m, d, f = self._pin, self._data(), self._flange_id
+        pin.computeJointJacobians(m, d, self._check_q(q))  # also the joint placements
+        R = pin.updateFramePlacement(m, d, f).rotation
+        J = pin.getFrameJacobian(m, d, f, pin.LOCAL_WORLD_ALIGNED)
+        if tool is not None:
+            # v_tcp = v_flange + ω × r, r = flange→TCP in base axes.
+            r = R @ _as_pose(tool, "tool")[:3, 3]
+            w = J[3:]
+            J = J.copy()
+            J[:3] += np.cross(w.T, r).T
+        return J
+
+    # ------------------------------------------------------------------ inverse kinematics
+    def ik(self, target, seed=None, tool=None, user=None, *, pos_tol: float = 1e-6,
+           rot_tol: float = 1e-6, max_iter: int = 100, restarts: int = 8) -> IkResult:
+        """Joint positions (rad) that put the TCP at ``target`` (4x4, m: pose of the TCP in the
+        user frame). ``tool``: TCP pose in the flange frame, ``user``: the user frame's pose in
+        the base frame (4x4, m; None = identity, the flange in the base frame).
+
+        With a ``seed`` (rad) the solution of the seed's configuration (the one nearest to it,
+        each joint taken at the 2π-turn nearest to the seed) is returned, so a path solved point
+        by point never flips elbow, shoulder or wrist. Without a seed the solution nearest to
+        the middle of the joint limits is returned. Results are deterministic.
+
+        ``pos_tol`` (m) and ``rot_tol`` (rad) bound the TCP error of a successful result.
+        ``max_iter`` and ``restarts`` bound the damped-least-squares fallback (restarts use a
+        fixed random seed).
+        """
+        compiled = self._native
+        if compiled is not None and seed is not None and tool is None and user is None \
+                and self._F_is_identity:
+            # The commonest request goes to C as it is. This is its one entry into C whatever
+            # the outcome: a second call would compute the same refusal again.
+            fast = compiled.solve_seeded(target, seed, pos_tol, rot_tol)
+            if fast is not None:
+                return IkResult(True, *fast, "ok")
+            compiled = None     # refused there, or malformed input the checks below refuse
+        target = _as_pose(target, "target")
+        ref = self._middle_list if seed is None else self._seed_ref(seed)
+        goal_T, tcp_offset = self._joint6_goal(target, tool, user)
+        if compiled is not None:
+            fast = compiled.solve(goal_T, ref, tcp_offset, pos_tol, rot_tol)
+            if fast is not None:
+                return IkResult(True, *fast, "ok")
+        return self._ik_python(goal_T, ref, tcp_offset, pos_tol, rot_tol, max_iter, restarts)
+
+    def _ik_python(self, goal_T: np.ndarray, ref: list[float], tcp_offset, pos_tol: float,
+                   rot_tol: float, max_iter: int, restarts: int) -> IkResult:
+        """The IK in Python for the joint-6 goal ``goal_T`` (4x4, m, base frame) near ``ref``
+        (rad): the closed form's nearest branch polished by Newton, then its next two
+        branches, then damped least squares with restarts. Also explains every failure."""
+        d, numeric, closed_form = self._data(), self._numeric, self._closed_form
+        goal = pin.SE3(goal_T)
+        cands, why = ([], "") if closed_form is None else \
+            closed_form.solutions(goal_T, ref, nearest_only=True)
+        iters = 0
+        best = (math.inf, math.inf)
+        if cands:
+            ok, q, pe, re, iters = numeric.polish(d, cands[0][1], goal, tcp_offset, pos_tol,
+                                                  rot_tol, 4)
+            if ok:
+                return IkResult(True, q, pe, re, iters, "ok")
+            best = (pe, re)
+            # Rare (a singular spot): try the next branches before the iterative fallback.
+            for _, c in closed_form.solutions(goal_T, ref)[0][1:3]:
+                ok, q, pe, re, n = numeric.polish(d, c, goal, tcp_offset, pos_tol, rot_tol, 4)
+                iters += n
+                if ok:
+                    return IkResult(True, q, pe, re, iters, "ok")
+                best = min(best, (pe, re))
+        ref = np.array(ref)
+        if why:
+            # The closed form covers every solution; when it finds none, neither would DLS.
+            return IkResult(False, None, *numeric.pose_error(d, ref, goal, tcp_offset), iters,
+                            why)
+        ok, q, pe, re, n = numeric.dls_restarts(d, ref, goal, tcp_offset, pos_tol, rot_tol,
+                                                max_iter, restarts)
+        iters += n
+        if ok:
+            return IkResult(True, q, pe, re, iters, "ok (damped least squares)")
+        pe, re = min(best, (pe, re))
+        return IkResult(False, None, pe, re, iters,
+                        f"no IK solution within tolerance: best TCP error {pe * 1e3:.3g} mm, "
+                        f"{math.degrees(re):.3g} deg")
+
+    def ik_all(self, target, tool=None, user=None, *, reference=None, pos_tol: float = 1e-6,
+               rot_tol: float = 1e-6) -> list[np.ndarray]:
+        """All distinct IK solutions (rad, up to 8) inside the joint limits, nearest first, for
+        ``target`` (4x4, m: the TCP in the user frame; ``tool`` and ``user`` as in :meth:`ik`).
+        ``pos_tol`` (m) and ``rot_tol`` (rad) bound the TCP error of each listed solution.
+
+        Each joint is taken at the 2π-turn nearest to ``reference`` (rad; default the middle of
+        the limits); the other turn of a ±2π joint is not listed separately.
+        """
+        target = _as_pose(target, "target")
+        ref = self._middle_list if reference is None else self._check_q(reference).tolist()
+        goal_T, tcp_offset = self._joint6_goal(target, tool, user)
+        out: list[np.ndarray] = []
+        if self._closed_form is None:
+            return out
+        goal, d = pin.SE3(goal_T), self._data()
+        for _, c in self._closed_form.solutions(goal_T, ref)[0]:
+            ok, q, *_ = self._numeric.polish(d, c, goal, tcp_offset, pos_tol, rot_tol, 6)
+            if ok and all(np.max(np.abs(q - o)) > 1e-6 for o in out):
+                out.append(q)
+        return out
+
+    # ------------------------------------------------------------------ IK internals
+    def _joint6_goal(self, target, tool, user) -> tuple[np.ndarray, np.ndarray | None]:
+        """Goal pose (4x4, m) of the joint-6 frame in the base frame, and the TCP offset (m, in
+        the joint-6 frame; None when the TCP is the joint-6 origin)."""
+        T = target
+        if user is not None:
+            T = _as_pose(user, "user") @ T
+        X = None  # joint-6 frame → TCP
+        if tool is not None:
+            X = _as_pose(tool, "tool")
+        if not self._F_is_identity:
+            X = self._F if X is None else self._F @ X
+        if X is not None:
+            T = T @ _inv(X)
+        offset = None if X is None or not X[:3, 3].any() else tuple(X[:3, 3].tolist())
+        return T, offset
