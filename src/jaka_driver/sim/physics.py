@@ -145,7 +145,15 @@ class PhysicsLoop:
         """The recent samples (one per cycle, the last ``HISTORY`` cycles) stamped later than
         ``after`` (s), oldest first: a reader that fell behind, or a loop that caught up
         several cycles at once, still gets every cycle."""
-        return [s for s in list(self._history) if s.stamp > after]
+        newer = []
+        # A copy (atomic, in C): the physics thread appends meanwhile. Newest first: usually
+        # one sample is new.
+        for s in reversed(list(self._history)):
+            if s.stamp <= after:
+                break
+            newer.append(s)
+        newer.reverse()
+        return newer
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Block until the latest sample is stamped later than ``after`` (s), at most
