@@ -71,7 +71,7 @@ def _twin(run: Run) -> None:
     run.log("twin physics")
     result = twin_physics.run(seconds=0.5 if run.quick else 1.5)
     run.rows += twin_physics.rows(result)
-    # 1000 steps a second of the twin's step, as a share of one core
+    # 1000 steps a second (125 cycles) of the twin, as a share of one core
     run.extra["physics_percent"] = 100.0 * 1000.0 / result["twin_step_per_s"]
 
 
