@@ -87,7 +87,6 @@ class JointServo:
         self._velocity = np.zeros(6)
         self._accel = np.zeros(6)
         self.released = False        # drag mode: gravity compensation only
-        self._ff = np.zeros(6)
         self._kv = np.zeros(6)
         self._views = None
         # Viscous joint friction is a passive force, not part of the bias; a drive
@@ -144,10 +143,9 @@ class JointServo:
             np.negative(gain, out=bias_p)
             np.multiply(self.kd, inertia, out=self._kv)
             np.negative(self._kv, out=bias_v)
-            mujoco.mj_mulM(self._m, d, self._ff, self._accel)
+            mujoco.mj_mulM(self._m, d, ctrl_ff, self._accel)
             # + the damping's and the joint friction's share of the setpoint velocity, and the
             # Coriolis and centrifugal torques (the bias less the gravity MuJoCo compensates)
-            self._ff += (self._kv + self._damping) * self._velocity + bias - gravity
-            ctrl_ff[:] = self._ff
+            ctrl_ff += (self._kv + self._damping) * self._velocity + bias - gravity
         act[:] = self._from
         ctrl_v[:] = self._velocity
