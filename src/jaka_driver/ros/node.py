@@ -65,8 +65,10 @@ def _direct_publisher(name: str, msg_type) -> rospy.Publisher:
     thread (rospy's ``queue_size=None``). With a queue, rospy hands every message to one
     thread per subscriber and wakes it (a ``Condition.notify`` and a thread switch per
     message and subscriber: the node's largest cost at 4 topics × 125 Hz); the publisher
-    thread here does nothing else, and a socket's send buffer holds seconds of these small
-    messages, so it is not held up by a slow subscriber either."""
+    thread here does nothing else. A socket's send buffer holds seconds of these small
+    messages, so a subscriber that falls behind for a while does not hold the thread up; one
+    that is alive but stops reading altogether would, once its buffer is full (a subscriber
+    that goes away is dropped by rospy)."""
     with warnings.catch_warnings():
         # rospy warns about queue_size=None for the sake of callers in callbacks
         warnings.simplefilter("ignore")
