@@ -1,4 +1,4 @@
-"""Benchmarks of jaka_driver with targets (issue 6): ``python -m bench`` or ``make bench``.
+"""Benchmarks of jaka_driver with targets: ``python -m bench`` or ``make bench``.
 
 One module per metric group; each measures and returns :class:`bench.report.Row` s, and
 :mod:`bench.__main__` runs them in one go, writes ``bench/results/latest.{json,md}`` and the

@@ -1,4 +1,4 @@
-"""``python -m bench`` (``make bench``): every benchmark of issue 6 in one run.
+"""``python -m bench`` (``make bench``): every benchmark in one run.
 
 Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
@@ -109,6 +109,16 @@ def _sim(run: Run) -> None:
         run.raw["lines"] = lines["lines"]
 
 
+def _sim_time(run: Run) -> None:
+    from . import sim_time
+    with ExitStack() as stack:
+        run.log("sim time: 60 s of moves through ROS at real_time_factor 0")
+        speed = sim_time.speed_through_ros(stack)
+    run.log("sim time: determinism, idle and loaded")
+    same = sim_time.determinism(5.0 if run.quick else 20.0)
+    run.rows += sim_time.rows(speed, same)
+
+
 def _emulator(run: Run) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
@@ -181,7 +191,10 @@ def main(argv=None) -> int:
             run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
                         lambda: _startup(run))
             run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
-                        "see issue 6", lambda: _sim(run))
+                        "see the table", lambda: _sim(run))
+            run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
+                        "60 s of sim time through ROS; determinism idle vs loaded",
+                        "≤ 15 s wall; ≤ 1e-9 rad", lambda: _sim_time(run))
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                         "report", lambda: _emulator(run))
     try:

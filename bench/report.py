@@ -122,7 +122,7 @@ def _markdown(rows: list[Row], meta: dict, plots: list[str]) -> str:
         "",
         *_load_lines(meta),
         f"**{counts[PASS]} pass, {counts[FAIL]} fail, {counts[REPORT]} reported without a "
-        f"target, {counts[NOT_RUN]} not run.** Targets are those of issue 6 and are never "
+        f"target, {counts[NOT_RUN]} not run.** Targets are those written in `bench/` and are never "
         "moved; a miss is explained below the table.",
         "",
         "| metric | value | target | result |",

@@ -2,11 +2,11 @@
 """Generate ``urdf/jaka_<model>.urdf`` for the JAKA Zu 3/5/7/12/18.
 
 The joint chains (origins, axes, position and velocity limits, fixed base offset) are JAKA's
-official ``jaka_description`` values (jaka_facts.md §3.1), copied number for number so that
-joint zero, joint directions and the flange frame equal the controller's. Everything else is
-ours: simple cylinders for geometry, masses that add up to the catalogue weight (the official
-Zu3/5/7 URDF masses are ~4x too heavy), inertias of those cylinders, and realistic effort
-limits (the official ones are placeholders).
+official ``jaka_description`` values (docs/models.md, "Kinematic chains"), copied number for number
+so that joint zero, joint directions and the flange frame equal the controller's. Everything else
+is ours: simple cylinders for geometry, masses that add up to the catalogue weight (the official
+Zu3/5/7 URDF masses are ~4x too heavy), inertias of those cylinders, and realistic effort limits
+(the official ones are placeholders).
 
 Frames: ``base_link`` (root, robot mounting face) → fixed offset → ``link_0`` → ``joint_1`` …
 ``joint_6`` → ``link_6`` → ``flange`` (identity) → ``tool0`` (identity).
@@ -48,7 +48,8 @@ class ArmSpec:
     r_wrist: float  # wrist drum radius, m
 
 
-# Official limits shared by every Zu model (jaka_facts §3.1): J2/J4 −85°…265°, J3 ±175°.
+# Official limits shared by every Zu model (docs/models.md, "Joint position limits"):
+# J2/J4 −85°…265°, J3 ±175°.
 _LIM = ((-6.28, 6.28), (-1.48, 4.62), (-3.05, 3.05), (-1.48, 4.62), (-6.28, 6.28), (-6.28, 6.28))
 _RX = (1.5708, 0.0, 0.0)  # as written in the official URDFs (not exactly pi/2)
 _RXN = (-1.5708, 0.0, 0.0)

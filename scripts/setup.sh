@@ -6,6 +6,8 @@
 #   4. the compiled IK fast path (devel/lib/libjaka_ik.so)
 #   5. devel/setup.bash
 # A second run checks, finds nothing to do and changes nothing.
+# `scripts/setup.sh --deps` does 1 and 2 only: what a catkin build (CMakeLists.txt) runs, since
+# catkin generates the messages and builds the library into its own devel space.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -39,9 +41,11 @@ else
   say ".venv: up to date"
 fi
 
+if [ "${1:-}" = --deps ]; then say "dependencies ready"; exit 0; fi
+
 # 3. Messages -----------------------------------------------------------------
 stamp=devel/.msgs.stamp
-if [ ! -f "$stamp" ] || [ -n "$(find msg srv ext_msgs scripts/gen_msgs.sh scripts/gen_control_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
+if [ ! -f "$stamp" ] || [ -n "$(find msg srv ext_msgs cmake scripts/gen_msgs.sh scripts/gen_control_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
   scripts/gen_msgs.sh devel
   [ -x scripts/gen_control_msgs.sh ] && scripts/gen_control_msgs.sh devel
   touch "$stamp"

@@ -229,3 +229,40 @@ def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
                      and np.max(np.abs(m.velocity)) < speed and m, timeout)
     assert msg, "the arm did not come to rest"
     return np.array(msg.position)
+
+
+# --- simulated time: the twin owns time (sim_time); the tests read it from the samples ---
+
+def start_sim_time_driver(request, real_time_factor=0, **params):
+    """The node on the zu5 twin with ``sim_time``: /use_sim_time is removed again when it
+    stops, so the next module's driver starts on the wall clock."""
+    def forget_sim_time():
+        xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam(
+            "/test_harness", "/use_sim_time")
+
+    request.addfinalizer(forget_sim_time)
+    return start_driver(request, backend="sim", model="zu5", sim_time="true",
+                        real_time_factor=real_time_factor, **params)
+
+
+def stamp(msg) -> float:
+    return msg.header.stamp.to_sec()
+
+
+def sample_at(recorder, t: float, timeout: float = 10.0):
+    """The first message stamped at or after ``t`` (s, sim time), waiting for it."""
+    def find():
+        with recorder._lock:
+            return next((m for _, m in recorder.samples if stamp(m) >= t - 1e-6), None)
+
+    msg = wait_until(find, timeout, 0.005)
+    assert msg is not None, f"no sample stamped {t:.3f} s within {timeout} s of wall time"
+    return msg
+
+
+def sim_sleep(recorder, seconds: float):
+    """Wait ``seconds`` of the twin's time, counted from the latest sample; returns the
+    sample that ends the wait."""
+    latest = wait_until(recorder.latest, 5.0)
+    assert latest is not None, "no sample"
+    return sample_at(recorder, stamp(latest) + seconds)

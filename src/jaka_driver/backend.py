@@ -8,7 +8,7 @@ policy; anything it cannot do it answers with a failure :class:`Result`, never s
 
 Frames: a Cartesian pose handed to or returned by a backend is a 4x4 homogeneous matrix in
 metres. Unless a method says otherwise, it is the pose of the *active tool* expressed in the
-*active user frame* (contract.md, "Frames").
+*active user frame* (docs/interface.md, "Units and frames").
 
 Concurrency: every method may be called from any thread (rospy serves each service connection
 in its own thread). No method blocks for the length of a motion: moves are *started* and
@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
+from .clock import WallClock
 from .models import RobotModel
 from .results import Result
 from .robot_state import RobotState
@@ -52,6 +53,10 @@ class Backend(ABC):
     @abstractmethod
     def state(self) -> RobotState:
         """The latest sample; never blocks."""
+
+    #: The backend's time (jaka_driver.clock): every timeout the driver keeps runs on it. The
+    #: wall clock, unless a twin owns time (sim_time; then ``RobotState.stamp`` is sim time).
+    clock = WallClock()
 
     #: Period (s) at which new state samples appear, when the backend has such a clock (the
     #: twin's 8 ms cycle) and implements :meth:`wait_for_sample`; None otherwise.

@@ -20,8 +20,11 @@ class Completion:
             self.result = result
             self._event.set()
 
-    def wait(self, timeout: float) -> Optional[Result]:
-        return self.result if self._event.wait(timeout) else None
+    def wait(self, timeout: float, clock=None) -> Optional[Result]:
+        """The result, or None after ``timeout`` s (of ``clock``'s time, default the wall
+        clock: jaka_driver.clock)."""
+        done = self._event.wait(timeout) if clock is None else clock.wait(self._event, timeout)
+        return self.result if done else None
 
     @property
     def done(self) -> bool:

@@ -1,17 +1,16 @@
 """The door of the driver: every service request passes through :class:`RobotDriver`.
 
-Order of checks (design.md, "Safety first"): validate the request → check the robot state →
+Order of checks (docs/design.md, "The picture"): validate the request → check the robot state →
 let the backend plan the whole motion → only then move. A refused command changes nothing.
 
-The methods take the values of the service requests in the interface document's units
-(rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`; they never raise.
-They are safe to call from many threads at once, as rospy does.
+The methods take the values of the service requests in their own units (docs/interface.md,
+"Units and frames": rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`;
+they never raise. They are safe to call from many threads at once, as rospy does.
 """
 from __future__ import annotations
 
 import logging
 import threading
-import time
 from contextlib import contextmanager
 from typing import Callable, Sequence
 
@@ -29,13 +28,21 @@ log = logging.getLogger(__name__)
 
 
 
+# Requests a client streams once per cycle: their reply does not keep time waiting for the
+# next call (the twin's clock waits for the next target instead; jaka_driver.clock).
+STREAMED = ("servo_j", "servo_p")
+
+
 def _answers(method: Callable) -> Callable:
     """Turn a refusal into its Result and any other exception into a -3 answer: a request may
-    be refused, but it never takes the driver down."""
+    be refused, but it never takes the driver down. Simulated time stands still while a
+    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived."""
+    react = method.__name__ not in STREAMED
 
     def wrapper(self, *args, **kwargs) -> Result:
         try:
-            return method(self, *args, **kwargs)
+            with self.clock.hold(react=react):
+                return method(self, *args, **kwargs)
         except CommandRefused as refusal:
             return refusal.result()
         except Exception as exc:  # noqa: BLE001 — the node must survive any request
@@ -54,9 +61,11 @@ class RobotDriver:
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1):
         self.backend = backend
         self.model = backend.model
+        #: every timeout below runs on the backend's time (wall, or the twin's sim time)
+        self.clock = backend.clock
         self._move_lock = threading.Lock()   # one blocking move at a time
-        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout)
-        self._servo = ServoStream(timeout=servo_timeout)
+        self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
+        self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -185,8 +194,9 @@ class RobotDriver:
 
     @_answers
     def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
-        """Continuous jog (doc §1.3): coord 0 joint / 1 base / 2 tool; index 0–11, odd =
-        negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling again."""
+        """Continuous jog (docs/interface.md, "jog"): coord 0 joint / 1 base / 2 tool; index
+        0–11, odd = negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling
+        again."""
         coord = check.integer_in("coord_mode", coord_mode, 0, 2)
         idx = check.integer_in("index", index, 0, 11)
         axis, direction = idx // 2, (-1 if idx % 2 else 1)
@@ -219,11 +229,13 @@ class RobotDriver:
                                                                "str | None"],
                           period: float = 0.02) -> Result:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
-        ``monitor(t, state)`` is called with the time since the start; a string it returns
-        aborts: the arm is stopped and the result is -12 with that reason. Blocks."""
-        return self._run_move("trajectory",
-                              lambda st: self.backend.start_trajectory(trajectory),
-                              monitor, period)
+        (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
+        string it returns aborts: the arm is stopped and the result is -12 with that reason.
+        Blocks."""
+        with self.clock.hold():
+            return self._run_move("trajectory",
+                                  lambda st: self.backend.start_trajectory(trajectory),
+                                  monitor, period)
 
     def _run_move(self, what: str, start: Callable[[RobotState], Result],
                   monitor: "Callable[[float, RobotState], str | None] | None" = None,
@@ -240,22 +252,23 @@ class RobotDriver:
                 return started
             completion, planned = started.value
             deadline = move_deadline(planned)
-            t0 = time.monotonic()
+            clock = self.clock                  # wall time, or the twin's sim time
+            t0 = clock.now()
             while True:
-                remaining = deadline - (time.monotonic() - t0)
+                remaining = deadline - (clock.now() - t0)
                 # without a monitor there is nothing to do until the move ends or overruns
                 wait = min(period, remaining) if monitor is not None else remaining
-                result = completion.wait(max(wait, 1e-3))
+                result = completion.wait(max(wait, 1e-3), clock)
                 if result is not None:
                     return result
-                elapsed = time.monotonic() - t0
+                elapsed = clock.now() - t0
                 reason = monitor(elapsed, self.backend.state()) if monitor else None
                 if reason is None and elapsed > deadline:
                     reason = (f"{what} not in position {elapsed:.2f} s after its start "
                               f"(planned {planned:.2f} s, allowed {deadline:.2f} s); stopped")
                 if reason is not None:
                     self.backend.stop_move()
-                    completion.wait(1.0)
+                    completion.wait(1.0, clock)
                     return Result.failure(Code.MOTION_STOPPED, reason)
 
     def _jog_expired(self) -> None:
@@ -352,7 +365,7 @@ class RobotDriver:
 
     @_answers
     def set_io(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
-        """Set an output (doc §2.6); digital non-zero → 1."""
+        """Set an output (docs/interface.md, "set_io"); digital non-zero → 1."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, 1, type, index)
         if sig == "digital":
@@ -363,7 +376,7 @@ class RobotDriver:
 
     @_answers
     def get_io(self, signal: str, path: int, type: int, index: int) -> Result:  # noqa: A002
-        """Read an IO point (doc §2.7); value in ``Result.value``."""
+        """Read an IO point (docs/interface.md, "get_io"); value in ``Result.value``."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, path, type, index)
         return self.backend.get_io(sig, int(path), int(type), int(index))

@@ -1,6 +1,6 @@
 """Result codes and the one library exception of jaka_driver.
 
-Every service of the driver answers with a code and a message (contract.md, "Result codes"):
+Every service of the driver answers with a code and a message (docs/interface.md, "Result codes"):
 ``1`` success, ``<= 0`` failure with nothing moved or changed (or the motion stopped, for -12),
 ``2`` the controller rejected the command. The codes follow the JAKA SDK error table.
 """

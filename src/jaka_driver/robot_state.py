@@ -8,7 +8,7 @@ import numpy as np
 
 
 class MotionState(IntEnum):
-    """``robot_states.motion_state`` (doc §3.3)."""
+    """``robot_states.motion_state`` (docs/interface.md, "Topics")."""
 
     STOP = 0
     PAUSE = 1
@@ -27,7 +27,7 @@ class RobotState:
 
     Units: joints rad, rad/s, N·m. ``tcp_pose`` is the 4x4 pose (metres) of the active tool
     expressed in the active user frame. ``stamp`` is wall-clock time (``time.time()``, s) of
-    the sample — the node stamps its messages with it, so it is when the physics (or the
+    the sample (sim time, s since the twin started, when the twin owns time) — the node stamps its messages with it, so it is when the physics (or the
     controller's status packet) produced the data, not when it was published.
     """
 

@@ -186,8 +186,8 @@ def matrix_to_pose(T, *, rotation: str = "rotvec", length_scale: float = 1.0) ->
 
 
 def pose_mm_to_matrix(pose_mm_rotvec) -> np.ndarray:
-    """The driver's pose at its edges — mm + rotation vector (rad), as the services and the
-    protocol library speak it — as a 4x4 in metres."""
+    """The driver's pose at its edges — mm + rotation vector (rad), as the services speak it —
+    as a 4x4 in metres. (The protocol library speaks mm + RPY rad, the SDK's units.)"""
     return pose_to_matrix(pose_mm_rotvec, rotation="rotvec", length_scale=1e-3)
 
 

@@ -2,15 +2,19 @@
 servo stream.
 
 A jog runs only while its client keeps calling: 3.0 s after the last call it is stopped
-(doc §1.3). A servo stream that stops leaves the arm holding its last target, and the next
-servo call is told how long the stream had stopped.
+(docs/interface.md, "jog"). A servo stream that stops leaves the arm holding its last target,
+and the next servo call is told how long the stream had stopped.
+
+Both keep time on the backend's clock (jaka_driver.clock): wall time, or the twin's sim time,
+in which the jog stops exactly ``timeout`` after the cycle of its last call.
 """
 from __future__ import annotations
 
 import threading
-import time
 from dataclasses import dataclass
 from typing import Callable, Optional
+
+from .clock import WallClock
 
 
 @dataclass
@@ -24,18 +28,20 @@ class JogSession:
 
 
 class JogWatchdog:
-    """Stops a jog ``timeout`` seconds after its last call, checked every ``period`` s.
+    """Stops a jog ``timeout`` seconds (of ``clock``) after its last call.
 
-    ``stop`` is called from the watchdog's own thread; it must be thread-safe.
+    ``stop`` is called from the watchdog's own thread; it must be thread-safe. The thread
+    holds simulated time while it acts, so the stop lands in a definite cycle.
     """
 
-    def __init__(self, stop: Callable[[], object], timeout: float = 3.0, period: float = 0.005):
+    def __init__(self, stop: Callable[[], object], timeout: float = 3.0, clock=None):
         self._stop = stop
         self.timeout = timeout
-        self._period = period
+        self._clock = clock or WallClock()
         self._lock = threading.Lock()
         self._session: Optional[JogSession] = None
-        self._quit = threading.Event()
+        self._changed = threading.Event()       # a kick, a clear or close: look again
+        self._quit = False
         self._thread = threading.Thread(target=self._run, name="jog-watchdog", daemon=True)
         self._thread.start()
 
@@ -48,28 +54,43 @@ class JogWatchdog:
         """Record a jog call; returns the session it replaces (None if none was running)."""
         with self._lock:
             previous = self._session
-            self._session = JogSession(coord, index, speed, time.monotonic())
-            return previous
+            self._session = JogSession(coord, index, speed, self._clock.now())
+        self._changed.set()
+        return previous
 
     def clear(self) -> Optional[JogSession]:
         """Forget the session without stopping (the caller stops the arm itself)."""
         with self._lock:
             previous, self._session = self._session, None
-            return previous
+        self._changed.set()
+        return previous
 
     def close(self) -> None:
-        self._quit.set()
+        self._quit = True
+        self._changed.set()
         self._thread.join(timeout=1.0)
 
     def _run(self) -> None:
-        while not self._quit.wait(self._period):
-            with self._lock:
-                expired = (self._session is not None
-                           and time.monotonic() - self._session.last_call >= self.timeout)
+        clock = self._clock
+        with clock.hold(react=False):
+            while True:
+                self._changed.clear()
+                if self._quit:
+                    return
+                session = self.session
+                if session is None:
+                    clock.wait(self._changed, 3600.0)
+                    continue
+                remaining = session.last_call + self.timeout - clock.now()
+                if remaining > 0:
+                    clock.wait(self._changed, remaining)
+                    continue
+                with self._lock:
+                    expired = self._session is session
+                    if expired:
+                        self._session = None
                 if expired:
-                    self._session = None
-            if expired:
-                self._stop()
+                    self._stop()
 
 
 class ServoStream:
@@ -79,8 +100,9 @@ class ServoStream:
     stream is alive, else the measured joints (after a pause the arm is where it held).
     """
 
-    def __init__(self, timeout: float = 0.1):
+    def __init__(self, timeout: float = 0.1, clock=None):
         self.timeout = timeout
+        self._clock = clock or WallClock()
         self._lock = threading.Lock()
         self._last_target = None
         self._last_time: Optional[float] = None
@@ -94,11 +116,11 @@ class ServoStream:
         with self._lock:
             if self._last_time is None:
                 return measured, None
-            gap = time.monotonic() - self._last_time
+            gap = self._clock.now() - self._last_time
             if gap > self.timeout:
                 return measured, gap
             return self._last_target, None
 
     def accepted(self, target) -> None:
         with self._lock:
-            self._last_target, self._last_time = target, time.monotonic()
+            self._last_target, self._last_time = target, self._clock.now()

@@ -1,4 +1,4 @@
-"""The controller backend does what the contract says, against the emulator over real TCP:
+"""The controller backend does what docs/interface.md says, against the emulator over real TCP:
 moves arrive, blocking moves block and can be stopped, settings reach the controller, and what
 the protocol cannot do is answered as a failure."""
 from __future__ import annotations
@@ -249,8 +249,9 @@ def test_io_set_and_get(emu, backend):
     assert backend.get_io("analog", 0, 0, 1).value == -1.5
     extension = backend.get_io("digital", 1, 2, 0)
     assert extension.code == Code.WRONG_MODE and "TCP protocol" in extension.message
-    rejected = backend.set_io("digital", 0, 99, 1.0)
-    assert rejected.code == Code.CONTROLLER_REJECTED and "index 99" in rejected.message
+    rejected = backend.set_io("digital", 0, 999, 1.0)
+    # the controller names the wire index, one more than the driver's 0-based index 999
+    assert rejected.code == Code.CONTROLLER_REJECTED and "index 1000" in rejected.message
     for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1)):
         backend.set_io(signal, io_type, index, 0.0)
     emu.controller.set_input("digital", 0, 7, 0.0)

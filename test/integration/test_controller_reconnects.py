@@ -1,5 +1,5 @@
-"""Losing the controller and getting it back (issue 4, "Reconnect"): services answer -1 within
-1 s and never hang, the state says the link is down, the backend reconnects by itself within
+"""Losing the controller and getting it back (docs/interface.md, "Backends"): services answer -1
+within 1 s and never hang, the state says the link is down, the backend reconnects by itself within
 5 s of the controller returning, and no motion command is replayed."""
 from __future__ import annotations
 
@@ -92,20 +92,28 @@ def assert_shows_the_loss(backend):
     assert time.time() - st.stamp < 0.1, "states keep coming, stamped now"
 
 
+def lose_the_link_mid_move(backend, cut):
+    """A long move runs and ``cut()`` breaks the link: the move answers -1 within 1 s of the cut
+    and the state shows the loss. Returns (the move's result, when the cut happened)."""
+    move = MoveInThread(backend, FAR)
+    time.sleep(0.5)
+    t_cut = time.monotonic()
+    cut()
+    result = move.join(2.0)
+    assert result.code == Code.NOT_CONNECTED
+    assert move.answered - t_cut < 1.0
+    assert_shows_the_loss(backend)
+    return result, t_cut
+
+
 def test_dropped_connections(caplog):
     with Emulator("zu5", command_port=0, status_port=0) as emu:
         backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
         backend.start()
         try:
             assert backend.state().connected
-            move = MoveInThread(backend, FAR)
-            time.sleep(0.5)
-            t_drop = time.monotonic()
-            emu.drop_clients()
-            result = move.join(2.0)
-            assert result.code == Code.NOT_CONNECTED and "not resumed" in result.message
-            assert move.answered - t_drop < 1.0
-            assert_shows_the_loss(backend)
+            result, t_drop = lose_the_link_mid_move(backend, emu.drop_clients)
+            assert "not resumed" in result.message
             services_answer_minus_1_quickly(backend)
 
             assert wait_until(lambda: backend.state().connected, 5.0)
@@ -135,14 +143,7 @@ def test_controller_process_killed_and_restarted():
     try:
         backend.start()
         assert backend.state().connected
-        move = MoveInThread(backend, FAR)
-        time.sleep(0.5)
-        t_kill = time.monotonic()
-        first.kill()
-        result = move.join(2.0)
-        assert result.code == Code.NOT_CONNECTED
-        assert move.answered - t_kill < 1.0
-        assert_shows_the_loss(backend)
+        lose_the_link_mid_move(backend, first.kill)
         assert run_move(backend.start_joint_move(HOME, 0.5, 1.0)).code == Code.NOT_CONNECTED
 
         second = EmulatorProcess("zu5", **ports).start()

@@ -1,5 +1,5 @@
 """The emulator talks JAKA's TCP protocol to a client that uses no project code: plain sockets
-and ``json``, the way a third-party JAKA client would (jaka_facts.md §2)."""
+and ``json``, the way a third-party JAKA client would (docs/protocol.md)."""
 from __future__ import annotations
 
 import json
@@ -102,7 +102,8 @@ def client(emu):
 def test_queries_answer_in_wire_units(client):
     version = client.call("get_version")
     assert (version["cmdName"], version["errorCode"]) == ("get_version", "0")
-    assert "emulator" in version["version"]
+    # a real-looking version (clients parse it); the emulator says what it is in errorMsg
+    assert version["version"] == "1.5.14_13_X64" and "emulator" in version["errorMsg"]
     state = client.call("get_robot_state")
     assert (state["power"], state["enable"]) == ("powered_on", "robot_enabled")
     joints = client.call("get_joint_pos")["joint_pos"]
@@ -182,25 +183,34 @@ def test_status_stream_at_125_hz_with_the_fields(emu):
         assert packet["len"] == size                    # len is the packet's own byte count
         assert len(packet["joint_actual_position"]) == 6
         assert packet["errcode"] == "0x0"
-    assert len(packets[0][0]["din"]) == 16 and len(packets[0][0]["tio_dout"]) == 2
+    # array sizes of a real controller's packet
+    first = packets[0][0]
+    assert len(first["din"]) > 100 and len(first["ain"]) == len(first["aout"]) == 64
+    assert len(first["tio_din"]) == len(first["tio_dout"]) == 8
 
 
-def test_joint_move_is_accepted_at_once_and_inpos_follows(emu, client):
+def test_moves_are_acknowledged_at_once_queued_and_inpos_follows_the_queue(emu, client):
     target = HOME_DEG.copy()
     target[0] += 10.0
     t0 = time.monotonic()
     reply = client.call("joint_move", jointPosition=target, speed=60.0, accel=300.0, relFlag=0)
     replied = time.monotonic() - t0
     assert reply["errorCode"] == "0" and replied < 0.1
-    busy = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0, relFlag=0)
-    assert busy["errorCode"] != "0" and "moving" in busy["errorMsg"]
-    flags = [p["inpos"] for p, _ in read_status(emu.status_port, 0.6)]
-    assert flags and not flags[0] and flags[-1], "inpos false while moving, true at the end"
+    # a second move while the first runs is queued, not refused (as a real controller does)
+    queued = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0,
+                         relFlag=0)
+    assert queued["errorCode"] == "0"
+    state = client.call("get_motion_state")
+    assert state["inpos"] is False and state["queue"] == 1 and state["active_queue"] == 2
+    flags = [p["inpos"] for p, _ in read_status(emu.status_port, 0.3)]
+    assert flags and not any(flags), "inpos false while the queue runs"
+    t0 = time.monotonic()
+    assert client.call("wait_complete")["errorCode"] == "0"
+    assert 0.1 < time.monotonic() - t0 < 5.0, "wait_complete answered when the queue was done"
+    state = client.call("get_motion_state")
+    assert state["inpos"] is True and state["queue"] == 0
     final = client.call("get_joint_pos")["joint_pos"]
-    np.testing.assert_allclose(final, target, atol=np.degrees(1e-3))
-    back = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0, relFlag=0)
-    assert back["errorCode"] == "0"
-    assert _wait_inpos(client)
+    np.testing.assert_allclose(final, HOME_DEG, atol=np.degrees(1e-3))
 
 
 def test_motion_is_refused_under_emergency_stop(client):
@@ -263,9 +273,13 @@ def test_io_outputs_inputs_and_the_status_stream(emu, client):
     assert client.call("get_digital_input", type=0, index=2)["value"] == 1
     assert client.call("get_analog_output", type=0, index=1)["value"] == 2.5
     packet = read_status(emu.status_port, 0.05)[-1][0]
-    assert packet["dout"][3] == 1 and packet["din"][2] == 1 and packet["aout"][1] == 2.5
-    bad = client.call("set_digital_output", type=0, index=99, value=1)
-    assert bad["errorCode"] != "0" and "index 99" in bad["errorMsg"]
+    # the wire counts IO from 1; the packet's arrays from 0 (the SDK's API index)
+    assert packet["dout"][2] == 1 and packet["din"][1] == 1 and packet["aout"][0] == 2.5
+    assert client.call("get_digital_input", type=0, index=1)["value"] == 0
+    bad = client.call("set_digital_output", type=0, index=999, value=1)
+    assert bad["errorCode"] != "0" and "index 999" in bad["errorMsg"]
+    zero = client.call("set_digital_output", type=0, index=0, value=1)
+    assert zero["errorCode"] != "0" and "index" in zero["errorMsg"]
     client.call("set_digital_output", type=0, index=3, value=0)
     client.call("set_analog_output", type=0, index=1, value=0.0)
     client.call("emulator_set_input", signal="digital", type=0, index=2, value=0)

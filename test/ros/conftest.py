@@ -37,22 +37,23 @@ def call(sim_driver):
 @pytest.fixture(scope="module")
 def joints(sim_driver, rospy_node):
     from sensor_msgs.msg import JointState
-    recorder = Recorder(sim_driver.name("joint_position"), JointState)
-    yield recorder
-    recorder.close()
+    yield from _recording(sim_driver, "joint_position", JointState)
 
 
 @pytest.fixture(scope="module")
 def tcp(sim_driver, rospy_node):
     from geometry_msgs.msg import TwistStamped
-    recorder = Recorder(sim_driver.name("tool_position"), TwistStamped)
-    yield recorder
-    recorder.close()
+    yield from _recording(sim_driver, "tool_position", TwistStamped)
 
 
 @pytest.fixture(scope="module")
 def states(sim_driver, rospy_node):
     from jaka_msgs.msg import RobotMsg
-    recorder = Recorder(sim_driver.name("robot_states"), RobotMsg)
+    yield from _recording(sim_driver, "robot_states", RobotMsg)
+
+
+def _recording(driver, topic: str, msg_class):
+    """A module's recorder of one of the driver's topics, closed after the module."""
+    recorder = Recorder(driver.name(topic), msg_class)
     yield recorder
     recorder.close()

@@ -1,8 +1,8 @@
-"""Every refusal class of issue 5 §5 through ROS on the zu5 twin: the reply says so (``ret``
--2, or the failure markers of get_io / get_fk / get_ik) with a message naming the field, the
-value and the limit — and the arm did not move and nothing changed: same joints (no velocity
-after the call), same robot_states, same active tool and user frame (tool_position frame_id,
-get_fk), same payload (joint efforts), same IO outputs.
+"""Every refusal class (docs/interface.md, "Result codes") through ROS on the zu5 twin: the reply
+says so (``ret`` -2, or the failure markers of get_io / get_fk / get_ik) with a message naming the
+field, the value and the limit — and the arm did not move and nothing changed: same joints (no
+velocity after the call), same robot_states, same active tool and user frame (tool_position
+frame_id, get_fk), same payload (joint efforts), same IO outputs.
 
 The module runs with a non-trivial setting active — tool 1 offset 100 mm along the flange z,
 user frame 1 shifted and turned, a 2 kg payload, two IO outputs set — so a refused request
@@ -297,7 +297,7 @@ CASES = [
 
 
 def refused(service: str, reply) -> bool:
-    """The failure marker of each reply type (contract.md, "Result codes")."""
+    """The failure marker of each reply type (docs/interface.md, "Result codes")."""
     if service == "get_io":
         return reply.value == -999999 and reply.message.startswith("error:")
     if service == "get_fk":

@@ -1,5 +1,5 @@
 """Property-based fuzzing (hypothesis) of every service of the driver through ROS, on the zu5
-twin (issue 5 §6). Each service gets ``JAKA_FUZZ_EXAMPLES`` random requests (200 in ``make
+twin. Each service gets ``JAKA_FUZZ_EXAMPLES`` random requests (200 in ``make
 test``, 10 000 in ``make fuzz``): field values from NaN, ±inf, ±3.4e38, subnormals, zero,
 negative, wrong array lengths, random strings and int16 extremes, mixed with values near the
 valid range, and each request sent with the arm in a random state (as it is, ready, servo
@@ -10,7 +10,8 @@ Properties, checked on every example:
   * every call answers within 1 s — a blocking move within its planned duration + 1 s (the
     plan is recomputed here from the request, as the twin plans it);
   * no reply is an internal failure (-3 "failed inside the driver": there is no
-    communication to fail in the twin) and every ``ret`` is a contract code;
+    communication to fail in the twin) and every ``ret`` is one of the codes of
+    docs/interface.md, "Result codes";
   * the measured joints never leave the model's limits (the whole joint_position stream);
 and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window.
 
@@ -217,7 +218,7 @@ class Fuzz:
         return reply
 
     def assert_still_since(self, t0: float, settle: float) -> None:
-        """Nothing a non-motion request does sets the arm moving (issue 5 §4)."""
+        """Nothing a non-motion request does sets the arm moving."""
         time.sleep(settle)
         moved = [(round(t - t0, 3), round(v, 3)) for t, v in
                  list(self.mon["joint_position"].moving) if t >= t0]

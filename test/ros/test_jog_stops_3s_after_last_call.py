@@ -1,17 +1,22 @@
 """jog through ROS on the zu5 twin: every direction in every coordinate system moves the right
 way; the jog stops 3.0 ± 0.1 s after the last call, is kept alive by calling again, and stops
-at a joint limit."""
-import time
+at a joint limit. Timing is what these tests check, so the twin owns time (sim_time, as fast
+as it can step): a busy machine cannot change what they see."""
 
 import numpy as np
 import pytest
 from std_srvs.srv import Empty
 
-from ros_harness import START, at_rest, go_home, position, wait_until
+from ros_harness import (START, go_home, position, sample_at, sim_sleep,
+                         start_sim_time_driver, stamp, wait_until)
 from jaka_msgs.srv import Move
 
 pytestmark = pytest.mark.ros
 
+
+@pytest.fixture(scope="module")
+def sim_driver(request, rospy_node):
+    return start_sim_time_driver(request)
 
 
 @pytest.fixture(autouse=True)
@@ -27,24 +32,32 @@ def moving(recorder):
     return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
 
 
+def moving_span(recorder, t0: float, t1: float):
+    """(first, last) stamp in [t0, t1] at which the arm moved (sim time, s)."""
+    moved = [stamp(m) for _, m in recorder.samples
+             if t0 <= stamp(m) <= t1 and np.max(np.abs(m.velocity)) > 1e-3]
+    assert moved, "the arm did not move"
+    return moved[0], moved[-1]
+
+
 def test_jog_stops_3_s_after_the_last_call(call, joints):
-    t_call = time.monotonic()
     assert jog(call, 0, 0, 0.2).ret == 1
-    assert wait_until(lambda: moving(joints), 1.0)
-    assert wait_until(lambda: not moving(joints), 5.0, 0.005)
-    stopped_after = time.monotonic() - t_call
-    # the stop begins at 3.0 s and the ramp down at 0.2 rad/s takes ~0.02 s
-    assert 2.9 <= stopped_after <= 3.15, stopped_after
+    t0 = stamp(joints.latest())
+    end = stamp(sim_sleep(joints, 4.0))
+    first, last = moving_span(joints, t0, end)
+    # the stop begins 3.0 s after the call; the ramp down at 0.2 rad/s takes ~0.02 s
+    assert 2.9 <= last - first <= 3.15, (first, last)
 
 
 def test_calling_again_keeps_the_jog_alive(call, joints):
-    t0 = time.monotonic()
+    t0 = stamp(joints.latest())
     for _ in range(5):
         assert jog(call, 0, 1, 0.1).ret == 1
-        time.sleep(1.0)
+        sim_sleep(joints, 1.0)
     assert moving(joints), "jog stopped although it was called every second"
-    assert wait_until(lambda: not moving(joints), 4.0, 0.005)
-    assert time.monotonic() - t0 >= 4.0 + 2.9
+    end = stamp(sim_sleep(joints, 4.0))
+    first, last = moving_span(joints, t0, end)
+    assert last - first >= 4.0 + 2.9, (first, last)
 
 
 @pytest.mark.parametrize("coord", [0, 1, 2])
@@ -52,14 +65,18 @@ def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
     from jaka_driver.transforms import rotvec_to_matrix
     for index in range(12):
         axis, sign = index // 2, (-1 if index % 2 else 1)
-        q0 = position(joints)
-        p0 = tcp.latest()
+        # where the arm rests before the jog, joints and TCP of one sample (the latest
+        # message to arrive may lag the twin by a few cycles)
+        rest = wait_until(lambda: (m := joints.latest()) is not None
+                          and np.max(np.abs(m.velocity)) < 1e-3 and m, 5.0)
+        assert rest, "the arm did not come to rest"
+        q0, p0 = np.array(rest.position), sample_at(tcp, stamp(rest))
         speed = 0.2 if (coord == 0 or axis >= 3) else 50.0
         reply = jog(call, coord, index, speed)
         assert reply.ret == 1, reply.message
-        time.sleep(0.4)
-        q1 = position(joints)
-        p1 = tcp.latest()
+        t1 = stamp(sim_sleep(joints, 0.4))
+        q1 = np.array(sample_at(joints, t1).position)
+        p1 = sample_at(tcp, t1)
         assert call("stop_move", Empty) is not None
         assert wait_until(lambda: not moving(joints), 1.0)
         if coord == 0:
@@ -91,8 +108,7 @@ def test_jog_comes_to_rest_at_a_joint_limit(call, joints):
     start[1] = 0.5
     assert call("joint_move", Move, pose=start, mvvelo=2.0, mvacc=8.0).ret == 1
     assert jog(call, 0, 4, 0.5).ret == 1
-    time.sleep(1.0)
-    q = position(joints)
+    q = np.array(sim_sleep(joints, 1.0).position)
     assert 3.0 <= q[2] <= 3.05 + 1e-3, q[2]
     assert not moving(joints)
 

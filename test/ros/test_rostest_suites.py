@@ -8,7 +8,8 @@ import pytest
 pytestmark = pytest.mark.ros
 
 
-@pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test"])
+@pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test",
+                                   "sim_time_program.test"])
 def test_rostest_suite_passes(suite, tmp_path):
     env = dict(os.environ, ROS_HOME=str(tmp_path), ROS_LOG_DIR=str(tmp_path / "log"))
     env.pop("ROS_MASTER_URI", None)

@@ -1,5 +1,5 @@
 """Frames, payload, drag, collision level, IO, clear_err and FK/IK through ROS on the zu5
-twin: each does what contract.md says, and each bad request is refused naming the field."""
+twin: each does what docs/interface.md says, and each bad request is refused naming the field."""
 import time
 
 import numpy as np

@@ -1,4 +1,5 @@
-"""The generated jaka_msgs carry JAKA's md5 sums (contract.md table), so clients built against
+"""The generated jaka_msgs carry JAKA's md5 sums (docs/interface.md, "Messages
+and wire compatibility"), so clients built against
 JAKA's own package talk to this driver unchanged, and the ROS tools find the definitions."""
 import os
 import subprocess

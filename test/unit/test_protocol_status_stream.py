@@ -1,6 +1,6 @@
 """The port-10000 stream: packets come out whole whatever the read boundaries, garbage and broken
 packets are skipped and counted, the buffer stays bounded, ``len`` is self-consistent, and a
-packet becomes a RobotStatus in driver units."""
+packet becomes a StatusPacket in driver units."""
 import json
 import math
 
@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jaka_driver.protocol import RobotStatus, StatusStreamDecoder, encode_status, parse_status
+from jaka_driver.protocol import StatusPacket, StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.status_stream import PACKET_START
 
 # ---- packets -------------------------------------------------------------------------------
@@ -163,13 +163,13 @@ FULL = {
 }
 
 
-def test_parse_status_converts_to_driver_units():
+def test_parse_status_converts_to_the_sdk_units():
     s = parse_status(json.loads(encode_status(FULL)))
     np.testing.assert_allclose(s.joint_position, np.radians(FULL["joint_actual_position"]))
     np.testing.assert_allclose(s.joint_command[5], math.radians(179))
     np.testing.assert_allclose(s.tcp_pose[:3], [500, 10, 300])
-    # rpy (180, 0, -90) → a half turn: rotation vector of length π
-    assert np.linalg.norm(s.tcp_pose[3:]) == pytest.approx(math.pi)
+    # rpy (180, 0, -90) deg → rad, unchanged otherwise
+    np.testing.assert_allclose(s.tcp_pose[3:], [math.pi, 0, -math.pi / 2])
     assert (s.powered, s.enabled, s.emergency_stop, s.protective_stop) == (True, True, False, True)
     assert (s.inpos, s.paused, s.drag_status, s.on_soft_limit) == (True, False, False, False)
     assert (s.task_state, s.task_mode, s.interp_state) == (4, 2, 3)
@@ -192,7 +192,7 @@ def test_errcode_formats(raw, code):
 def test_missing_and_malformed_fields_get_defaults_and_are_noted():
     s = parse_status({"len": 10, "joint_actual_position": [1, 2, 3], "powered_on": 1,
                       "errcode": "oops", "enabled": "perhaps"})
-    assert isinstance(s, RobotStatus)
+    assert isinstance(s, StatusPacket)
     assert np.all(np.isnan(s.joint_position)) and np.all(np.isnan(s.tcp_pose))
     assert s.powered is True and s.enabled is False and s.din == ()
     assert s.errcode == -1 and s.has_error   # unreadable is not "no error"

@@ -1,5 +1,6 @@
-"""The unit edge of the protocol: deg ⇄ rad, and wire poses (mm, RPY deg, R = Rz·Ry·Rx) ⇄ driver
-poses (mm, rotation vector rad), including angle 0, angle π and pitch ±90°."""
+"""The unit edge of the protocol: deg ⇄ rad, wire poses (mm, RPY deg) ⇄ the protocol API's poses
+(mm, RPY rad), and the chain the callers use to reach driver poses (mm, rotation vector rad,
+through jaka_driver.transforms, R = Rz·Ry·Rx), including angle 0, angle π and pitch ±90°."""
 import math
 
 import numpy as np
@@ -7,7 +8,21 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from jaka_driver import transforms
 from jaka_driver.protocol import units
+
+
+def to_wire(pose_rotvec):
+    """Driver pose (mm, rotation vector) → wire, the way the backend and the emulator do it."""
+    p = np.asarray(pose_rotvec, float)
+    rpy = transforms.matrix_to_rpy(transforms.rotvec_to_matrix(p[3:]))
+    return units.pose_to_wire([*p[:3], *rpy])
+
+
+def from_wire(wire):
+    """Wire → driver pose (mm, rotation vector)."""
+    p = units.pose_from_wire(wire)
+    return np.concatenate([p[:3], transforms.matrix_to_rotvec(transforms.rpy_to_matrix(*p[3:]))])
 
 
 # ---- independent reference maths (written differently from the module on purpose) ----------
@@ -81,18 +96,18 @@ def test_joint_round_trip(q):
 
 def test_pose_known_values():
     # quarter turn about z = yaw 90°
-    assert units.pose_to_wire([1, 2, 3, 0, 0, math.pi / 2]) == pytest.approx([1, 2, 3, 0, 0, 90])
-    # rpy (90, 0, 0) - the flange at q = 0 (jaka_facts §3.2) - is a quarter turn about x
-    np.testing.assert_allclose(units.pose_from_wire([798.5, 7, 6.65, 90, 0, 0]),
+    assert to_wire([1, 2, 3, 0, 0, math.pi / 2]) == pytest.approx([1, 2, 3, 0, 0, 90])
+    # rpy (90, 0, 0) - the flange at q = 0 (docs/models.md) - is a quarter turn about x
+    np.testing.assert_allclose(from_wire([798.5, 7, 6.65, 90, 0, 0]),
                                [798.5, 7, 6.65, math.pi / 2, 0, 0], atol=1e-12)
     # half turn about x: roll ±180
-    wire = units.pose_to_wire([0, 0, 0, math.pi, 0, 0])
+    wire = to_wire([0, 0, 0, math.pi, 0, 0])
     assert abs(abs(wire[3]) - 180) < 1e-9 and abs(wire[4]) < 1e-9 and abs(wire[5]) < 1e-9
 
 
 def test_rpy_order_is_z_then_y_then_x():
     wire_rpy = [30.0, 20.0, 10.0]
-    rotvec = units.pose_from_wire([0, 0, 0, *wire_rpy])[3:]
+    rotvec = from_wire([0, 0, 0, *wire_rpy])[3:]
     np.testing.assert_allclose(matrix_from_rotvec(rotvec), matrix_from_wire_rpy_deg(wire_rpy),
                                atol=1e-12)
 
@@ -101,7 +116,7 @@ def test_rpy_order_is_z_then_y_then_x():
 @given(positions_mm, rotvecs)
 def test_driver_pose_round_trip(position, rotvec):
     pose = np.concatenate([position, rotvec])
-    wire = units.pose_to_wire(pose)
+    wire = to_wire(pose)
     assert all(type(v) is float for v in wire)
     # the wire angles describe the same rotation (checked with independent maths) ... to 1e-8:
     # at pitch ±90° (gimbal lock) roll and yaw come from atan2 of ~1e-9 entries, which costs
@@ -109,7 +124,7 @@ def test_driver_pose_round_trip(position, rotvec):
     np.testing.assert_allclose(matrix_from_wire_rpy_deg(wire[3:]), matrix_from_rotvec(rotvec),
                                atol=1e-8)
     assert -90 <= wire[4] <= 90 and -180 <= wire[3] <= 180 and -180 <= wire[5] <= 180
-    back = units.pose_from_wire(wire)
+    back = from_wire(wire)
     np.testing.assert_allclose(back[:3], position, atol=1e-9)
     angle = np.linalg.norm(back[3:])
     assert angle <= math.pi + 1e-12
@@ -122,7 +137,7 @@ def test_driver_pose_round_trip(position, rotvec):
 @settings(max_examples=300)
 @given(positions_mm, rpy_deg)
 def test_wire_pose_round_trip(position, rpy):
-    back = units.pose_to_wire(units.pose_from_wire([*position, *rpy]))
+    back = to_wire(from_wire([*position, *rpy]))
     np.testing.assert_allclose(back[:3], position, atol=1e-9)
     # same rotation, also at pitch ±90° where roll and yaw are not separable
     np.testing.assert_allclose(matrix_from_wire_rpy_deg(back[3:]), matrix_from_wire_rpy_deg(rpy),
@@ -133,21 +148,21 @@ def test_wire_pose_round_trip(position, rpy):
 
 def test_tiny_rotation_keeps_precision():
     rv = np.array([1e-10, -2e-10, 3e-10])
-    back = units.pose_from_wire(units.pose_to_wire([0, 0, 0, *rv]))[3:]
+    back = from_wire(to_wire([0, 0, 0, *rv]))[3:]
     np.testing.assert_allclose(back, rv, rtol=1e-6, atol=1e-20)
 
 
 @pytest.mark.parametrize("pitch", [90.0, -90.0])
 def test_gimbal_lock_is_exact(pitch):
     rpy = [25.0, pitch, -40.0]
-    back = units.pose_to_wire(units.pose_from_wire([0, 0, 0, *rpy]))
+    back = to_wire(from_wire([0, 0, 0, *rpy]))
     np.testing.assert_allclose(matrix_from_wire_rpy_deg(back[3:]), matrix_from_wire_rpy_deg(rpy),
                                atol=1e-12)
     assert back[4] == pytest.approx(pitch)
 
 
-def test_rpy_helpers_match_pose_conversion():
-    rv = np.array([0.3, -1.2, 0.7])
-    np.testing.assert_allclose(np.degrees(units.rotvec_to_rpy(rv)),
-                               units.pose_to_wire([0, 0, 0, *rv])[3:], atol=1e-12)
-    np.testing.assert_allclose(units.rpy_to_rotvec(units.rotvec_to_rpy(rv)), rv, atol=1e-12)
+def test_protocol_api_pose_is_mm_and_rpy_radians():
+    assert units.pose_to_wire([1, 2, 3, math.pi / 2, 0, -math.pi]) == \
+        pytest.approx([1, 2, 3, 90, 0, -180])
+    np.testing.assert_allclose(units.pose_from_wire([1, 2, 3, 90, -45, 180]),
+                               [1, 2, 3, math.pi / 2, -math.pi / 4, math.pi])

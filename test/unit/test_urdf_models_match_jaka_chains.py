@@ -1,6 +1,7 @@
 """The generated URDFs keep JAKA's official kinematics and load in Pinocchio and MuJoCo.
 
-Reference values: jaka_facts.md §3.1 (joint chains, limits) and §3.2 (flange pose at q = 0).
+Reference values: docs/models.md, "Kinematic chains" (joint chains, flange pose at q = 0) and
+"Joint position limits".
 """
 import importlib.util
 import sys
@@ -17,7 +18,8 @@ from jaka_driver.transforms import matrix_to_rpy, rpy_to_matrix
 
 ROOT = Path(__file__).resolve().parents[2]
 
-# Flange position at q = 0 in mm, relative to the base (facts §3.2); orientation rpy (90°, 0, 0).
+# Flange position at q = 0 in mm, relative to the base (docs/models.md); orientation rpy
+# (90°, 0, 0).
 FLANGE_AT_ZERO_MM = {
     "zu3": (474.0, 8.5, 33.05),
     "zu5": (798.5, 7.0, 6.65),
@@ -54,7 +56,7 @@ def test_flange_pose_at_zero_matches_jaka(name):
 
 @pytest.mark.parametrize("name", MODEL_NAMES)
 def test_flange_pose_at_manual_example_is_rx180_rz_minus90(name):
-    # facts §3.2: q = (0, 1.57, -1.57, 1.57, 1.57, 0) → rpy ≈ (180°, 0, -90°).
+    # docs/models.md: q = (0, 1.57, -1.57, 1.57, 1.57, 0) → rpy ≈ (180°, 0, -90°).
     _, T = _pin_flange(name, [0, 1.57, -1.57, 1.57, 1.57, 0])
     expected = rpy_to_matrix(np.pi, 0.0, -np.pi / 2)
     np.testing.assert_allclose(T[:3, :3], expected, atol=5e-3)

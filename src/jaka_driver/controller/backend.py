@@ -1,7 +1,7 @@
 """The ``controller`` backend: a real JAKA controller (or ``jaka_emulator``) over the TCP
 protocol, behind the same :class:`~jaka_driver.backend.Backend` contract as the twin.
 
-Mapping (issue 4): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
+Mapping (docs/protocol.md): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
 servo → ``servo_move`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
 ``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id``, payload →
 ``set_tool_id`` + ``set_payload``, collision → ``set_clsn_sensitivity``, IO → the set/get
@@ -10,15 +10,23 @@ commands and the status stream, clear_error → ``clear_error``, FK/IK →
 Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
 active tool in the active user frame) like every backend.
 
-A move ends when the status stream says so (:mod:`.move_watch`); state comes from the stream
-(:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
+A move ends when the status packets say so or, between packets, when ``get_motion_state``
+polled every :data:`MOTION_STATE_POLL` s says so (:mod:`.move_watch`); state comes from the status
+packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
+:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
 reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
 reading extension outputs) is answered -9 with the reason.
+
+The controller queues moves: one sent while another runs is acknowledged and runs after it
+(docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
+move or trajectory runs is refused with -5 (busy) before anything is sent, so the arm never
+does a move its caller was told was refused, and ``stop_move`` always has one move to end.
 """
 from __future__ import annotations
 
 import logging
 import threading
+import time
 from typing import Optional
 
 import numpy as np
@@ -31,18 +39,19 @@ from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, JogMode
 from ..results import Code, CommandRefused, Result
 from ..robot_state import RobotState
-from ..transforms import matrix_to_pose_mm, pose_mm_to_matrix, rotation_angle_between
+from ..transforms import matrix_to_pose, rotation_angle_between
 from .commander import Commander, answers
 from .connection import ControllerLink
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
-from .status_view import StatusView
+from .status_view import StatusView, tcp_matrix
 
 log = logging.getLogger(__name__)
 
 #: ROS jog coord (0 joint, 1 base, 2 tool) → the wire's coord_map (0 base, 1 joint, 2 tool).
 JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
+MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
 MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
 LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
 DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
@@ -50,6 +59,11 @@ DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it ha
 #: (signal, path, io_type) → the status field that carries it; no command reads these.
 STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
              ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
+
+
+def _mm_rpy(pose: np.ndarray) -> np.ndarray:
+    """4x4 pose (m) → the protocol's [x, y, z mm, rx, ry, rz rad]."""
+    return np.asarray(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3), float)
 
 
 def _warn_unknown_frame(kind: str, frame_id: int) -> None:
@@ -70,7 +84,8 @@ class ControllerBackend(Backend):
     kind = "controller"
 
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
-                 status_port: int = 10000, *, connect_timeout: float = 1.0,
+                 status_port: int = 10000, *, status_source: str = "stream",
+                 data_port: int = 10004, connect_timeout: float = 1.0,
                  call_timeout: float = 1.0, stall_timeout: float = 0.5,
                  power_timeout: float = 15.0, trajectory_step_num: int = 1):
         super().__init__(model)
@@ -78,6 +93,7 @@ class ControllerBackend(Backend):
         self.trajectory_step_num = int(trajectory_step_num)
         self.view = StatusView()
         self.link = ControllerLink(host, command_port, status_port,
+                                   status_source=status_source, data_port=data_port,
                                    connect_timeout=connect_timeout, call_timeout=call_timeout,
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
@@ -91,6 +107,7 @@ class ControllerBackend(Backend):
         self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
+        self._motion_state_known = True   # until the controller says it has no such command
         self.version = ""
 
     # ---- life cycle -------------------------------------------------------------------
@@ -117,6 +134,7 @@ class ControllerBackend(Backend):
         info = super().describe()
         info.update({"controller": self.host, "command port": self.link.command_port,
                      "status port": self.link.status_port,
+                     "status source": self.link.status_source,
                      "connected": self.link.connected, "controller version": self.version,
                      "reconnects": self.link.reconnects})
         if not self.link.connected:
@@ -213,11 +231,15 @@ class ControllerBackend(Backend):
     # ---- moves --------------------------------------------------------------------------------
     def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
         """Send a move; ``Result.value`` is ``(watch.completion, estimate)``. The watch ends the
-        move from the status stream (see move_watch); RobotDriver waits and stops an overrun."""
+        move from the status packets and get_motion_state (see move_watch); RobotDriver waits and stops an overrun."""
         self.send.require_link()
         with self._lock:
             if self._streamer is not None and self._streamer.running:
                 raise CommandRefused(Code.BUSY, f"{watch.label} refused: a trajectory runs")
+            if self._watch is not None and not self._watch.completion.done:
+                # The controller would queue it; this driver does not (see the module doc).
+                raise CommandRefused(Code.BUSY, f"{watch.label} refused: {self._watch.label} "
+                                     "is still running (stop_move first)")
             self._watch = watch
         watch.arm()
         with self._send_lock:
@@ -229,7 +251,41 @@ class ControllerBackend(Backend):
                 except CommandRefused as refusal:
                     watch.abort(refusal.result())
                     raise
+        if self._motion_state_known and not watch.completion.done:
+            threading.Thread(target=self._follow_motion_state, args=(watch,), daemon=True,
+                             name="jaka-motion-state").start()
         return Result.success(f"{watch.label} started", (watch.completion, estimate))
+
+    def _follow_motion_state(self, watch: MoveWatch) -> None:
+        """While ``watch`` runs, ask ``get_motion_state`` every :data:`MOTION_STATE_POLL` s."""
+        while not watch.completion.wait(MOTION_STATE_POLL):
+            if not (self._motion_state_known and self.link.connected):
+                return
+            try:
+                reply = self.link.call(commands.get_motion_state())
+            except errors.JakaProtocolError as exc:
+                log.debug("get_motion_state failed: %s", exc)   # the link handles a lost link
+                continue
+            try:
+                state = commands.reply_motion_state(reply)
+            except errors.JakaProtocolError as exc:
+                log.info("the controller does not answer get_motion_state (%s); waiting on the "
+                         "status packets only", exc)
+                self._motion_state_known = False
+                return
+            if state.inpos and state.queue == 0:
+                # the move ended: let a packet from after now arrive, so state() shows it ended
+                self._await_packet_after(time.time())
+            watch.on_motion_state(state.inpos, state.queue, self.link.latest)
+
+    def _await_packet_after(self, moment: float, limit: float = 0.2) -> None:
+        """Wait (at most ``limit`` s) for a status packet received after ``moment``."""
+        deadline = time.monotonic() + limit
+        while time.monotonic() < deadline:
+            latest = self.link.latest
+            if latest is not None and latest[1] > moment:
+                return
+            time.sleep(0.002)
 
     @answers
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
@@ -253,12 +309,12 @@ class ControllerBackend(Backend):
 
     @answers
     def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        pose = matrix_to_pose_mm(target)
+        pose = _mm_rpy(target)
         speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
-            here = pose_mm_to_matrix(latest[0].tcp_pose)
+            here = tcp_matrix(latest[0].tcp_pose)
             distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
             angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
             estimate = (TrapezoidProfile(distance, speed_mm, accel_mm).min_duration
@@ -349,7 +405,7 @@ class ControllerBackend(Backend):
 
     @answers
     def servo_p(self, target) -> Result:
-        self.send.accepted(commands.servo_p(matrix_to_pose_mm(target)))
+        self.send.accepted(commands.servo_p(_mm_rpy(target)))
         return Result.success("servo_p target sent")
 
     @answers
@@ -388,7 +444,7 @@ class ControllerBackend(Backend):
         """Store the offset (not for id 0, the flange / base itself), then activate the id."""
         if frame_id:
             name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
-            self.send.accepted(store(frame_id, matrix_to_pose_mm(pose), name))
+            self.send.accepted(store(frame_id, _mm_rpy(pose), name))
             self.frame_table.store(kind, frame_id, pose)
         self.send.accepted(activate(frame_id))
 
@@ -463,11 +519,11 @@ class ControllerBackend(Backend):
         pose = self.send.read(commands.kine_forward(np.asarray(q, float)),
                               commands.reply_kine_forward)
         return Result.success("controller's forward kinematics (active tool, active user "
-                              "frame)", pose_mm_to_matrix(pose))
+                              "frame)", tcp_matrix(pose))
 
     @answers
     def inverse_kinematics(self, target, ref_q) -> Result:
-        request = commands.kine_inverse(np.asarray(ref_q, float), matrix_to_pose_mm(target))
+        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rpy(target))
         reply = self.send.call(request)
         if not reply.ok:
             # The controller's IK refusal means "unreachable": the contract's -4.

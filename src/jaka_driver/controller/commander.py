@@ -2,7 +2,7 @@
 
 :class:`Commander` sends one request over a :class:`~.connection.ControllerLink` and turns what
 can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the contract's code
-(contract.md, "Result codes"):
+(docs/interface.md, "Result codes"):
 
 * link down, or lost during the call → -1 at once (nothing waits for a link that is not there);
 * no reply within the call timeout, or a reply that is not a valid one → -3 (the link then
@@ -21,7 +21,7 @@ from typing import Any, Callable, Mapping, Optional, TypeVar
 
 from ..protocol import errors
 from ..protocol.replies import Reply
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 from ..results import Code, CommandRefused, Result
 from .connection import ControllerLink
 
@@ -88,7 +88,7 @@ class Commander:
         except errors.ProtocolError as exc:
             raise CommandRefused(Code.COMMUNICATION_ERROR, str(exc)) from None
 
-    def confirmed(self, request: Mapping[str, Any], arrived: Callable[[RobotStatus], bool],
+    def confirmed(self, request: Mapping[str, Any], arrived: Callable[[StatusPacket], bool],
                   what: str) -> None:
         """Send ``request`` and wait until a status packet satisfies ``arrived`` (power and
         enable: the reply says accepted, the stream says done)."""

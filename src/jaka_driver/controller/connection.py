@@ -1,12 +1,22 @@
 """The link to one JAKA controller: both TCP connections, kept up by a supervisor thread.
 
-A :class:`ControllerLink` owns a :class:`~jaka_driver.protocol.CommandClient` (port 10001) and a
-:class:`~jaka_driver.protocol.StatusReceiver` (port 10000) and treats them as one thing: the
-link is *up* when both are open and a first status packet has arrived, and *down* as soon as
-either of them fails (peer closed, socket error, a call timed out, or no status packet for
+A :class:`ControllerLink` owns a :class:`~jaka_driver.protocol.CommandClient` (port 10001) and
+the status connection(s) chosen by ``status_source`` (docs/protocol.md, "Status packet"):
+
+* ``"stream"`` (default): :class:`~jaka_driver.protocol.StatusReceiver` on port 10000, the packet
+  a controller pushes every 8 ms unasked — no request per sample, and what third-party clients
+  read. A real controller serves both ports; the stream costs the controller and the network
+  least, so it is the default;
+* ``"request"``: :class:`~jaka_driver.protocol.StatusPoller` on port 10004, one ``data_request``
+  per 8 ms, as JAKA's SDK reads status (for a network where only the SDK's ports are open);
+* ``"both"``: both at once; every packet of either feeds the driver (a check that the two
+  agree, and status survives on one port while the other stalls until the stall is noticed).
+
+It treats them as one thing: the link is *up* when all are open and a first status packet has
+arrived, and *down* as soon as any of them fails (peer closed, socket error, a call timed out, or no status packet for
 ``stall_timeout`` s). Going down closes both, so the two never disagree about the controller.
 
-Policy (issue 4, "Reconnect"):
+Policy (docs/design.md, "Reconnect"):
 
 * While down, :meth:`call` raises :class:`NotConnected` at once: a service never waits for a
   link that is not there.
@@ -28,11 +38,14 @@ import threading
 import time
 from typing import Any, Callable, Mapping, Optional, Tuple
 
-from ..protocol import CommandClient, StatusReceiver, errors
+from ..protocol import CommandClient, StatusPoller, StatusReceiver, errors
+from ..protocol.fields import STATUS_REQUEST_PORT
 from ..protocol.replies import Reply
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 
 log = logging.getLogger(__name__)
+
+STATUS_SOURCES = ("stream", "request", "both")
 
 BACKOFF_START = 0.5      # s, first retry interval after a failed attempt
 BACKOFF_MAX = 10.0       # s, the interval doubles up to this
@@ -43,7 +56,7 @@ class NotConnected(errors.ConnectionLost):
     """The link is down; nothing was sent."""
 
 
-StatusHook = Callable[[RobotStatus, float], None]
+StatusHook = Callable[[StatusPacket, float], None]
 
 
 class ControllerLink:
@@ -60,6 +73,7 @@ class ControllerLink:
     """
 
     def __init__(self, host: str, command_port: int, status_port: int, *,
+                 status_source: str = "stream", data_port: int = STATUS_REQUEST_PORT,
                  connect_timeout: float = 1.0, call_timeout: float = 1.0,
                  stall_timeout: float = 0.5, first_packet_timeout: float = 1.0,
                  on_status: Optional[StatusHook] = None,
@@ -68,6 +82,11 @@ class ControllerLink:
         self.host = host
         self.command_port = int(command_port)
         self.status_port = int(status_port)
+        if status_source not in STATUS_SOURCES:
+            raise ValueError(f"status_source must be one of {STATUS_SOURCES}; got "
+                             f"{status_source!r}")
+        self.status_source = status_source
+        self.data_port = int(data_port)
         self.connect_timeout = float(connect_timeout)
         self.call_timeout = float(call_timeout)
         self.stall_timeout = float(stall_timeout)
@@ -77,7 +96,7 @@ class ControllerLink:
         self._on_down = on_down
         self._lock = threading.Lock()
         self._client: Optional[CommandClient] = None
-        self._receiver: Optional[StatusReceiver] = None
+        self._receivers: Tuple[StatusReceiver, ...] = ()
         self._generation = 0          # bumps on every new connection; stale callbacks see it
         self._up = threading.Event()
         self._wake = threading.Event()  # tells the supervisor a link went down (or to quit)
@@ -85,7 +104,7 @@ class ControllerLink:
         self._thread: Optional[threading.Thread] = None
         self._first_packet = threading.Event()
         self._attempted = threading.Event()   # the first connection attempt has ended
-        self._latest: Optional[Tuple[RobotStatus, float]] = None
+        self._latest: Optional[Tuple[StatusPacket, float]] = None
         self._ever_up = False
         self.down_since: Optional[float] = time.monotonic()
         self.down_reason = "not connected yet"
@@ -102,17 +121,19 @@ class ControllerLink:
         return self._up.is_set()
 
     @property
-    def latest(self) -> Optional[Tuple[RobotStatus, float]]:
+    def latest(self) -> Optional[Tuple[StatusPacket, float]]:
         """The last (status, received) pair of any connection, or None before the first."""
         return self._latest
 
     def receiver_counters(self) -> dict:
-        receiver = self._receiver
-        if receiver is None:
-            return {}
-        d = receiver.decoder
-        return {"status packets": d.packets, "status bytes dropped": d.bytes_dropped,
-                "status packets dropped": d.packets_dropped}
+        counters: dict = {}
+        for receiver in self._receivers:
+            d = receiver.decoder
+            port = f"status port {receiver.port}"
+            counters.update({f"{port} packets": d.packets,
+                             f"{port} bytes dropped": d.bytes_dropped,
+                             f"{port} packets dropped": d.packets_dropped})
+        return counters
 
     def down_message(self) -> str:
         """Why a request cannot be sent now, for a -1 answer."""
@@ -198,9 +219,9 @@ class ControllerLink:
 
     def _close_connections(self) -> None:
         with self._lock:
-            client, receiver = self._client, self._receiver
-            self._client = self._receiver = None
-        if receiver is not None:
+            client, receivers = self._client, self._receivers
+            self._client, self._receivers = None, ()
+        for receiver in receivers:
             receiver.stop()
         if client is not None:
             client.close()
@@ -258,27 +279,33 @@ class ControllerLink:
             generation = self._generation
         client = CommandClient(self.host, self.command_port, timeout=self.call_timeout,
                                connect_timeout=self.connect_timeout)
-        receiver = StatusReceiver(
-            self.host, self.status_port,
+        hooks = dict(
             on_status=lambda status, received: self._status(status, received, generation),
             on_connection_lost=lambda reason: self.lost(reason, generation),
             connect_timeout=self.connect_timeout, stall_timeout=self.stall_timeout)
+        receivers = []
+        if self.status_source in ("stream", "both"):
+            receivers.append(StatusReceiver(self.host, self.status_port, **hooks))
+        if self.status_source in ("request", "both"):
+            receivers.append(StatusPoller(self.host, self.data_port, **hooks))
         with self._lock:
-            self._client, self._receiver = client, receiver
+            self._client, self._receivers = client, tuple(receivers)
         self._first_packet.clear()
         client.connect()
-        receiver.start()
+        for receiver in receivers:
+            receiver.start()
         if not self._first_packet.wait(self.first_packet_timeout):
+            ports = " and ".join(str(r.port) for r in receivers)
             raise errors.ConnectFailed(
-                f"the status port {self.host}:{self.status_port} accepted the connection but "
-                f"sent no status packet within {self.first_packet_timeout:.1f} s")
+                f"the status port {self.host}:{ports} accepted the connection but sent no "
+                f"status packet within {self.first_packet_timeout:.1f} s")
         with self._lock:
             if (generation != self._generation or self._client is not client
-                    or not receiver.running or not client.connected):
+                    or not all(r.running for r in receivers) or not client.connected):
                 raise errors.ConnectionLost("the new connection was lost while starting")
             self._up.set()
 
-    def _status(self, status: RobotStatus, received: float, generation: int) -> None:
+    def _status(self, status: StatusPacket, received: float, generation: int) -> None:
         if generation != self._generation:
             return
         self._latest = (status, received)

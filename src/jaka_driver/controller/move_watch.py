@@ -1,9 +1,12 @@
-"""Knowing from the status stream when a move the controller accepted has ended.
+"""Knowing when a move the controller accepted has ended.
 
-A JAKA controller replies to ``joint_move``/``moveL`` as soon as it accepts the move
-(jaka_facts.md §2.2); the end of the move is visible only in the status stream, as ``inpos``
-turning true again. A packet read before the command went out, or produced before the
-controller started the move, still says ``inpos`` — so a watch counts a move as done only when
+A JAKA controller acknowledges ``joint_move``/``moveL`` as soon as it has queued the move
+(docs/protocol.md, "Motion queue"); the end of the move shows as ``inpos`` turning true again,
+in the status packets and in the reply to ``get_motion_state``, which the backend polls while it
+waits (a controller whose status port stalls, or a status source polled slowly, must not make a
+finished move look unfinished). A packet read before the command went out, or produced before
+the controller started the move, still says ``inpos`` — so a watch counts a move as done only
+when
 
 * ``inpos`` is true after it has been seen false since the command, or
 * ``inpos`` is true and the arm is already at the target (a move too short to show up in a
@@ -23,14 +26,14 @@ import numpy as np
 
 from ..completion import Completion
 from ..constants import IN_POSITION
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 from ..results import Code, Result
-from ..transforms import rotation_angle_between, rotvec_to_matrix
+from ..transforms import rotation_angle_between, rpy_to_matrix
 
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
 TCP_IN_POSITION_RAD = 2e-3
 
-def fault_of(status: RobotStatus) -> Optional[str]:
+def fault_of(status: StatusPacket) -> Optional[str]:
     """Why the controller cannot be moving a commanded motion any more, or None."""
     if status.emergency_stop:
         return "emergency stop"
@@ -45,37 +48,38 @@ def fault_of(status: RobotStatus) -> Optional[str]:
     return None
 
 
-def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[RobotStatus], bool]:
+def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[StatusPacket], bool]:
     """Predicate: every measured joint within ``tolerance`` rad of ``target`` (rad)."""
     goal = np.asarray(target, float)
 
-    def at(status: RobotStatus) -> bool:
+    def at(status: StatusPacket) -> bool:
         q = status.joint_position
         return bool(np.all(np.isfinite(q)) and np.max(np.abs(q - goal)) <= tolerance)
     return at
 
 
-def joint_error(target: np.ndarray) -> Callable[[RobotStatus], str]:
+def joint_error(target: np.ndarray) -> Callable[[StatusPacket], str]:
     """Describes how far the measured joints ended from ``target`` (rad)."""
     goal = np.asarray(target, float)
 
-    def error(status: RobotStatus) -> str:
+    def error(status: StatusPacket) -> str:
         return f"final error {float(np.max(np.abs(status.joint_position - goal))):.1e} rad"
     return error
 
 
-def tcp_at(target_mm_rotvec: np.ndarray) -> Callable[[RobotStatus], bool]:
-    """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + rotvec)."""
-    goal = np.asarray(target_mm_rotvec, float)
-    goal_rotation = rotvec_to_matrix(goal[3:])
+def tcp_at(target_mm_rpy: np.ndarray) -> Callable[[StatusPacket], bool]:
+    """Predicate: the reported TCP within 0.5 mm and 2 mrad of ``target`` (mm + RPY rad)."""
+    goal = np.asarray(target_mm_rpy, float)
+    goal_rotation = rpy_to_matrix(*goal[3:])
 
-    def at(status: RobotStatus) -> bool:
+
+    def at(status: StatusPacket) -> bool:
         p = status.tcp_pose
         if not np.all(np.isfinite(p)):
             return False
         return bool(np.linalg.norm(p[:3] - goal[:3]) <= TCP_IN_POSITION_MM
-                    # Compare rotations, not vectors: near π one rotation has two rotation vectors.
-                and rotation_angle_between(rotvec_to_matrix(p[3:]), goal_rotation)
+                    # Compare rotations, not angles: near ±π and at gimbal lock one rotation has many RPYs.
+                and rotation_angle_between(rpy_to_matrix(*p[3:]), goal_rotation)
                 <= TCP_IN_POSITION_RAD)
     return at
 
@@ -85,9 +89,9 @@ class MoveWatch:
     ``need_inpos`` False (servo streams, where ``inpos`` is not documented) arriving at the
     target is enough. Feed it every packet with :meth:`on_status`."""
 
-    def __init__(self, label: str, at_target: Callable[[RobotStatus], bool],
+    def __init__(self, label: str, at_target: Callable[[StatusPacket], bool],
                  need_inpos: bool = True,
-                 final_error: Optional[Callable[[RobotStatus], str]] = None,
+                 final_error: Optional[Callable[[StatusPacket], str]] = None,
                  note: Optional[str] = None):
         self.label = label
         self._final_error = final_error
@@ -104,7 +108,7 @@ class MoveWatch:
         self._armed_at = time.time()
         self._seen_moving = False
 
-    def on_status(self, status: RobotStatus, received: float) -> None:
+    def on_status(self, status: StatusPacket, received: float) -> None:
         if self.completion.done or received < self._armed_at:
             return
         fault = fault_of(status)
@@ -122,6 +126,20 @@ class MoveWatch:
             if self._note is not None:
                 message += f" ({self._note})"
             self.completion.finish(Result.success(message))
+
+    def on_motion_state(self, inpos: bool, queued: int, latest=None) -> None:
+        """A ``get_motion_state`` reply read after :meth:`arm`: ``inpos`` and the number of
+        moves ``queued`` (waiting or running); ``latest`` is the newest (packet, received) pair,
+        used to recognise a move that had nothing to do."""
+        if self.completion.done:
+            return
+        if not inpos or queued > 0:
+            self._seen_moving = True
+            return
+        fresh = latest is not None and latest[1] >= self._armed_at
+        if self._seen_moving or (fresh and self._at_target(latest[0])):
+            self.completion.finish(Result.success(
+                f"{self.label} done in {time.monotonic() - self.started:.3f} s"))
 
     def abort(self, result: Result) -> None:
         self.completion.finish(result)

@@ -2,7 +2,7 @@
 from a thread on the controller's 8 ms cycle.
 
 ``step_num`` > 1 decimates: every ``step_num``-th sample is sent with ``stepNum = step_num``, and
-the controller interpolates over ``step_num`` × 8 ms (jaka_facts.md §2.2). A late set-point is
+the controller interpolates over ``step_num`` × 8 ms (docs/protocol.md, "Servo mode"). A late set-point is
 sent as soon as possible and none is skipped: skipping would double the implied joint speed of
 the next step, which the controller refuses above 180°/s.
 

@@ -1,7 +1,7 @@
 """From the controller's status stream to the driver's :class:`RobotState`.
 
-The stream carries positions but no velocities, efforts or servo-mode flag (jaka_facts.md
-§2.3), so this view derives what it can and says what it cannot:
+The stream carries positions but no velocities, efforts or servo-mode flag (docs/protocol.md,
+"Status packet"), so this view derives what it can and says what it cannot:
 
 * joint velocity, rad/s: finite difference of consecutive packets on their receipt times. Packets
   that arrive in the same TCP read share one receipt time; the difference is therefore taken
@@ -20,14 +20,19 @@ from typing import Optional
 
 import numpy as np
 
-from ..protocol.status_stream import RobotStatus
+from ..protocol.status_stream import StatusPacket
 from ..robot_state import RobotState
-from ..transforms import pose_mm_to_matrix
+from ..transforms import pose_to_matrix
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
 
 
-def is_collision(status: RobotStatus) -> bool:
+def tcp_matrix(pose_mm_rpy: np.ndarray) -> np.ndarray:
+    """The protocol's ``[x, y, z mm, rx, ry, rz rad]`` → 4x4 pose in metres."""
+    return pose_to_matrix(pose_mm_rpy, rotation="rpy", length_scale=1e-3)
+
+
+def is_collision(status: StatusPacket) -> bool:
     """JAKA reports a collision as a protective stop; only its message tells them apart (the
     emulator and real controllers both name it), so ``collision_state`` follows the text."""
     return status.protective_stop and "collision" in status.errmsg.lower()
@@ -42,7 +47,7 @@ class StatusView:
 
     def __init__(self):
         self._lock = threading.Lock()
-        self._status: Optional[RobotStatus] = None
+        self._status: Optional[StatusPacket] = None
         self._received = 0.0
         self._velocity = np.zeros(6)
         self._ref: Optional[tuple[float, np.ndarray]] = None   # (received, q) for the difference
@@ -56,7 +61,7 @@ class StatusView:
             self._ref = None
             self._velocity = np.zeros(6)
 
-    def feed(self, status: RobotStatus, received: float) -> None:
+    def feed(self, status: StatusPacket, received: float) -> None:
         q = status.joint_position
         with self._lock:
             if np.all(np.isfinite(q)):
@@ -66,12 +71,12 @@ class StatusView:
                     self._velocity = (q - self._ref[1]) / (received - self._ref[0])
                     self._ref = (received, q)
             if np.all(np.isfinite(status.tcp_pose)):
-                self._tcp = pose_mm_to_matrix(status.tcp_pose)
+                self._tcp = tcp_matrix(status.tcp_pose)
             self._status, self._received = status, received
             self._serial += 1
 
     @property
-    def latest(self) -> Optional[RobotStatus]:
+    def latest(self) -> Optional[StatusPacket]:
         return self._status
 
     def state(self, connected: bool, servo_mode: bool) -> RobotState:

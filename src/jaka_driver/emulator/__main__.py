@@ -30,6 +30,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address to bind (default 127.0.0.1; 0.0.0.0 for every interface)")
     parser.add_argument("--command-port", type=int, default=10001, help="0 = any free port")
     parser.add_argument("--status-port", type=int, default=10000, help="0 = any free port")
+    parser.add_argument("--data-port", type=int, default=10004,
+                        help="data_request port (zlib status replies); 0 = any free port")
     parser.add_argument("--period", type=float, default=0.008, help="status period, s")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
     parser.add_argument("--io-loopback", action="store_true",
@@ -48,13 +50,14 @@ def main(argv=None) -> int:
         signal.signal(sig, lambda *_: done.set())
     try:
         emulator = Emulator(args.model, args.host, args.command_port, args.status_port,
-                            period=args.period, scene=args.scene, io_loopback=args.io_loopback)
+                            data_port=args.data_port, period=args.period, scene=args.scene, io_loopback=args.io_loopback)
         emulator.start()
     except OSError as exc:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
     print(f"{READY} model {args.model}, host {emulator.host}, command port "
-          f"{emulator.command_port}, status port {emulator.status_port}", flush=True)
+          f"{emulator.command_port}, status port {emulator.status_port}, data port "
+          f"{emulator.data_port}", flush=True)
     try:
         while not done.wait(0.5):
             pass

@@ -1,6 +1,6 @@
 """Splitting the command port's byte stream into requests.
 
-Clients send bare JSON objects with no delimiter (jaka_facts.md §2.1), possibly split across
+Clients send bare JSON objects with no delimiter (docs/protocol.md, "Framing and layout"), possibly split across
 reads or several in one read. A request ends where its outer braces balance (strings and escapes
 respected), so a malformed object is recognised as soon as it is complete — it does not have to
 wait for the next request — and it costs only itself:

@@ -1,11 +1,16 @@
 """The emulator's command port: one handler per ``cmdName``, wire request in, wire reply out.
 
-Requests are read as a JAKA controller reads them (jaka_facts.md §2.2: joints deg, poses mm +
-RPY deg, speeds deg/s or mm/s) and converted once, here, to the SI values of
-:class:`~.twin_controller.TwinController`. Every request gets exactly one reply object
-``{"cmdName", "errorCode", "errorMsg", ...}``: ``errorCode`` ``"0"`` on success, ``"1"`` for a
-wrong request (unknown command, missing or malformed field, malformed JSON), ``"2"`` for a
-command refused in the current state — never an exception, never a silent close.
+Requests are read as a JAKA controller reads them (docs/protocol.md: joints deg, poses mm +
+RPY deg, speeds deg/s or mm/s, IO index from 1, keys in any order, unknown extra keys ignored)
+and converted once, here, to the SI values of :class:`~.twin_controller.TwinController`. Every
+request gets exactly one reply object ``{"errorCode", "errorMsg", "cmdName", ...}``:
+``errorCode`` ``"0"`` on success, ``"1"`` for a wrong request (unknown command, missing or
+malformed field, malformed JSON), ``"2"`` for a command refused in the current state — never an
+exception, never a silent close.
+
+Where the twin has no such thing (user programs, extension IO, fieldbus arrays, user variables)
+the answer is that of a controller with nothing configured: an empty list, zeros, errorCode
+``"2"`` for a program that does not exist.
 
 Emulator-only commands (a real controller answers them with an error) inject faults and help
 tests; they all start with ``emulator_`` — see :data:`EMULATOR_COMMANDS`.
@@ -25,8 +30,9 @@ from ..protocol.fields import Cmd, CoordMap, ERROR_CODE_OK, Field, JogMode, Stat
 from ..protocol.status_stream import encode_status
 from ..protocol.wire import as_flag
 from ..protocol.errors import ProtocolError
-from ..transforms import pose_mm_to_matrix
-from .status_packet import status_fields, wire_pose
+from ..frames import TOOL, USER_FRAME
+from ..transforms import pose_to_matrix
+from .status_packet import status_fields, wire_pose, zeros_of
 from .twin_controller import (ERROR_REFUSED, ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected,
                               TwinController)
 
@@ -37,7 +43,7 @@ EMULATOR_COMMANDS = {
     "emulator_emergency_stop": '{"pressed": 1} presses the e-stop (power cut, arm halts), '
                                '{"pressed": 0} releases it',
     "emulator_protective_stop": 'protective stop, as after a collision; optional "reason"',
-    "emulator_set_input": 'drive an input: "signal" digital/analog, "type", "index", "value"',
+    "emulator_set_input": 'drive an input: "signal" digital/analog, "type", "index" (from 1), "value"',
     "emulator_drop_connections": "reply, then close every client connection on both ports "
                                  "(the listening sockets stay open)",
     "emulator_stats": 'reply "commands": how many times each cmdName was received',
@@ -122,7 +128,8 @@ def _joints(req: Mapping, key: str = Field.JOINT_POSITION) -> np.ndarray:
 
 def _pose(req: Mapping, key: str) -> np.ndarray:
     """Wire pose (mm, RPY deg) → 4x4 (m)."""
-    return pose_mm_to_matrix(units.pose_from_wire(_vec(req, key, 6)))
+    return pose_to_matrix(units.pose_from_wire(_vec(req, key, 6)), rotation="rpy",
+                          length_scale=1e-3)
 
 
 def _relative(base: np.ndarray, increment: np.ndarray) -> np.ndarray:
@@ -169,7 +176,7 @@ class CommandHandlers:
             Cmd.SERVO_MOVE: lambda r: self._done(self.c.set_servo_mode(
                 _int(r, Field.REL_FLAG, 0, 1) == 1)),
             Cmd.IS_IN_SERVOMOVE: lambda r: Answer(
-                {Field.IN_SERVOMOVE: int(self.c.twin.servo_mode)}),
+                {Field.IN_SERVOMOVE: bool(self.c.twin.servo_mode)}),
             Cmd.SERVO_J: self._servo_j,
             Cmd.SERVO_P: self._servo_p,
             Cmd.SET_SERVO_MOVE_FILTER: lambda r: self._done(self.c.set_servo_filter(
@@ -205,7 +212,38 @@ class CommandHandlers:
             Cmd.GET_DIGITAL_INPUT_STATUS: lambda r: Answer(
                 {Field.DIN_STATUS: status_fields(self.c)[StatusField.DIN]}),
             Cmd.DRAG_STATUS: lambda r: Answer({Field.DRAG_STATUS: int(self.c.twin.drag_mode)}),
-            Cmd.GET_VERSION: lambda r: Answer({Field.VERSION: self.c.version}),
+            Cmd.GET_VERSION: lambda r: Answer({Field.VERSION: self.c.version,
+                                               Field.ERROR_MSG: self.c.identity}),
+            Cmd.GET_MOTION_STATE: self._get_motion_state,
+            Cmd.WAIT_COMPLETE: self._wait_complete,
+            Cmd.END_MOVE: self._end_move,
+            Cmd.IS_ON_LIMIT: lambda r: Answer({Field.ON_LIMIT: int(self.c.on_limit())}),
+            Cmd.GET_DIGITAL_OUTPUT: lambda r: self._read_io(r, "digital", 1),
+            Cmd.GET_ANALOG_INPUT: lambda r: self._read_io(r, "analog", 0),
+            Cmd.GET_RAPID_RATE: lambda r: Answer({Field.VALUE: float(self.c.rapid_rate)}),
+            Cmd.GET_TOOL_OFFSETS: lambda r: Answer(
+                {Field.TOOL_OFFSETS: wire_pose(self.c.frames.get(TOOL, self.c.twin.tool_id))}),
+            Cmd.GET_USER_OFFSETS: lambda r: Answer(
+                {Field.USER_OFFSETS: wire_pose(self.c.frames.get(USER_FRAME, self.c.twin.user_id))}),
+            Cmd.GET_DRAG_STATUS: lambda r: Answer({Field.STATUS: bool(self.c.twin.drag_mode)}),
+            Cmd.TORQUE_CONTROL_ENABLE: self._torque_control_enable,
+            Cmd.SET_INSTALLATION_ANGLE: self._set_installation_angle,
+            Cmd.GET_PROGRAM_STATE: lambda r: Answer({Field.PROGRAM_STATE: 0}),
+            Cmd.GET_EXIST_PROGRAMS: lambda r: Answer({"programs": []}),
+            Cmd.GET_LOADED_PROGRAM: lambda r: Answer({Field.PROGRAM_NAME: ""}),
+            Cmd.LOAD_PROGRAM: lambda r: self._no_program(r),
+            Cmd.PLAY_PROGRAM: lambda r: self._no_program(r),
+            Cmd.PAUSE_PROGRAM: lambda r: self._no_program(r),
+            Cmd.RESUME_PROGRAM: lambda r: self._no_program(r),
+            Cmd.TORQUE_FEEDFORWARD: self._torque_feedforward,
+            Cmd.GET_EXTIO_STATUS: lambda r: Answer({"extio_status": {"num": 0, "status": []}}),
+            Cmd.GET_FUNCDI_STATUS: lambda r: Answer(
+                {"funcdi_status": zeros_of("funcdi")}),
+            Cmd.QUERY_USER_DEFINED_VARIABLE: lambda r: Answer({"var_list": []}),
+            Cmd.MODIFY_USER_DEFINED_VARIABLE: lambda r: self._no_variable(r),
+            Cmd.SET_TIO_VOUT_PARAM: self._set_tio_vout,
+            Cmd.GET_TIO_VOUT_PARAM: lambda r: Answer(
+                {"tio_vout_enable": self.c.tio_vout[0], "tio_vout_voltage": self.c.tio_vout[1]}),
             Cmd.QUIT: lambda r: Answer(then="close"),
             "emulator_emergency_stop": lambda r: self._note(self.c.emergency_stop(
                 _flag(r, "pressed"))),
@@ -242,7 +280,7 @@ class CommandHandlers:
         except Exception as exc:  # noqa: BLE001 - a request must never take the server down
             log.exception("emulator: %s failed", name)
             return _error(name, ERROR_REFUSED, f"{name} failed inside the emulator: {exc!r}"), None
-        reply = {Field.CMD_NAME: name, Field.ERROR_CODE: ERROR_CODE_OK, Field.ERROR_MSG: ""}
+        reply = {Field.ERROR_CODE: ERROR_CODE_OK, Field.ERROR_MSG: "", Field.CMD_NAME: name}
         reply.update(answer.fields)
         return reply, answer.then
 
@@ -265,23 +303,88 @@ class CommandHandlers:
         # ``len`` as in the status packet with the same fields
         return Answer({StatusField.LEN: len(encode_status(fields)), **fields})
 
+    def wait_before(self, request: Any, limit: float) -> None:
+        """Called by the server outside its command lock before :meth:`handle`: a
+        ``wait_complete`` request waits here (at most ``limit`` s) until the queue is done, so
+        other clients are served meanwhile."""
+        if isinstance(request, dict) and request.get(Field.CMD_NAME) == Cmd.WAIT_COMPLETE:
+            self.c.wait_idle(limit)
+
     def _joint_move(self, req) -> Answer:
         q = _joints(req)
-        if _int(req, Field.REL_FLAG, 0, 1, default=0):
-            q = self.c.commanded_joints() + q
+        relative = _int(req, Field.REL_FLAG, 0, 1, default=0)
         speed = math.radians(_num(req, Field.SPEED, positive=True))
-        accel = math.radians(_num(req, Field.ACCEL, positive=True))
-        self.c.joint_move(q, speed, accel)
+        # Without accel (a fw 1.4.11 client sends none) the joints' own limit is used.
+        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
+        accel = math.radians(_num(req, Field.ACCEL, default=default_accel, positive=True))
+        # A relative move adds to where the move before it ends: resolved when its turn comes.
+        self.c.joint_move((lambda: self.c.commanded_joints() + q) if relative else (lambda: q),
+                          speed, accel)
         return Answer()
 
     def _move_l(self, req) -> Answer:
         target = _pose(req, Field.CART_POSITION)
-        if _int(req, Field.REL_FLAG, 0, 1, default=0):
-            target = _relative(self.c.commanded_tcp(), target)
+        relative = _int(req, Field.REL_FLAG, 0, 1, default=0)
         speed = _num(req, Field.SPEED, positive=True) / 1000.0
         default_accel = self.model.max_tcp_accel_mm_s2 / 4
         accel = _num(req, Field.ACCEL, default=default_accel, positive=True) / 1000.0
-        self.c.linear_move(target, speed, accel)
+        self.c.linear_move((lambda: _relative(self.c.commanded_tcp(), target)) if relative
+                           else (lambda: target), speed, accel)
+        return Answer()
+
+    def _end_move(self, req) -> Answer:
+        pose = _pose(req, Field.END_POSITION)
+        speed = math.radians(_num(req, Field.SPEED, positive=True))
+        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
+        accel = math.radians(_num(req, Field.ACCEL, default=default_accel, positive=True))
+        self.c.end_move(pose, speed, accel)
+        return Answer()
+
+    def _get_motion_state(self, _req) -> Answer:
+        c = self.c
+        return Answer({Field.MOTION_LINE: c.motion_line, Field.ERR_ADD_LINE: 0,
+                       Field.QUEUE: c.queued, Field.ACTIVE_QUEUE: c.queued + int(c.moving),
+                       Field.QUEUE_FULL: 0, Field.INPOS: bool(c.inpos)})
+
+    def _wait_complete(self, _req) -> Answer:
+        # The server waits for the queue outside its command lock (see server.py); this is
+        # reached once the queue is done, or after the server's limit.
+        if not self.c.inpos:
+            raise Rejected("wait_complete: the motion did not complete")
+        return Answer()
+
+    def _torque_control_enable(self, req) -> Answer:
+        on = _flag(req, Field.ENABLE_FLAG)
+        result = self.c.twin.set_drag_mode(on)
+        if not result.ok:
+            raise Rejected(f"torque_control_enable: {result.message}")
+        return Answer()
+
+    def _set_installation_angle(self, req) -> Answer:
+        angle_x = _num(req, Field.ANGLE_X, lo=0.0, hi=180.0)
+        angle_z = _num(req, Field.ANGLE_Z, lo=0.0, hi=360.0)
+        if angle_x or angle_z:
+            raise Rejected("set_installation_angle: the twin is mounted upright; only angleX 0 "
+                           "and angleZ 0 are possible")
+        self.c.installation_angle = (angle_x, angle_z)
+        return Answer()
+
+    def _no_program(self, req) -> Answer:
+        name = req.get(Field.PROGRAM_NAME) or req.get("programName") or ""
+        raise Rejected(f"{req[Field.CMD_NAME]}: program {name!r} does not exist (the emulator "
+                       "has no user programs)" if name else f"{req[Field.CMD_NAME]}: no "
+                       "program loaded (the emulator has no user programs)")
+
+    def _no_variable(self, req) -> Answer:
+        raise Rejected(f"{req[Field.CMD_NAME]}: no such user variable (none is defined)")
+
+    def _torque_feedforward(self, req) -> Answer:
+        # Accepted and not applied: the twin's drives have no feed-forward input.
+        return Answer()
+
+    def _set_tio_vout(self, req) -> Answer:
+        self.c.tio_vout = (_int(req, "tio_vout_enable", 0, 1, default=0),
+                           _int(req, "tio_vout_voltage", 0, 1, default=0))
         return Answer()
 
     def _jog(self, req) -> Answer:
@@ -289,7 +392,7 @@ class CommandHandlers:
         coord_map = CoordMap(_int(req, Field.COORD_MAP, 0, 2))
         axis = _int(req, Field.JNUM, 0, 5)
         if mode == JogMode.STOP:
-            self.c.jog_stop()
+            self.c.jog_stop()   # any jog: continuous, incremental, absolute
             return Answer()
         angular = coord_map == CoordMap.JOINT or axis >= 3
         velocity = _num(req, Field.JOGVEL)
@@ -302,12 +405,16 @@ class CommandHandlers:
         if coord_map != CoordMap.JOINT:
             raise Rejected("jog: the emulator does Cartesian jogs in continuous mode only "
                            "(jog_mode 1)", ERROR_REQUEST)
-        # Increment (2) and absolute (3) joint jogs are joint moves of one axis.
+        # Increment (2) and absolute (3) joint jogs are queued joint moves of one axis.
         position = math.radians(_num(req, Field.POSCMD))
-        q = self.c.commanded_joints()
-        q[axis] = q[axis] + position if mode == JogMode.INCREMENT else position
+
+        def target() -> np.ndarray:
+            q = self.c.commanded_joints()
+            q[axis] = q[axis] + position if mode == JogMode.INCREMENT else position
+            return q
         accel = float(self.model.max_acceleration[axis])
-        self.c.joint_move(q, min(speed, float(self.model.max_velocity[axis])), accel)
+        self.c.joint_move(target, min(speed, float(self.model.max_velocity[axis])), accel,
+                          what="jog")
         return Answer()
 
     def _steps(self, req) -> int:
@@ -323,9 +430,10 @@ class CommandHandlers:
     def _servo_p(self, req) -> Answer:
         target = _pose(req, Field.SERVO_CART_POSITION)
         if _int(req, Field.REL_FLAG, 0, 1, default=0):
-            tool, user = self.c.twin.frames()
-            here = self.c.twin.kin.tcp_pose(self.c.servo_reference("servo_p"), tool, user)
-            target = _relative(here, target)
+            here = self.c.twin.forward_kinematics(self.c.servo_reference("servo_p"))
+            if not here.ok:
+                raise Rejected(f"servo_p: {here.message}")
+            target = _relative(here.value, target)
         self.c.servo_pose(target, self._steps(req))
         return Answer()
 
@@ -354,7 +462,9 @@ class CommandHandlers:
         return Answer()
 
     def _set_user_offsets(self, req) -> Answer:
-        self.c.set_user_offset(self._frame_id(req), _pose(req, Field.USER_OFFSET))
+        # "userffset" (sic) is what JAKA's SDK sends; "useroffset" is read too, for old clients.
+        key = Field.USER_OFFSET if Field.USER_OFFSET in req else "useroffset"
+        self.c.set_user_offset(self._frame_id(req), _pose(req, key))
         return Answer()
 
     def _set_payload(self, req) -> Answer:
@@ -364,8 +474,9 @@ class CommandHandlers:
         return Answer()
 
     def _io_address(self, req, signal: str, path: int, what: str) -> Tuple[int, int]:
+        """(type, 0-based index): the wire counts IO from 1, as JAKA's SDK sends it."""
         io_type = _int(req, Field.IO_TYPE, 0, 2)
-        index = _int(req, Field.INDEX, 0, 10_000)
+        index = _int(req, Field.INDEX, 1, 10_000) - 1
         self.c.check_io(signal, io_type, path, index, what)
         return io_type, index
 
@@ -386,7 +497,7 @@ class CommandHandlers:
     def _set_input(self, req) -> Answer:
         signal = _signal(req)
         io_type = _int(req, Field.IO_TYPE, 0, 2)
-        index = _int(req, Field.INDEX, 0, 10_000)
+        index = _int(req, Field.INDEX, 1, 10_000) - 1   # 1-based, like the IO commands
         value = _num(req, Field.VALUE)
         if signal == "digital":
             value = 1.0 if value else 0.0

@@ -21,7 +21,7 @@ from typing import Optional
 from .__main__ import READY
 
 _SRC = Path(__file__).resolve().parents[2]
-_PORTS = re.compile(r"command port (\d+), status port (\d+)")
+_PORTS = re.compile(r"command port (\d+), status port (\d+), data port (\d+)")
 
 
 class EmulatorProcess:
@@ -30,11 +30,13 @@ class EmulatorProcess:
     log) goes to ``log_path`` (a temporary file by default)."""
 
     def __init__(self, model: str = "zu5", host: str = "127.0.0.1", command_port: int = 0,
-                 status_port: int = 0, log_path: Optional[str] = None, *extra_args: str):
+                 status_port: int = 0, log_path: Optional[str] = None, *extra_args: str,
+                 data_port: int = 0):
         self.model = model
         self.host = host
         self.command_port = command_port
         self.status_port = status_port
+        self.data_port = data_port
         self.extra_args = extra_args
         self.log_path = log_path or os.path.join(tempfile.gettempdir(),
                                                  f"jaka_emulator_{os.getpid()}.log")
@@ -46,7 +48,8 @@ class EmulatorProcess:
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(_SRC), env.get("PYTHONPATH")]))
         args = [sys.executable, "-m", "jaka_driver.emulator", "--model", self.model,
                 "--host", self.host, "--command-port", str(self.command_port),
-                "--status-port", str(self.status_port), *self.extra_args]
+                "--status-port", str(self.status_port), "--data-port", str(self.data_port),
+                *self.extra_args]
         with open(self.log_path, "ab") as log:
             self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log, env=env,
                                          start_new_session=True)
@@ -62,7 +65,8 @@ class EmulatorProcess:
                                        f"{self.log()}")
                 if line.startswith(READY):
                     match = _PORTS.search(line)
-                    self.command_port, self.status_port = int(match[1]), int(match[2])
+                    self.command_port, self.status_port, self.data_port = (
+                        int(match[1]), int(match[2]), int(match[3]))
                     return self
         except queue.Empty:
             self.stop()

@@ -1,8 +1,15 @@
-"""The emulator's sockets: the command port (10001) and the status port (10000).
+"""The emulator's sockets: the command port (10001), the status port (10000) and the
+``data_request`` port (10004).
 
 * Command port: any number of clients at once, one thread each; requests are split by
   :mod:`.framing`, executed one at a time by :class:`~.handlers.CommandHandlers` (a controller
   runs one command at a time), and each gets exactly one reply.
+* Replies go out in the controller's layout (a space after ``:`` and ``,``): public clients
+  search the text for ``"errorCode": "``.
+* ``wait_complete`` waits for the motion queue outside the command lock (other clients are
+  served meanwhile), at most :data:`WAIT_COMPLETE_LIMIT` s.
+* Data port: each ``{"cmdName":"data_request"}`` is answered with one status packet,
+  zlib-compressed, as JAKA's SDK reads status.
 * Status port: any number of clients; one thread encodes a packet every ``period`` s (8 ms,
   the controller cycle) and sends it to all of them. A client that cannot take a packet within
   :data:`SEND_TIMEOUT` s is dropped, so one stuck reader cannot stall the others.
@@ -20,8 +27,9 @@ import time
 from typing import Callable, Dict, List
 
 from ..constants import SERVO_CYCLE
-from ..protocol.status_stream import encode_status
-from ..protocol.wire import encode_json
+from ..protocol.fields import DATA_REQUEST_MAX_BYTES
+from ..protocol.status_stream import encode_data_reply, encode_status
+from ..protocol.wire import encode_json_spaced
 from .framing import RequestSplitter
 from .handlers import CommandHandlers
 
@@ -30,6 +38,7 @@ log = logging.getLogger(__name__)
 STATUS_PERIOD = SERVO_CYCLE     # s, the controller publishes once per cycle
 SEND_TIMEOUT = 0.5       # s a status client may block a send before it is dropped
 IDLE_TIMEOUT = 1.0       # s an incomplete request may wait for its remaining bytes
+WAIT_COMPLETE_LIMIT = 600.0   # s a wait_complete waits for the motion queue
 _POLL = 0.1              # s, how often blocked threads look at the stop flag
 
 
@@ -62,12 +71,13 @@ class EmulatorServer:
 
     def __init__(self, handlers: CommandHandlers, status_source: Callable[[], Dict],
                  host: str = "127.0.0.1", command_port: int = 10001, status_port: int = 10000,
-                 period: float = STATUS_PERIOD):
+                 period: float = STATUS_PERIOD, data_port: int = 10004):
         self.handlers = handlers
         self.status_source = status_source
         self.host = host
         self.command_port = int(command_port)
         self.status_port = int(status_port)
+        self.data_port = int(data_port)
         self.period = float(period)
         self._lock = threading.Lock()          # guards the client lists
         self._exec_lock = threading.Lock()     # one command at a time
@@ -80,17 +90,22 @@ class EmulatorServer:
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
-        command = _listen(self.host, self.command_port)
+        listeners = []
         try:
-            status = _listen(self.host, self.status_port)
+            for port in (self.command_port, self.status_port, self.data_port):
+                listeners.append(_listen(self.host, port))
         except OSError:
-            command.close()
+            for sock in listeners:
+                sock.close()
             raise
-        self._listeners = [command, status]
+        command, status, data = listeners
+        self._listeners = listeners
         self.command_port = command.getsockname()[1]
         self.status_port = status.getsockname()[1]
+        self.data_port = data.getsockname()[1]
         for target, args, name in ((self._accept, (command, self._serve_commands), "commands"),
                                    (self._accept, (status, self._add_status_client), "status"),
+                                   (self._accept, (data, self._serve_data), "data"),
                                    (self._broadcast, (), "broadcast")):
             thread = threading.Thread(target=target, args=args, daemon=True,
                                       name=f"emulator-{name}")
@@ -157,6 +172,41 @@ class EmulatorServer:
             self._command_clients[conn] = thread
         thread.start()
 
+    def _serve_data(self, conn: socket.socket) -> None:
+        thread = threading.Thread(target=self._data_loop, args=(conn,), daemon=True,
+                                  name="emulator-data-client")
+        with self._lock:
+            self._command_clients[conn] = thread
+        thread.start()
+
+    def _data_loop(self, conn: socket.socket) -> None:
+        """Port 10004: one zlib-compressed packet per data_request."""
+        splitter = RequestSplitter()
+        try:
+            conn.settimeout(_POLL)
+            while not self._quit.is_set():
+                try:
+                    data = conn.recv(65536)
+                except socket.timeout:
+                    continue
+                if not data:
+                    break
+                for request in splitter.feed(data):
+                    if isinstance(request, dict) and request.get("cmdName") == "data_request":
+                        reply = encode_data_reply(self.status_source())
+                        if len(reply) > DATA_REQUEST_MAX_BYTES:
+                            log.error("emulator: data_request reply of %d bytes exceeds the "
+                                      "SDK's %d", len(reply), DATA_REQUEST_MAX_BYTES)
+                    else:
+                        reply = encode_json_spaced(self.handlers.handle(request)[0])
+                    conn.sendall(reply)
+        except OSError:
+            pass
+        finally:
+            with self._lock:
+                self._command_clients.pop(conn, None)
+            _close(conn)
+
     def _add_status_client(self, conn: socket.socket) -> None:
         conn.settimeout(SEND_TIMEOUT)
         with self._lock:
@@ -192,10 +242,11 @@ class EmulatorServer:
         """Execute one request and send its reply; False when the connection is to end."""
         if request is None:
             return True
+        self.handlers.wait_before(request, WAIT_COMPLETE_LIMIT)
         with self._exec_lock:
             reply, then = self.handlers.handle(request)
         try:
-            conn.sendall(encode_json(reply))
+            conn.sendall(encode_json_spaced(reply))
         except OSError:
             return False
         if then == "drop_all":

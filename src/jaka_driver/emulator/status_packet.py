@@ -1,8 +1,11 @@
 """The emulator's status packet: the twin's state as the fields of a port-10000 packet (and of
-the ``get_data`` reply), in wire units — joints deg, TCP mm + RPY deg (jaka_facts.md §2.3).
+the port-10004 ``data_request`` reply and the ``get_data`` reply), in wire units — joints deg,
+TCP mm + RPY deg — with every key, type and array size of a real Zu 5s packet
+(docs/protocol.md, "Status packet").
 
-Field values the twin has no notion of are reported as an idle controller would (``paused`` 0,
-``on_soft_limit`` 0, ``task_mode`` 2 = auto). ``errcode`` is the emulator's own: ``0xE001``
+Field values the twin has no notion of are reported as an idle controller with nothing
+configured would (``paused`` false, ``on_soft_limit`` 0, ``task_mode`` 2 = auto, fieldbus arrays
+zeros). ``errcode`` is the emulator's own, written ``"0x…"`` as the SDK reads it: ``0xE001``
 collision, ``0xE002`` protective stop, ``0x0`` none.
 """
 from __future__ import annotations
@@ -13,12 +16,37 @@ import numpy as np
 
 from ..protocol import units
 from ..protocol.fields import InterpState, StatusField as S, TaskState
-from ..transforms import matrix_to_pose_mm
+from ..transforms import matrix_to_pose
 from .twin_controller import TwinController
 
 ERRCODE_COLLISION = 0xE001
 ERRCODE_PROTECTIVE_STOP = 0xE002
 TASK_MODE_AUTO = 2
+
+#: The IO of a real controller cabinet as the packet shows it (sizes of a Zu 5s packet: cabinet
+#: analog 64 each way, tool digital 8 each way; digital cabinet IO over 100 — 136 here).
+CONTROLLER_IO_SIZES = {("digital", 0, 0): 136, ("digital", 0, 1): 136, ("analog", 0, 0): 64,
+                       ("analog", 0, 1): 64, ("digital", 1, 0): 8, ("digital", 1, 1): 8,
+                       ("analog", 1, 0): 2, ("analog", 1, 1): 0, ("digital", 2, 0): 8,
+                       ("digital", 2, 1): 8, ("analog", 2, 0): 4, ("analog", 2, 1): 4}
+
+#: Keys the twin has nothing behind: what a controller with nothing configured sends.
+_IDLE = {
+    "monitor_data": lambda: {"instVel": [0.0] * 6},
+    "torqsensor": lambda: [[0, [0.0] * 6, 0], [0, [0.0] * 6]],
+    "drag_near_limit": lambda: [0] * 6, "funcdi": lambda: [[-1, -1] for _ in range(15)],
+    "motion_mode": lambda: 0, "point_key": lambda: 0, "netState": lambda: 1,
+    "relay_io": lambda: [0] * 4, "tio_key": lambda: [0, 0, 0], "tio_rs_signals": lambda: [],
+    "extio": lambda: {"num": 0, "status": []},
+    **{f"{bus}_{kind}": (lambda kind=kind: [0.0 if kind[0] == "a" else 0] * 64)
+       for bus in ("mb_slave", "pn_dev", "eip_adpt") for kind in ("din", "dout", "ain", "aout")},
+}
+
+
+def zeros_of(key: str) -> Any:
+    """The idle value of a packet key the twin has nothing behind (e.g. ``funcdi``)."""
+    return _IDLE[key]()
+
 
 #: status field → the twin's IO key (signal, type, path)
 IO_FIELDS = {S.DIN: ("digital", 0, 0), S.DOUT: ("digital", 0, 1), S.AIN: ("analog", 0, 0),
@@ -28,7 +56,7 @@ IO_FIELDS = {S.DIN: ("digital", 0, 0), S.DOUT: ("digital", 0, 1), S.AIN: ("analo
 
 def wire_pose(pose: np.ndarray) -> list:
     """4x4 pose (m) → wire ``[x, y, z mm, rx, ry, rz deg]``."""
-    return units.pose_to_wire(matrix_to_pose_mm(pose))
+    return units.pose_to_wire(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3))
 
 
 def status_fields(controller: TwinController) -> Dict[str, Any]:
@@ -61,6 +89,11 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.POWERED_ON: int(st.powered),
         S.ENABLED: bool(st.enabled),
         S.PAUSED: False,
+        "homed": [1] * 6,
+        "curr_tcp_trans_vel": 0.0,
+        S.MOTION_LINE: int(controller.motion_line),
+        "err_add_line": 0,
+        "executing_line": int(controller.motion_line),
         S.INPOS: bool(inpos),
         S.DRAG_STATUS: bool(st.drag_mode),
         S.EMERGENCY_STOP: int(st.emergency_stop),
@@ -68,7 +101,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.ON_SOFT_LIMIT: 0,
         S.ERRCODE: f"{errcode:#x}",
         S.ERRMSG: st.error_message if errcode else "",
-        S.RAPIDRATE: controller.rapid_rate,
+        S.RAPIDRATE: float(controller.rapid_rate),
         S.CURRENT_TOOL_ID: int(st.tool_id),
         S.CURRENT_USER_ID: int(st.user_id),
     }
@@ -76,4 +109,6 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         values = io.get(key)
         cast = int if key[0] == "digital" else float
         fields[name] = [] if values is None else [cast(v) for v in values]
+    for key, idle in _IDLE.items():
+        fields[key] = idle()
     return fields

@@ -1,30 +1,38 @@
 """What a JAKA controller does, on the MuJoCo twin: the emulator's controller logic in SI units.
 
 The twin (:class:`~jaka_driver.sim.backend.SimBackend`) already moves like the arm; this layer
-adds what a controller has and the twin does not: refusing motion in the wrong state, moves that
-are accepted at once and finish later (``inpos``), stored frames that are activated separately
+adds what a controller has and the twin does not: refusing motion in the wrong state, a motion
+queue (a move is acknowledged at once and runs after the ones before it; ``inpos`` once the
+queue is done — docs/protocol.md, "Motion queue"), stored frames that are activated separately
 from being set, the servo ``stepNum`` interpolation, the speed override, the payload and
 collision settings to report back. Every method takes SI values (rad, m, 4x4 poses of the active
 tool in the active user frame) and raises :class:`Rejected` with the controller's message when
 the command is refused; wire parsing lives in :mod:`.handlers`.
 
+It uses only the twin's public methods (the Backend contract and the small section of
+:class:`SimBackend` written for it), never the simulation's internals.
+
 Thread-safe: commands are serialised by one lock (a controller executes one at a time); the
-status snapshot reads without it.
+status snapshot reads without it. A queue thread starts each queued move when the one before it
+has ended.
 """
 from __future__ import annotations
 
+import collections
+import logging
 import threading
-from typing import Optional
+from typing import Callable, Deque, Optional, Tuple
 
 import numpy as np
 
 from ..completion import Completion
 from ..constants import SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
-from ..results import Result
+from ..results import Code, Result
 from ..sim.backend import SimBackend
-from ..sim.motions import ServoTarget
 from ..validation import fastest_step, outside_limits
+
+log = logging.getLogger(__name__)
 
 #: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
 #: missing or malformed field); "2": a valid command refused in the current state.
@@ -34,6 +42,10 @@ ERROR_REFUSED = "2"
 FRAME_IDS = range(0, 16)          # tool and user frame slots of the controller
 MAX_CLSN_LEVEL = 5
 JOG_ROTATION_SPEED_MAX = np.pi    # rad/s
+QUEUE_SIZE = 64                   # moves the queue holds; one more is refused (queue_full)
+
+#: A queued move: (label, start) where start() returns the twin's Result of a started move.
+QueuedMove = Tuple[str, Callable[[], Result]]
 
 
 class Rejected(Exception):
@@ -46,47 +58,28 @@ class Rejected(Exception):
         self.message = message
 
 
-class RampedServoTarget(ServoTarget):
-    """Servo mode with ``stepNum``: a target may be reached over ``n`` cycles, interpolated
-    linearly, as the controller does; ``set`` (one cycle) is the twin's own behaviour."""
-
-    def __init__(self, q: np.ndarray):
-        super().__init__(q)
-        self._ramp: Optional[tuple[np.ndarray, np.ndarray, int, int]] = None
-
-    def set(self, q: np.ndarray) -> None:
-        with self._lock:
-            self._ramp = None
-            self.target = q.copy()
-
-    def ramp(self, q: np.ndarray, steps: int) -> None:
-        with self._lock:
-            self._ramp = (self.target.copy(), q.copy(), 0, steps)
-
-    @property
-    def goal(self) -> np.ndarray:
-        with self._lock:
-            return (self._ramp[1] if self._ramp is not None else self.target).copy()
-
-    def next(self, q_sp, qd_sp, q_meas, qd_meas):
-        with self._lock:
-            if self._ramp is not None:
-                start, end, k, n = self._ramp
-                k += 1
-                self.target = start + (end - start) * (k / n)
-                self._ramp = None if k >= n else (start, end, k, n)
-        return super().next(q_sp, qd_sp, q_meas, qd_meas)
-
-
 class TwinController:
     """A JAKA controller whose arm is ``twin``."""
 
-    def __init__(self, twin: SimBackend, version: str = "jaka_driver emulator"):
+    def __init__(self, twin: SimBackend, version: str = "1.5.14_13_X64"):
         self.twin = twin
         self.model = twin.model
-        self.version = f"{version} ({twin.model.name} twin)"
+        #: what get_version answers: a real controller's form, so clients that parse it work
+        self.version = version
+        #: where a person reads it (get_version's errorMsg, the log): this is the emulator
+        self.identity = f"jaka_driver emulator ({twin.model.name} MuJoCo twin), not a controller"
         self.lock = threading.RLock()
-        self._pending: Optional[Completion] = None    # the accepted move, until it ends
+        self._pending: Optional[Completion] = None    # the running move, until it ends
+        self._running_label = ""
+        self._queue: Deque[QueuedMove] = collections.deque()
+        self._queue_changed = threading.Condition(threading.Lock())
+        self.motion_line = 0                          # moves started so far
+        self._quit = threading.Event()
+        self._worker = threading.Thread(target=self._run_queue, daemon=True,
+                                        name="emulator-motion-queue")
+        self._worker.start()
+        self.installation_angle = (0.0, 0.0)          # deg, (angleX, angleZ)
+        self.tio_vout = (0, 0)                        # (enable, voltage code)
         self.frames = FrameTable()
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
@@ -94,12 +87,79 @@ class TwinController:
         self.rapid_rate = 1.0
         self.servo_filter = 0
 
+    def close(self) -> None:
+        self._quit.set()
+        with self._queue_changed:
+            self._queue_changed.notify_all()
+        self._worker.join(2.0)
+
+    # ---- the motion queue ---------------------------------------------------------------
+    def _run_queue(self) -> None:
+        while not self._quit.is_set():
+            with self._queue_changed:
+                while not self._queue and not self._quit.is_set():
+                    self._queue_changed.wait(0.5)
+                if self._quit.is_set():
+                    return
+            with self.lock:
+                if not self._queue:
+                    continue
+                label, start = self._queue.popleft()
+                try:
+                    started = start()
+                except Exception as exc:  # noqa: BLE001 - the queue must survive a bad move
+                    log.exception("emulator: queued %s failed", label)
+                    started = Result.failure(Code.INVALID_PARAMETER, f"{label}: {exc!r}")
+                self.motion_line += 1
+                if not started.ok:
+                    log.warning("emulator: queued %s refused when its turn came: %s; the queue "
+                                "is cleared", label, started.message)
+                    self._queue.clear()
+                    continue
+                self._pending, self._running_label = started.value[0], label
+            outcome = started.value[0]
+            while outcome.wait(0.1) is None and not self._quit.is_set():
+                pass
+            if outcome.result is not None and not outcome.result.ok:
+                with self.lock:
+                    self._queue.clear()   # a stopped move ends the queue, as stop_program does
+
+    def enqueue(self, label: str, start: Callable[[], Result]) -> None:
+        """Queue a move; it is acknowledged now and starts when the moves before it have
+        ended."""
+        with self.lock:
+            if len(self._queue) >= QUEUE_SIZE:
+                raise Rejected(f"{label}: the motion queue is full ({QUEUE_SIZE} moves)")
+            self._queue.append((label, start))
+        with self._queue_changed:
+            self._queue_changed.notify_all()
+
+    @property
+    def queued(self) -> int:
+        """Moves waiting behind the running one."""
+        return len(self._queue)
+
+    @property
+    def moving(self) -> bool:
+        pending = self._pending
+        return bool(self._queue) or (pending is not None and not pending.done)
+
+    def wait_idle(self, timeout: float) -> bool:
+        """Block until the queue is done (``wait_complete``); False on timeout."""
+        done = threading.Event()
+        deadline = timeout
+        while deadline > 0:
+            if self.inpos:
+                return True
+            done.wait(0.01)
+            deadline -= 0.01
+        return self.inpos
+
     # ---- state --------------------------------------------------------------------------
     @property
     def inpos(self) -> bool:
-        """No accepted move is still under way and the arm is not being driven."""
-        pending = self._pending
-        return (pending is None or pending.done) and not self.twin.state().moving
+        """The queue is done and the arm is not being driven."""
+        return not self.moving and not self.twin.motion_active
 
     def require_can_move(self, what: str, servo_ok: bool = False) -> None:
         t = self.twin
@@ -117,10 +177,9 @@ class TwinController:
             raise Rejected(f"{what}: robot is in servo mode (servo_move relFlag 0 first)")
 
     def require_still(self, what: str) -> None:
-        # The live motion source, not the last physics sample: a command right after leaving
+        # The live motion source, not the last sample: a command right after leaving
         # servo mode must not be refused because of a sample taken 2 ms earlier.
-        pending = self._pending
-        if (pending is not None and not pending.done) or self.twin.physics.motion.active:
+        if self.moving or self.twin.motion_active:
             raise Rejected(f"{what}: the robot is moving (stop_program first)")
 
     def check_limits(self, q: np.ndarray, what: str) -> None:
@@ -129,15 +188,21 @@ class TwinController:
         if i is not None:
             raise Rejected(f"{what}: joint {i + 1} target {np.degrees(q[i]):.3f} deg is outside "
                            f"[{np.degrees(m.lower[i]):.1f}, {np.degrees(m.upper[i]):.1f}] deg",
-                           ERROR_REQUEST)
+                           ERROR_REFUSED)   # a controller answers "2" (call ... failed)
 
     def commanded_joints(self) -> np.ndarray:
         """The servo setpoint (rad): where the controller is driving the arm."""
-        return self.twin.physics.servo.setpoint.copy()
+        return self.twin.commanded_joints()
 
     def commanded_tcp(self) -> np.ndarray:
-        tool, user = self.twin.frames()
-        return self.twin.kin.tcp_pose(self.commanded_joints(), tool, user)
+        """The TCP of the servo setpoint (4x4, m)."""
+        return self.twin.commanded_tcp()
+
+    def on_limit(self) -> bool:
+        """A joint within 0.1° of its limit (what ``is_on_limit`` reports)."""
+        q = self.twin.state().joint_position
+        margin = np.radians(0.1)
+        return bool(np.any((q <= self.model.lower + margin) | (q >= self.model.upper - margin)))
 
     # ---- power ------------------------------------------------------------------------------
     def set_power(self, on: bool) -> None:
@@ -161,25 +226,43 @@ class TwinController:
             self.twin.clear_error()
 
     # ---- moves ----------------------------------------------------------------------------------
-    def _accepted(self, started: Result, what: str) -> None:
-        if not started.ok:
-            raise Rejected(f"{what}: {started.message}")
-        self._pending = started.value[0]
-
-    def joint_move(self, q: np.ndarray, speed: float, accel: float) -> None:
+    def joint_move(self, target: Callable[[], np.ndarray], speed: float, accel: float,
+                   what: str = "joint_move") -> None:
+        """Queue a joint move; ``target()`` gives its goal (rad) when its turn comes (so a
+        relative move adds to where the move before it ended)."""
         with self.lock:
-            self.require_can_move("joint_move")
-            self.require_still("joint_move")
-            self.check_limits(q, "joint_move")
-            self._accepted(self.twin.start_joint_move(q, speed * self.rapid_rate, accel),
-                           "joint_move")
+            self.require_can_move(what)
+            if not self.moving:
+                self.check_limits(target(), what)   # refuse at once what is known to be wrong
+            self.enqueue(what, lambda: self._start_joint_move(target(), speed, accel, what))
 
-    def linear_move(self, target: np.ndarray, speed: float, accel: float) -> None:
+    def _start_joint_move(self, q: np.ndarray, speed: float, accel: float,
+                          what: str) -> Result:
+        self.check_limits(q, what)
+        return self.twin.start_joint_move(q, speed * self.rapid_rate, accel)
+
+    def end_move(self, pose: np.ndarray, speed: float, accel: float) -> None:
+        """Queue a joint-interpolated move to the Cartesian ``pose`` (4x4, m); the joints are
+        solved when its turn comes, near where the move before it ended."""
+        def target() -> np.ndarray:
+            solution = self.twin.inverse_kinematics(pose, self.commanded_joints())
+            if not solution.ok:
+                raise Rejected(f"end_move: {solution.message}")
+            return solution.value
+        with self.lock:
+            self.require_can_move("end_move")
+            if not self.moving:
+                target()   # unreachable: refused now, not later
+            self.enqueue("end_move",
+                         lambda: self._start_joint_move(target(), speed, accel, "end_move"))
+
+    def linear_move(self, target: Callable[[], np.ndarray], speed: float, accel: float) -> None:
+        """Queue a straight-line move; ``target()`` gives its pose (4x4, m) when its turn
+        comes."""
         with self.lock:
             self.require_can_move("moveL")
-            self.require_still("moveL")
-            self._accepted(self.twin.start_linear_move(target, speed * self.rapid_rate, accel),
-                           "moveL")
+            self.enqueue("moveL", lambda: self.twin.start_linear_move(
+                target(), speed * self.rapid_rate, accel))
 
     def jog(self, coord: int, axis: int, direction: int, speed: float) -> None:
         """Continuous jog; ``coord`` as the twin numbers it (0 joint, 1 base, 2 tool)."""
@@ -196,11 +279,16 @@ class TwinController:
                 raise Rejected(f"jog: {result.message}")
 
     def jog_stop(self) -> None:
+        """``jog_mode`` 0 ends any jog: continuous ones brake, incremental and absolute ones
+        (queued moves labelled ``jog``) are stopped with the queue."""
         with self.lock:
             self.twin.jog_stop()
+            if self._running_label == "jog" and self.moving:
+                self.stop()
 
     def stop(self) -> None:
         with self.lock:
+            self._queue.clear()
             self.twin.stop_move()
 
     # ---- servo mode -----------------------------------------------------------------------------
@@ -216,36 +304,28 @@ class TwinController:
             result = self.twin.servo_enable(True)
             if not result.ok:
                 raise Rejected(f"servo_move: {result.message}")
-            # The twin's servo target reaches each set-point in one cycle; the controller can
-            # also spread one over stepNum cycles, so swap in the ramping variant.
-            physics = self.twin.physics
-            physics.switch(RampedServoTarget(physics.servo.setpoint))
-
-    def _servo_target(self, what: str) -> RampedServoTarget:
-        motion = self.twin.physics.motion
-        if not self.twin.servo_mode or not isinstance(motion, RampedServoTarget):
-            raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
-        return motion
 
     def servo_reference(self, what: str) -> np.ndarray:
         """The latest servo target (rad), the base of relative set-points."""
-        return self._servo_target(what).goal
+        goal = self.twin.servo_goal() if self.twin.servo_mode else None
+        if goal is None:
+            raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
+        return goal
 
     def servo_joints(self, q: np.ndarray, steps: int, what: str = "servo_j") -> None:
         with self.lock:
             self.require_can_move(what, servo_ok=True)
-            target = self._servo_target(what)
+            goal = self.servo_reference(what)
             self.check_limits(q, what)
-            too_fast = fastest_step(self.model, target.goal, q, steps * SERVO_CYCLE)
+            too_fast = fastest_step(self.model, goal, q, steps * SERVO_CYCLE)
             if too_fast is not None:
                 j, speed = too_fast
                 raise Rejected(f"{what}: joint {j + 1} would move at "
                                f"{np.degrees(speed):.1f} deg/s, limit "
                                f"{np.degrees(self.model.max_velocity[j]):.1f} deg/s")
-            if steps == 1:
-                target.set(q)
-            else:
-                target.ramp(q, steps)
+            result = self.twin.servo_ramp(q, steps)
+            if not result.ok:
+                raise Rejected(f"{what}: {result.message}")
 
     def servo_pose(self, pose: np.ndarray, steps: int) -> None:
         with self.lock:
@@ -299,8 +379,8 @@ class TwinController:
         count = self.io_count(signal, io_type, path)
         if not 0 <= index < count:
             kind = "output" if path else "input"
-            raise Rejected(f"{what}: {signal} {kind} index {index} of type {io_type} does not "
-                           f"exist (this type has {count})", ERROR_REQUEST)
+            raise Rejected(f"{what}: {signal} {kind} index {index + 1} of type {io_type} does not "
+                           f"exist (this type has {count}, numbered from 1)", ERROR_REQUEST)
 
     # ---- emulator-only faults -------------------------------------------------------------------
     def emergency_stop(self, pressed: bool) -> str:

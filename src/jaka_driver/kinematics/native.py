@@ -7,9 +7,9 @@ solution, a singular spot, no convergence) goes to the Python path, which also e
 failures — without a second C call, which would only compute the same refusal again. Both
 paths compute the same solution.
 
-``make setup`` compiles the library to ``devel/lib/libjaka_ik.so`` (``JAKA_IK_LIB`` names
-another file). Without it — a catkin workspace that did not run the setup, a machine without
-a C compiler — :func:`load` answers None and the Python path does everything, only slower.
+``make setup`` compiles the library to ``devel/lib/libjaka_ik.so``, a catkin build to the
+workspace's ``devel/lib`` and ``install/lib`` (``JAKA_IK_LIB`` names another file). Without
+it — a machine without a C compiler — :func:`load` answers None and the Python path does everything, only slower.
 
 Units: m, rad. Frames: matrices are row-major 4x4 poses in the base frame (``base_link``), of
 the flange (:meth:`NativeIk.solve_seeded`) or of the joint-6 frame (:meth:`NativeIk.solve`).
@@ -42,11 +42,20 @@ class _Chain(ctypes.Structure):
 
 
 def library_path() -> Path:
-    """The compiled library: ``$JAKA_IK_LIB``, else ``devel/lib/libjaka_ik.so`` of this tree."""
+    """``$JAKA_IK_LIB``, else ``devel/lib`` of the source tree (``make setup``), else the ``lib``
+    folder of the first catkin devel or install space on ``CMAKE_PREFIX_PATH`` that has it."""
     explicit = os.environ.get("JAKA_IK_LIB")
     if explicit:
         return Path(explicit)
-    return Path(__file__).resolve().parents[3] / "devel" / "lib" / LIBRARY
+    from ..models import repo_root
+    made = repo_root() / "devel" / "lib" / LIBRARY
+    if made.is_file():
+        return made
+    for prefix in filter(None, os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep)):
+        built = Path(prefix) / "lib" / LIBRARY
+        if built.is_file():
+            return built
+    return made
 
 
 def _open() -> Optional[ctypes.CDLL]:

@@ -1,5 +1,5 @@
 """Cartesian straight-line planning for ``linear_move``: the whole path is sampled and checked
-(IK, joint limits, joint speed) before anything moves, as the contract demands.
+(IK, joint limits, joint speed) before anything moves (docs/interface.md, "linear_move").
 
 Frames and units: ``T_start`` and ``T_goal`` are 4x4 homogeneous TCP poses in one frame
 (whatever frame ``ik`` expects), positions in metres. Speeds m/s and rad/s, accelerations m/s²

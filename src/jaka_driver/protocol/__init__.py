@@ -1,11 +1,18 @@
 """The JAKA controller TCP/JSON protocol, without ROS.
 
-* :mod:`.units` — deg⇄rad, wire pose (mm, RPY deg) ⇄ driver pose (mm, rotation vector rad).
+The library depends on nothing else in ``jaka_driver`` and speaks the units of JAKA's SDK: joints
+rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the wire's degrees and
+1-based IO indices stay inside it. docs/protocol.md describes the protocol it implements.
+
+* :mod:`.units` — deg⇄rad, wire pose (mm, RPY deg) ⇄ API pose (mm, RPY rad).
 * :mod:`.fields` — every name on the wire, and the command table with confidence levels.
 * :mod:`.commands` — request encoders (driver units in, wire dicts out).
 * :mod:`.replies` — reply decoding and typed accessors (re-exported by :mod:`.commands`).
-* :mod:`.status_stream` — port-10000 stream decoder/encoder and :class:`RobotStatus`.
-* :mod:`.client` — :class:`CommandClient` (port 10001) and :class:`StatusReceiver` (port 10000).
+* :mod:`.wire` — the JSON layouts (compact requests, spaced controller output) and decoding.
+* :mod:`.status_stream` — status packets (port-10000 stream, port-10004 zlib reply) and
+  :class:`StatusPacket`.
+* :mod:`.client` — :class:`CommandClient` (port 10001), :class:`StatusReceiver` (port 10000)
+  and :class:`StatusPoller` (port 10004).
 * :mod:`.errors` — the :class:`JakaProtocolError` family.
 
 Typical use::
@@ -17,20 +24,23 @@ Typical use::
         q = commands.reply_joint_pos(reply)          # rad
 """
 from . import commands, fields, replies, units
-from .client import CommandClient, StatusReceiver
+from .client import CommandClient, StatusPoller, StatusReceiver
 from .commands import encode
 from .errors import (CommandRejected, ConnectFailed, ConnectionLost, InvalidArgument,
                      JakaProtocolError, ProtocolError, TimeoutError)
-from .fields import COMMAND_PORT, COMMANDS, STATUS_PORT, Cmd, Field, StatusField
+from .fields import (COMMAND_PORT, COMMANDS, STATUS_PORT, STATUS_REQUEST_PORT, Cmd, Field,
+                     StatusField)
 from .replies import Reply, parse_reply
-from .status_stream import RobotStatus, StatusStreamDecoder, encode_status, parse_status
+from .status_stream import (StatusPacket, StatusStreamDecoder, decode_data_reply,
+                            encode_data_reply, encode_status, parse_status)
 
 __all__ = [
     "commands", "fields", "replies", "units",
-    "CommandClient", "StatusReceiver",
+    "CommandClient", "StatusReceiver", "StatusPoller",
     "Reply", "encode", "parse_reply",
     "JakaProtocolError", "ProtocolError", "ConnectFailed", "ConnectionLost", "TimeoutError",
     "InvalidArgument", "CommandRejected",
-    "COMMAND_PORT", "STATUS_PORT", "COMMANDS", "Cmd", "Field", "StatusField",
-    "RobotStatus", "StatusStreamDecoder", "encode_status", "parse_status",
+    "COMMAND_PORT", "STATUS_PORT", "STATUS_REQUEST_PORT", "COMMANDS", "Cmd", "Field",
+    "StatusField", "StatusPacket", "StatusStreamDecoder", "encode_status", "parse_status",
+    "encode_data_reply", "decode_data_reply",
 ]

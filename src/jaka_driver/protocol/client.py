@@ -1,4 +1,5 @@
-"""Sockets: the blocking command client (port 10001) and the status receiver thread (port 10000).
+"""Sockets: the blocking command client (port 10001), the status receiver thread (port 10000,
+pushed packets) and the status poller thread (port 10004, ``data_request``).
 
 Neither reconnects by itself: the backend owns that policy. Both make ``connect``/``start`` and
 ``close``/``stop`` idempotent, so a policy can simply call them again.
@@ -9,15 +10,18 @@ import logging
 import socket
 import threading
 import time
+import zlib
 from typing import Any, Callable, Mapping, Optional, Tuple
 
 from . import errors
 from .commands import encode
 from .errors import ConnectFailed, ConnectionLost, InvalidArgument, ProtocolError
-from .fields import COMMAND_PORT, STATUS_PORT, Field
+from .fields import (COMMAND_PORT, DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT,
+                     Cmd, Field)
 from .replies import Reply, command_names_match, parse_reply
-from .status_stream import MAX_BUFFER, RobotStatus, StatusStreamDecoder, parse_status
-from .wire import decode_first_object
+from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, decode_data_reply,
+                            parse_status)
+from .wire import decode_first_object, encode_json
 
 _log = logging.getLogger(__name__)
 _RECV_SIZE = 65536
@@ -222,7 +226,7 @@ class CommandClient:
         return obj
 
 
-StatusCallback = Callable[[RobotStatus, float], None]
+StatusCallback = Callable[[StatusPacket, float], None]
 LostCallback = Callable[[str], None]
 
 
@@ -258,7 +262,7 @@ class StatusReceiver:
         self._thread: Optional[threading.Thread] = None
         self._sock: Optional[socket.socket] = None
         self._stop = threading.Event()
-        self._latest: Optional[Tuple[RobotStatus, float]] = None
+        self._latest: Optional[Tuple[StatusPacket, float]] = None
 
     @property
     def address(self) -> str:
@@ -270,7 +274,7 @@ class StatusReceiver:
         return thread is not None and thread.is_alive()
 
     @property
-    def latest(self) -> Optional[Tuple[RobotStatus, float]]:
+    def latest(self) -> Optional[Tuple[StatusPacket, float]]:
         """The last (status, received) pair, or None before the first packet."""
         return self._latest
 
@@ -345,10 +349,90 @@ class StatusReceiver:
                 except Exception:  # noqa: BLE001 - a callback must not kill the reader
                     _log.exception("on_connection_lost callback raised")
 
-    def _deliver(self, status: RobotStatus, received: float) -> None:
+    def _deliver(self, status: StatusPacket, received: float) -> None:
         self._latest = (status, received)
         if self.on_status is not None:
             try:
                 self.on_status(status, received)
             except Exception:  # noqa: BLE001 - a callback must not kill the reader
                 _log.exception("on_status callback raised")
+
+
+class StatusPoller(StatusReceiver):
+    """Port 10004, as JAKA's SDK reads status: every ``period`` s it sends
+    ``{"cmdName":"data_request"}`` and reads one zlib-compressed packet back (at most
+    :data:`~.fields.DATA_REQUEST_MAX_BYTES` bytes, the SDK's buffer). Same callbacks, life cycle
+    and counters as :class:`StatusReceiver`; ``stall_timeout`` bounds the wait for one reply."""
+
+    def __init__(self, host: str, port: int = STATUS_REQUEST_PORT, *, period: float = 0.008,
+                 **kwargs):
+        super().__init__(host, port, **kwargs)
+        self.period = float(period)
+
+    def _run(self, sock: socket.socket, stop: threading.Event) -> None:
+        reason = None
+        request = encode_json({Field.CMD_NAME: Cmd.DATA_REQUEST})
+        wait = self.stall_timeout if self.stall_timeout is not None else 1.0
+        next_request = time.monotonic()
+        try:
+            while not stop.is_set():
+                try:
+                    sock.sendall(request)
+                    data = self._read_reply(sock, stop, wait)
+                except (OSError, ProtocolError) as exc:
+                    reason = f"status requests to {self.address} failed ({exc})"
+                    break
+                if data is None:
+                    break   # stopped
+                received = self._clock()
+                try:
+                    status = parse_status(decode_data_reply(data))
+                except ProtocolError as exc:
+                    self.decoder.packets_dropped += 1
+                    _log.warning("%s", exc)
+                else:
+                    self.decoder.packets += 1
+                    self._deliver(status, received)
+                next_request += self.period
+                delay = next_request - time.monotonic()
+                if delay > 0:
+                    stop.wait(delay)
+                else:
+                    next_request = time.monotonic()   # fell behind: no burst of requests
+        finally:
+            sock.close()
+        if reason is not None and not stop.is_set():
+            _log.warning("%s", reason)
+            if self.on_connection_lost is not None:
+                try:
+                    self.on_connection_lost(reason)
+                except Exception:  # noqa: BLE001 - a callback must not kill the reader
+                    _log.exception("on_connection_lost callback raised")
+
+    def _read_reply(self, sock: socket.socket, stop: threading.Event,
+                    wait: float) -> Optional[bytes]:
+        """One whole zlib stream from ``sock`` (its end is where zlib says it ends)."""
+        inflater = zlib.decompressobj()
+        data = bytearray()
+        deadline = time.monotonic() + wait
+        while not inflater.eof:
+            if stop.is_set():
+                return None
+            try:
+                chunk = sock.recv(_RECV_SIZE)
+            except socket.timeout:
+                if time.monotonic() > deadline:
+                    raise ProtocolError(f"no whole data_request reply within {wait:.2f} s "
+                                        f"({len(data)} bytes arrived)") from None
+                continue
+            if not chunk:
+                raise ProtocolError("the controller closed the connection")
+            data += chunk
+            if len(data) > DATA_REQUEST_MAX_BYTES:
+                raise ProtocolError(f"the data_request reply exceeds the SDK's "
+                                    f"{DATA_REQUEST_MAX_BYTES} bytes")
+            try:
+                inflater.decompress(chunk)
+            except zlib.error as exc:
+                raise ProtocolError(f"the data_request reply is not zlib data ({exc})") from None
+        return bytes(data)

@@ -1,12 +1,14 @@
 """Commands of the JAKA TCP protocol (port 10001): request encoders and reply decoders.
 
-Every encoder takes **driver units** — joints in rad (rad/s, rad/s²), Cartesian poses as
-``[x, y, z mm, rotation vector rad]``, speeds mm/s and mm/s² — validates them at the door
+Every encoder takes **the SDK's units** — joints in rad (rad/s, rad/s²), Cartesian poses as
+``[x, y, z mm, rx, ry, rz rad]`` (RPY, ``R = Rz·Ry·Rx``), speeds mm/s and mm/s², IO indices
+0-based as the SDK's API counts them — validates them at the door
 (:class:`~.errors.InvalidArgument`, nothing is sent), and returns the request as a plain dict in
-**wire units** (deg, deg/s, deg/s², mm, RPY deg). :func:`encode` turns a dict into bytes.
+**wire units** (deg, deg/s, deg/s², mm, RPY deg, IO index + 1). :func:`encode` turns a dict
+into compact JSON bytes, the layout clients send.
 
 Replies are decoded by :func:`parse_reply` into a :class:`Reply`; the ``reply_*`` accessors
-check success, read one field and convert it back to driver units (module :mod:`.replies`,
+check success, read one field and convert it back to the SDK's units (module :mod:`.replies`,
 re-exported here).
 
 Key names and how sure we are of each command come from :mod:`.fields` (see ``COMMANDS`` there
@@ -24,9 +26,10 @@ from .errors import InvalidArgument
 from .fields import Cmd, CoordMap, Field, JogMode, ServoFilter
 # Replies live in their own module; re-exported so requests and their accessors read together.
 from .replies import (PowerState, Reply, command_names_match, parse_reply,  # noqa: F401
-                      reply_clsn_sensitivity, reply_din_status, reply_flag, reply_id,
-                      reply_joint_pos, reply_kine_forward, reply_kine_inverse, reply_payload,
-                      reply_robot_state, reply_tcp_pos, reply_value, reply_version)
+                      MotionState, reply_clsn_sensitivity, reply_din_status, reply_flag,
+                      reply_id, reply_joint_pos, reply_kine_forward, reply_kine_inverse,
+                      reply_motion_state, reply_payload, reply_robot_state, reply_tcp_pos,
+                      reply_value, reply_version)
 from .wire import encode_json
 
 Request = Dict[str, Any]
@@ -160,15 +163,15 @@ def joint_move(q_rad, speed_rad_s: float, accel_rad_s2: float, relative: bool = 
         Field.REL_FLAG: _rel_flag(relative)})
 
 
-def moveL(pose_mm_rotvec, speed_mm_s: float, accel_mm_s2: float, relative: bool = False,
+def moveL(pose_mm_rpy, speed_mm_s: float, accel_mm_s2: float, relative: bool = False,
           tol_mm: Optional[float] = None) -> Request:  # noqa: N802 - the protocol's name
-    """Straight-line move of the TCP to ``pose_mm_rotvec`` (mm + rotation vector rad) at
+    """Straight-line move of the TCP to ``pose_mm_rpy`` (mm + RPY rad) at
     ``speed_mm_s`` (mm/s) and ``accel_mm_s2`` (mm/s²); ``tol_mm`` is the optional blending
     tolerance.
 
-    With ``relative`` the pose is an increment; its rotation vector is sent as the RPY of that
-    rotation (how the controller composes a relative orientation is not documented)."""
-    pose = _vector(pose_mm_rotvec, 6, "TCP pose (mm, rotation vector rad)")
+    With ``relative`` the pose is an increment (how the controller composes a relative
+    orientation is not documented)."""
+    pose = _vector(pose_mm_rpy, 6, "TCP pose (mm, RPY rad)")
     request = _cmd(Cmd.MOVE_L, **{
         Field.CART_POSITION: units.pose_to_wire(pose),
         Field.SPEED: _number(speed_mm_s, "TCP speed (mm/s)", positive=True),
@@ -246,10 +249,10 @@ def servo_j(q_rad, relative: bool = False, step_num: int = 1) -> Request:
                                 Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
 
 
-def servo_p(pose_mm_rotvec, relative: bool = False, step_num: int = 1) -> Request:
-    """One Cartesian servo set-point: TCP pose (mm + rotation vector rad; an increment if
+def servo_p(pose_mm_rpy, relative: bool = False, step_num: int = 1) -> Request:
+    """One Cartesian servo set-point: TCP pose (mm + RPY rad; an increment if
     ``relative``) in ``step_num`` × 8 ms. Sent under the key ``catPosition`` (sic)."""
-    pose = _vector(pose_mm_rotvec, 6, "servo TCP pose (mm, rotation vector rad)")
+    pose = _vector(pose_mm_rpy, 6, "servo TCP pose (mm, RPY rad)")
     return _cmd(Cmd.SERVO_P, **{Field.SERVO_CART_POSITION: units.pose_to_wire(pose),
                                 Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
 
@@ -286,20 +289,20 @@ def kine_forward(q_rad) -> Request:
     return _cmd(Cmd.KINE_FORWARD, **{Field.JOINT_POSITION: units.joints_to_wire(q)})
 
 
-def kine_inverse(ref_q_rad, pose_mm_rotvec) -> Request:
+def kine_inverse(ref_q_rad, pose_mm_rpy) -> Request:
     """Inverse kinematics near the reference configuration ``ref_q_rad`` (rad) for the TCP
-    pose (mm + rotation vector rad). Reply: :func:`reply_kine_inverse`."""
+    pose (mm + RPY rad). Reply: :func:`reply_kine_inverse`."""
     ref = _vector(ref_q_rad, 6, "reference joint position (rad)")
-    pose = _vector(pose_mm_rotvec, 6, "TCP pose (mm, rotation vector rad)")
+    pose = _vector(pose_mm_rpy, 6, "TCP pose (mm, RPY rad)")
     return _cmd(Cmd.KINE_INVERSE, **{Field.JOINT_POSITION: units.joints_to_wire(ref),
                                      Field.CART_POSITION: units.pose_to_wire(pose)})
 
 
 # ---- frames, payload, safety ----------------------------------------------------------------
 
-def set_tool_offsets(tool_id: int, pose_mm_rotvec, name: str = "") -> Request:
-    """Store tool frame ``tool_id``: its pose relative to the flange (mm + rotation vector)."""
-    pose = _vector(pose_mm_rotvec, 6, "tool offset (mm, rotation vector rad)")
+def set_tool_offsets(tool_id: int, pose_mm_rpy, name: str = "") -> Request:
+    """Store tool frame ``tool_id``: its pose relative to the flange (mm + RPY rad)."""
+    pose = _vector(pose_mm_rpy, 6, "tool offset (mm, RPY rad)")
     return _cmd(Cmd.SET_TOOL_OFFSETS, **{Field.TOOL_OFFSET: units.pose_to_wire(pose),
                                          Field.ID: _integer(tool_id, "tool id"),
                                          Field.NAME: str(name)})
@@ -315,9 +318,9 @@ def get_curr_tool_id() -> Request:
     return _cmd(Cmd.GET_CURR_TOOL_ID)
 
 
-def set_user_offsets(user_id: int, pose_mm_rotvec, name: str = "") -> Request:
-    """Store user frame ``user_id``: its pose relative to the base (mm + rotation vector)."""
-    pose = _vector(pose_mm_rotvec, 6, "user frame (mm, rotation vector rad)")
+def set_user_offsets(user_id: int, pose_mm_rpy, name: str = "") -> Request:
+    """Store user frame ``user_id``: its pose relative to the base (mm + RPY rad)."""
+    pose = _vector(pose_mm_rpy, 6, "user frame (mm, RPY rad)")
     return _cmd(Cmd.SET_USER_OFFSETS, **{Field.USER_OFFSET: units.pose_to_wire(pose),
                                          Field.ID: _integer(user_id, "user frame id"),
                                          Field.NAME: str(name)})
@@ -362,11 +365,13 @@ def drag_status() -> Request:
 
 
 # ---- IO -------------------------------------------------------------------------------------
-# io_type: fields.IOType (0 cabinet, 1 tool, 2 extension; controllers know more). index as the
-# controller counts it. Outputs and analog inputs are also in every status packet.
+# io_type: fields.IOType (0 cabinet, 1 tool, 2 extension; controllers know more). ``index`` is
+# 0-based, as the SDK's API counts; the wire is 1-based, and JAKA's SDK sends index + 1 for every
+# IO type (docs/protocol.md, "IO"): sending the API index unchanged would switch the next output.
 
 def _io(io_type: int, index: int) -> Request:
-    return {Field.IO_TYPE: _integer(io_type, "IO type"), Field.INDEX: _integer(index, "IO index")}
+    return {Field.IO_TYPE: _integer(io_type, "IO type"),
+            Field.INDEX: _integer(index, "IO index") + 1}
 
 
 def set_digital_output(io_type: int, index: int, value) -> Request:
@@ -393,3 +398,68 @@ def get_digital_input_status() -> Request:
 def get_analog_output(io_type: int, index: int) -> Request:
     """Reply: :func:`reply_value`."""
     return _cmd(Cmd.GET_ANALOG_OUTPUT, **_io(io_type, index))
+
+
+def get_digital_output(io_type: int, index: int) -> Request:
+    """Reply: :func:`reply_value` (0/1)."""
+    return _cmd(Cmd.GET_DIGITAL_OUTPUT, **_io(io_type, index))
+
+
+def get_analog_input(io_type: int, index: int) -> Request:
+    """Reply: :func:`reply_value`."""
+    return _cmd(Cmd.GET_ANALOG_INPUT, **_io(io_type, index))
+
+
+# ---- the motion queue -------------------------------------------------------------------------
+
+def get_motion_state() -> Request:
+    """The controller's motion queue. Reply: :func:`reply_motion_state`."""
+    return _cmd(Cmd.GET_MOTION_STATE)
+
+
+def wait_complete() -> Request:
+    """Answered once every queued move is done (the reply may take as long as the moves)."""
+    return _cmd(Cmd.WAIT_COMPLETE)
+
+
+def is_on_limit() -> Request:
+    """Reply: ``reply_flag(reply, Field.ON_LIMIT)``."""
+    return _cmd(Cmd.IS_ON_LIMIT)
+
+
+def end_move(pose_mm_rpy, speed_rad_s: float, accel_rad_s2: float) -> Request:
+    """Joint-interpolated move to a Cartesian pose (mm + RPY rad) with joint speed (rad/s) and
+    acceleration (rad/s²); queued like every move."""
+    pose = _vector(pose_mm_rpy, 6, "end_move pose (mm, RPY rad)")
+    speed = _number(speed_rad_s, "joint speed (rad/s)", positive=True)
+    accel = _number(accel_rad_s2, "joint acceleration (rad/s²)", positive=True)
+    return _cmd(Cmd.END_MOVE, **{Field.END_POSITION: units.pose_to_wire(pose),
+                                 Field.SPEED: math.degrees(speed),
+                                 Field.ACCEL: math.degrees(accel)})
+
+
+def data_request() -> Request:
+    """Port 10004 only: one status packet, zlib-compressed (see :class:`.client.StatusPoller`)."""
+    return _cmd(Cmd.DATA_REQUEST)
+
+
+# ---- reading settings back ------------------------------------------------------------------
+
+def get_drag_status() -> Request:
+    """Reply: ``reply_flag(reply, Field.STATUS)`` (a JSON bool)."""
+    return _cmd(Cmd.GET_DRAG_STATUS)
+
+
+def get_rapid_rate() -> Request:
+    """Reply: :func:`reply_value` (1.0 = 100 %)."""
+    return _cmd(Cmd.GET_RAPID_RATE)
+
+
+def get_tool_offsets() -> Request:
+    """The active tool's offset; reply key ``tool_offsets`` (mm, RPY deg on the wire)."""
+    return _cmd(Cmd.GET_TOOL_OFFSETS)
+
+
+def get_user_offsets() -> Request:
+    """The active user frame; reply key ``user_offsets`` (mm, RPY deg on the wire)."""
+    return _cmd(Cmd.GET_USER_OFFSETS)

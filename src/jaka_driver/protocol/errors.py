@@ -1,7 +1,7 @@
 """The one exception family of the protocol library.
 
 Everything the library raises on purpose derives from :class:`JakaProtocolError`, so a caller can
-catch the whole family in one place and map it to a result code (contract.md: -1 not connected,
+catch the whole family in one place and map it to a result code (docs/interface.md, "Result codes": -1 not connected,
 -3 communication error or timeout). The subclasses also derive from the matching built-in
 exception (``ConnectionError``, ``TimeoutError``, ``ValueError``) so generic handlers work too.
 

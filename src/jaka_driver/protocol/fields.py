@@ -4,10 +4,12 @@ Client (:mod:`.commands`, :mod:`.status_stream`) and server (the emulator) both 
 spelling from here, so a misspelt key cannot make them agree with each other and disagree with
 a real controller.
 
-Source: jaka_facts.md §2 — triangulated from several third-party clients, because JAKA's own
-TCP protocol document is not available. Each command carries a ``confidence``:
+Sources: what JAKA's own SDK (libjakaAPI 2.1.14) sends and reads, transcripts of public clients
+recorded on a real Zu 5s (firmware 1.5.14), and several third-party clients; docs/protocol.md
+lists each command with its evidence. Each command carries a ``confidence``:
 
-* ``high``: every client that implements the command agrees on name and fields.
+* ``high``: JAKA's SDK or a transcript of a real controller shows name, fields and reply keys
+  (or every client that implements the command agrees on them).
 * ``medium``: name and fields agree, but units or the value format of a reply come from one
   client's doc strings only (for instance speed/accel units of ``joint_move``/``moveL``, the
   ``get_robot_state`` values, the ``jog`` speed unit).
@@ -24,11 +26,15 @@ from typing import Mapping, Tuple
 
 #: TCP ports of the controller.
 COMMAND_PORT = 10001
-STATUS_PORT = 10000
+STATUS_PORT = 10000           # pushes a status packet every 8 ms
+STATUS_REQUEST_PORT = 10004   # answers {"cmdName":"data_request"} with one zlib-compressed packet
+#: The SDK reads a 10004 reply into a buffer of this many bytes: a compressed reply must fit.
+DATA_REQUEST_MAX_BYTES = 8200
 
 #: ``errorCode`` of a successful reply (a string on the wire). Other codes seen: "1" (exception)
-#: and "2" (error) — meaning not verified (jaka_facts.md §2.1).
+#: and "2" (error, e.g. ``"call joint_move failed"`` or a program that does not exist).
 ERROR_CODE_OK = "0"
+ERROR_CODE_FAILED = "2"
 
 
 class Field:
@@ -67,7 +73,7 @@ class Field:
     TCP_POS = "tcp_pos"                   # [6] mm / deg RPY
 
     TOOL_OFFSET = "tooloffset"            # [6] mm / deg RPY
-    USER_OFFSET = "useroffset"            # [6] mm / deg RPY
+    USER_OFFSET = "userffset"             # [6] mm / deg RPY; JAKA's SDK spells it so (sic)
     ID = "id"
     NAME = "name"
     TOOL_ID = "tool_id"
@@ -78,10 +84,28 @@ class Field:
     SENSITIVITY_LEVEL = "sensitivityLevel"
 
     IO_TYPE = "type"
-    INDEX = "index"
+    INDEX = "index"                       # 1-based on the wire (the SDK sends API index + 1)
     VALUE = "value"
     DIN_STATUS = "din_status"
     VERSION = "version"
+
+    # get_motion_state
+    INPOS = "inpos"                       # bool: the queue is done and the arm is still
+    QUEUE = "queue"                       # moves waiting in the queue
+    ACTIVE_QUEUE = "active_queue"
+    QUEUE_FULL = "queue_full"
+    ERR_ADD_LINE = "err_add_line"
+    MOTION_LINE = "motion_line"
+    ON_LIMIT = "on_limit"
+    STATUS = "status"                     # get_drag_status: bool
+    TOOL_OFFSETS = "tool_offsets"         # get_tool_offsets: [6] mm / deg RPY
+    USER_OFFSETS = "user_offsets"         # get_user_offsets: [6] mm / deg RPY
+    END_POSITION = "endPosition"          # end_move: [6] mm / deg RPY
+    ENABLE_FLAG = "enable_flag"           # torque_control_enable
+    ANGLE_X = "angleX"                    # set_installation_angle, deg
+    ANGLE_Z = "angleZ"
+    PROGRAM_NAME = "programName"
+    PROGRAM_STATE = "programState"
 
 
 class Cmd:
@@ -128,6 +152,33 @@ class Cmd:
     DRAG_STATUS = "drag_status"
     GET_VERSION = "get_version"
     QUIT = "quit"
+    GET_MOTION_STATE = "get_motion_state"
+    WAIT_COMPLETE = "wait_complete"
+    END_MOVE = "end_move"
+    IS_ON_LIMIT = "is_on_limit"
+    GET_DIGITAL_OUTPUT = "get_digital_output"
+    GET_ANALOG_INPUT = "get_analog_input"
+    GET_RAPID_RATE = "get_rapid_rate"
+    GET_TOOL_OFFSETS = "get_tool_offsets"
+    GET_USER_OFFSETS = "get_user_offsets"
+    GET_DRAG_STATUS = "get_drag_status"
+    TORQUE_CONTROL_ENABLE = "torque_control_enable"
+    GET_PROGRAM_STATE = "get_program_state"
+    SET_INSTALLATION_ANGLE = "set_installation_angle"
+    LOAD_PROGRAM = "load_program"
+    PLAY_PROGRAM = "play_program"
+    PAUSE_PROGRAM = "pause_program"
+    RESUME_PROGRAM = "resume_program"
+    GET_LOADED_PROGRAM = "get_loaded_program"
+    GET_EXIST_PROGRAMS = "get_exist_programs"
+    TORQUE_FEEDFORWARD = "torque_feedforward"
+    GET_EXTIO_STATUS = "get_extio_status"
+    GET_FUNCDI_STATUS = "get_funcdi_status"
+    QUERY_USER_DEFINED_VARIABLE = "query_user_defined_variable"
+    MODIFY_USER_DEFINED_VARIABLE = "modify_user_defined_variable"
+    SET_TIO_VOUT_PARAM = "set_tio_vout_param"
+    GET_TIO_VOUT_PARAM = "get_tio_vout_param"
+    DATA_REQUEST = "data_request"         # port 10004 only
 
 
 class JogMode(IntEnum):
@@ -140,7 +191,7 @@ class JogMode(IntEnum):
 
 class CoordMap(IntEnum):
     """``coord_map`` of ``jog``. Note: the official ROS jog service numbers 0 joint, 1 base;
-    the wire numbers 0 base, 1 joint (jaka_facts.md §1.4)."""
+    the wire numbers 0 base, 1 joint (docs/protocol.md, "Jog")."""
     BASE = 0
     JOINT = 1
     TOOL = 2
@@ -230,7 +281,7 @@ _SPECS = (
     CommandSpec(Cmd.SET_TOOL_ID, request=(F.TOOL_ID,), confidence="medium"),
     CommandSpec(Cmd.GET_CURR_TOOL_ID, reply=(F.ID,), confidence="low"),
     CommandSpec(Cmd.SET_USER_OFFSETS, request=(F.USER_OFFSET, F.ID, F.NAME),
-                confidence="medium", note="JAKA's doc has a typo in this key (libjaka)"),
+                note='key "userffset" (sic), as JAKA\'s SDK sends it'),
     CommandSpec(Cmd.SET_USER_ID, request=(F.USER_FRAME_ID,), confidence="medium"),
     CommandSpec(Cmd.GET_CURR_USER_ID, reply=(F.ID,), confidence="low"),
     CommandSpec(Cmd.SET_PAYLOAD, request=(F.MASS, F.CENTROID), confidence="medium",
@@ -240,15 +291,29 @@ _SPECS = (
     CommandSpec(Cmd.GET_CLSN_SENSITIVITY, reply=(F.SENSITIVITY_LEVEL, F.SENSITIVITY_VAL),
                 confidence="low", note="clients disagree on the reply key; read either"),
     CommandSpec(Cmd.SET_DIGITAL_OUTPUT, request=(F.IO_TYPE, F.INDEX, F.VALUE),
-                confidence="medium"),
+                note="index 1-based on the wire"),
     CommandSpec(Cmd.SET_ANALOG_OUTPUT, request=(F.IO_TYPE, F.INDEX, F.VALUE),
-                confidence="medium"),
+                note="index 1-based on the wire"),
     CommandSpec(Cmd.GET_DIGITAL_INPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,),
                 confidence="low"),
     CommandSpec(Cmd.GET_DIGITAL_INPUT_STATUS, reply=(F.DIN_STATUS,), confidence="medium"),
     CommandSpec(Cmd.GET_ANALOG_OUTPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,),
-                confidence="low", note="there is no get_analog_input: read ain from the "
-                "status stream"),
+                confidence="low"),
+    CommandSpec(Cmd.GET_DIGITAL_OUTPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,)),
+    CommandSpec(Cmd.GET_ANALOG_INPUT, request=(F.IO_TYPE, F.INDEX), reply=(F.VALUE,)),
+    CommandSpec(Cmd.GET_MOTION_STATE, reply=(F.INPOS, F.QUEUE, F.ACTIVE_QUEUE, F.QUEUE_FULL,
+                                             F.ERR_ADD_LINE, F.MOTION_LINE),
+                note="the motion queue; inpos is a JSON bool"),
+    CommandSpec(Cmd.WAIT_COMPLETE, note="answered once the motion queue is done"),
+    CommandSpec(Cmd.END_MOVE, request=(F.END_POSITION, F.SPEED, F.ACCEL),
+                note="joint-interpolated move to a Cartesian pose; speed deg/s, accel deg/s²"),
+    CommandSpec(Cmd.IS_ON_LIMIT, reply=(F.ON_LIMIT,)),
+    CommandSpec(Cmd.GET_DRAG_STATUS, reply=(F.STATUS,), note="status is a JSON bool"),
+    CommandSpec(Cmd.GET_RAPID_RATE, reply=(F.VALUE,)),
+    CommandSpec(Cmd.GET_TOOL_OFFSETS, reply=(F.TOOL_OFFSETS,)),
+    CommandSpec(Cmd.GET_USER_OFFSETS, reply=(F.USER_OFFSETS,)),
+    CommandSpec(Cmd.DATA_REQUEST, note="port 10004; the reply is one zlib-compressed status "
+                "packet"),
     CommandSpec(Cmd.DRAG_STATUS, reply=(F.DRAG_STATUS,), confidence="medium"),
     CommandSpec(Cmd.GET_VERSION, reply=(F.VERSION,)),
     CommandSpec(Cmd.QUIT, note="the controller closes this connection"),
@@ -260,7 +325,8 @@ COMMANDS: Mapping[str, CommandSpec] = MappingProxyType({s.name: s for s in _SPEC
 
 
 class StatusField:
-    """Keys of a port-10000 status packet (and of the ``get_data`` reply)."""
+    """Keys of a status packet (port 10000, port 10004 and the ``get_data`` reply) that this
+    library reads; a real packet has more (docs/protocol.md, "Status packet")."""
 
     LEN = "len"
     JOINT_ACTUAL_POSITION = "joint_actual_position"   # [6] deg, measured
@@ -290,3 +356,5 @@ class StatusField:
     TIO_DIN = "tio_din"
     TIO_DOUT = "tio_dout"
     TIO_AIN = "tio_ain"
+    MOTION_LINE = "motion_line"
+    HOMED = "homed"

@@ -3,7 +3,10 @@
 :func:`parse_reply` turns a decoded JSON object into a :class:`Reply`. A reply with a non-zero
 ``errorCode`` is a normal reply (``ok`` False, the controller's ``errorMsg`` kept verbatim); the
 ``reply_*`` accessors raise :class:`~.errors.CommandRejected` for it, and otherwise read one
-field and convert it back to driver units (rad, mm + rotation vector).
+field and convert it back to the SDK's units (rad, mm + RPY rad).
+
+Replies are read by key, whatever their layout: a real controller puts spaces after ``:`` and
+``,``, an older one may not; extra keys are kept in ``fields`` and ignored by the accessors.
 
 :mod:`.commands` re-exports everything here, so ``commands.get_joint_pos()`` and
 ``commands.reply_joint_pos(reply)`` sit side by side for callers.
@@ -87,12 +90,12 @@ def reply_joint_pos(reply: Reply) -> np.ndarray:
 
 
 def reply_tcp_pos(reply: Reply) -> np.ndarray:
-    """``get_tcp_pos`` → TCP pose [x, y, z mm, rotation vector rad]."""
+    """``get_tcp_pos`` → TCP pose [x, y, z mm, rx, ry, rz rad]."""
     return units.pose_from_wire(_wire_vector(reply, Field.TCP_POS, 6))
 
 
 def reply_kine_forward(reply: Reply) -> np.ndarray:
-    """``kine_forward`` → TCP pose [x, y, z mm, rotation vector rad]."""
+    """``kine_forward`` → TCP pose [x, y, z mm, rx, ry, rz rad]."""
     return units.pose_from_wire(_wire_vector(reply, Field.CART_POSITION, 6))
 
 
@@ -118,8 +121,38 @@ def reply_robot_state(reply: Reply) -> PowerState:
                       enabled=reply_flag(reply, Field.ENABLE))
 
 
+class MotionState(NamedTuple):
+    """``get_motion_state``: the controller's motion queue."""
+    inpos: bool
+    """every queued move is done and the arm is at rest"""
+    queue: int
+    """moves waiting in the queue"""
+    active_queue: int
+    queue_full: bool
+    err_add_line: int
+    motion_line: int
+
+
+def reply_motion_state(reply: Reply) -> MotionState:
+    """``get_motion_state`` → :class:`MotionState`. ``inpos`` is required; the counters default
+    to 0 when a controller leaves them out."""
+    inpos = reply_flag(reply, Field.INPOS)
+
+    def count(key: str) -> int:
+        raw = reply.fields.get(key, 0)
+        try:
+            return int(raw)
+        except (TypeError, ValueError):
+            raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} is not an "
+                                f"integer: {raw!r}") from None
+    return MotionState(inpos, count(Field.QUEUE), count(Field.ACTIVE_QUEUE),
+                       bool(count(Field.QUEUE_FULL)), count(Field.ERR_ADD_LINE),
+                       count(Field.MOTION_LINE))
+
+
 def reply_value(reply: Reply) -> float:
-    """``get_digital_input`` / ``get_analog_output`` → value."""
+    """``get_digital_input`` / ``get_digital_output`` / ``get_analog_input`` /
+    ``get_analog_output`` → value."""
     raw = _field(reply, Field.VALUE)
     try:
         return float(raw)

@@ -1,15 +1,16 @@
-"""The status stream of port 10000: decoding (client side), encoding (server side), and the
-status record in driver units.
+"""Status packets: the port-10000 stream (decoding client side, encoding server side), the
+port-10004 ``data_request`` reply (zlib), and :class:`StatusPacket`, a packet in the SDK's units.
 
-The controller pushes JSON objects back to back with no delimiter, each starting with the
-token ``{"len":`` (jaka_facts.md §2.1); a packet can be several kB and arrives in any number of
-TCP reads. The decoder resynchronises on that token, so a lost or damaged byte costs at most one
-packet, and it never holds more than ``max_buffer`` bytes.
+The controller pushes JSON objects back to back with no delimiter, each starting with
+``{"len": N`` (docs/protocol.md, "Status packet"); a packet can be several kB and arrives in any
+number of TCP reads. The decoder resynchronises on the token ``{"len":``, so a lost or damaged
+byte costs at most one packet, and it never holds more than ``max_buffer`` bytes.
 """
 from __future__ import annotations
 
 import json
 import re
+import zlib
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Tuple
 
@@ -18,9 +19,9 @@ import numpy as np
 from . import units
 from .errors import ProtocolError
 from .fields import StatusField as S
-from .wire import as_flag, clean_text, decode_first_object, encode_json
+from .wire import as_flag, clean_text, decode_first_object, encode_json_spaced
 
-#: Every packet starts with these bytes (compact JSON, ``len`` first).
+#: Every packet starts with these bytes (``len`` first; a space may follow the colon).
 PACKET_START = b'{"len":'
 _LEN_VALUE = re.compile(rb'\{"len":\s*(\d{1,9})')
 #: Default cap of the decoder's buffer: ~100 packets of the largest size observed (8979 B).
@@ -136,19 +137,40 @@ class StatusStreamDecoder:
 
 
 def encode_status(fields: Mapping[str, Any]) -> bytes:
-    """Server side: one status packet with ``len`` first and equal to the packet's own length
-    in bytes, the ``len`` field included. Any ``len`` in ``fields`` is replaced. Numpy arrays
-    and scalars are accepted."""
+    """Server side: one status packet in the controller's layout (``{"len": N, ...}``, spaces
+    after ``:`` and ``,``) with ``len`` first and equal to the packet's own length in bytes, the
+    ``len`` field included. Any ``len`` in ``fields`` is replaced. Numpy arrays and scalars are
+    accepted."""
     body = {k: v for k, v in fields.items() if k != S.LEN}
     length = 0
     # len(packet) = base + digits(len): iterate to the fixed point; the digit count settles in
     # at most a few rounds because it only grows.
     for _ in range(10):
-        packet = encode_json({S.LEN: length, **body})
+        packet = encode_json_spaced({S.LEN: length, **body})
         if len(packet) == length:
             return packet
         length = len(packet)
     raise AssertionError("status packet length did not converge")  # pragma: no cover
+
+
+def encode_data_reply(fields: Mapping[str, Any]) -> bytes:
+    """Server side of port 10004: the reply to ``data_request``, one status packet
+    (:func:`encode_status`) compressed with zlib."""
+    return zlib.compress(encode_status(fields), 6)
+
+
+def decode_data_reply(data: bytes) -> Dict[str, Any]:
+    """Client side of port 10004: a whole zlib reply → the packet's fields. Raises
+    :class:`~.errors.ProtocolError` when it does not decompress to one JSON object."""
+    try:
+        text = zlib.decompress(data)
+        obj, _ = decode_first_object(text)
+    except (zlib.error, ValueError) as exc:
+        raise ProtocolError(f"the data_request reply ({len(data)} bytes) is not a "
+                            f"zlib-compressed JSON status packet: {exc}") from None
+    if not isinstance(obj, dict):
+        raise ProtocolError("the data_request reply is not a JSON object")
+    return obj
 
 
 # ---- the status record -----------------------------------------------------------------------
@@ -163,14 +185,14 @@ _NAN6 = (np.nan,) * 6
 
 
 @dataclass(frozen=True, eq=False)
-class RobotStatus:
-    """One status packet in driver units.
+class StatusPacket:
+    """One status packet in the SDK's units (rad, mm, RPY rad).
 
     Positions whose field was missing are NaN, never zero: a made-up pose must not look real.
     ``missing`` names the fields that were absent or malformed and got their default (an
     absent ``errcode`` reads 0, an unreadable one -1).
-    IO lists are as on the wire (whether element 0 is a count, as in the SDK's arrays, is not
-    verified for the TCP stream).
+    IO lists are as on the wire: element ``i`` is the signal the SDK's API calls ``i``
+    (docs/protocol.md, "IO").
     """
 
     joint_position: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
@@ -178,7 +200,7 @@ class RobotStatus:
     joint_command: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
     """commanded joints, rad (6,) — from ``joint_position`` (deg)"""
     tcp_pose: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
-    """measured TCP [x, y, z mm, rotation vector rad] — from ``actual_position`` (mm, RPY deg)"""
+    """TCP [x, y, z mm, rx, ry, rz rad] — from ``actual_position`` (mm, RPY deg)"""
     powered: bool = False
     enabled: bool = False
     emergency_stop: bool = False
@@ -198,6 +220,7 @@ class RobotStatus:
     rapidrate: float = 1.0
     current_tool_id: int = 0
     current_user_id: int = 0
+    motion_line: int = 0
     din: Tuple[float, ...] = ()
     dout: Tuple[float, ...] = ()
     ain: Tuple[float, ...] = ()
@@ -226,8 +249,8 @@ def parse_errcode(value: Any) -> int:
         return int(text, 16)
 
 
-def parse_status(packet: Mapping[str, Any]) -> RobotStatus:
-    """A decoded status packet (or ``get_data`` reply fields) → :class:`RobotStatus`.
+def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
+    """A decoded status packet (or ``get_data`` reply fields) → :class:`StatusPacket`.
 
     Never raises for a missing or malformed field: it takes the default and lists the field in
     ``missing``. Raises :class:`~.errors.ProtocolError` only if ``packet`` is not a mapping."""
@@ -276,7 +299,9 @@ def parse_status(packet: Mapping[str, Any]) -> RobotStatus:
     take("rapidrate", S.RAPIDRATE, float)
     for key in (S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN):
         take(key, key, io)
-    return RobotStatus(**values, missing=tuple(missing))
+    if S.MOTION_LINE in packet:
+        take("motion_line", S.MOTION_LINE, int)
+    return StatusPacket(**values, missing=tuple(missing))
 
 
 def _six(values) -> np.ndarray:

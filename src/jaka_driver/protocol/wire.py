@@ -1,7 +1,12 @@
-"""JSON on the wire: compact UTF-8 encoding, and decoding one object from the head of a byte
-buffer.
+"""JSON on the wire: the two layouts (compact requests, spaced controller output), and decoding
+one object from the head of a byte buffer.
 
-Both JAKA ports carry bare JSON objects with no delimiter between them (jaka_facts.md §2.1), so
+Clients send compact JSON; a controller answers and streams in the layout of Python's
+``json.dumps`` default, a space after every ``:`` and ``,`` — and public clients search the text
+for ``"errorCode": "``, so a server must keep that layout (docs/protocol.md, "Framing and
+layout"). A reader must accept either layout.
+
+Both JAKA ports carry bare JSON objects with no delimiter between them, so
 a reader cannot split on newlines: it parses one value and learns where it ended. That is
 ``json.JSONDecoder.raw_decode``, which works on ``str``; the helpers here translate its character
 offset back to a byte offset, which differs from it as soon as a non-ASCII character (a Chinese
@@ -34,9 +39,16 @@ def _plain(value: Any) -> Any:
 
 
 def encode_json(obj: Any) -> bytes:
-    """Compact JSON (no spaces, so a status packet starts with the exact token ``{"len":``),
-    UTF-8, non-ASCII kept as is. NaN and infinity are refused: they are not JSON."""
+    """Compact JSON, the layout of requests (``{"cmdName":"power_on"}``), UTF-8, non-ASCII kept
+    as is. NaN and infinity are refused: they are not JSON."""
     return json.dumps(obj, separators=(",", ":"), ensure_ascii=False, allow_nan=False,
+                      default=_plain).encode("utf-8")
+
+
+def encode_json_spaced(obj: Any) -> bytes:
+    """The controller's layout of replies and status packets: ``", "`` and ``": "`` between
+    items (``{"errorCode": "0", "errorMsg": ""}``), UTF-8, NaN and infinity refused."""
+    return json.dumps(obj, separators=(", ", ": "), ensure_ascii=False, allow_nan=False,
                       default=_plain).encode("utf-8")
 
 

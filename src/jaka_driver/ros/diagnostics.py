@@ -3,7 +3,6 @@ what the backend describes of itself (version, physics steps, ...)."""
 from __future__ import annotations
 
 import threading
-import time
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -49,4 +48,4 @@ class Diagnostics:
                 self._pub.publish(msg)
             except Exception as exc:  # noqa: BLE001
                 rospy.logerr_throttle(10.0, f"diagnostics failed: {exc!r}")
-            time.sleep(1.0)
+            self._driver.clock.sleep(1.0)     # 1 Hz of the driver's time (sim or wall)

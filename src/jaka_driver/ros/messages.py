@@ -1,4 +1,4 @@
-"""RobotState → the driver's ROS messages (topics of docs/interface.md).
+"""RobotState → the driver's ROS messages (docs/interface.md, "Topics").
 
 Plain conversions, no publishing. :class:`StateMessages` owns one message of each kind and
 refills it for every sample: the state publisher publishes synchronously (the message is
@@ -26,8 +26,9 @@ def user_frame_id(user_id: int) -> str:
 
 def tool_position(st: RobotState, stamp: rospy.Time, msg: TwistStamped | None = None
                   ) -> TwistStamped:
-    """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad (doc §3.1),
-    of the active tool in the active user frame; fills ``msg`` if given."""
+    """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad
+    (docs/interface.md, "Topics"), of the active tool in the active user frame; fills ``msg``
+    if given."""
     msg = TwistStamped() if msg is None else msg
     msg.header.stamp = stamp
     msg.header.frame_id = user_frame_id(st.user_id)
@@ -52,7 +53,7 @@ def joint_state(st: RobotState, names, stamp: rospy.Time, msg: JointState | None
 
 
 def robot_msg(st: RobotState, msg: RobotMsg | None = None) -> RobotMsg:
-    """``servo_state`` is servo *mode* (the doc's meaning), not robot enable."""
+    """``servo_state`` is servo *mode* (JAKA's documented meaning), not robot enable."""
     msg = RobotMsg() if msg is None else msg
     msg.motion_state = int(st.motion_state)
     msg.power_state = int(bool(st.powered))

@@ -7,9 +7,19 @@ Parameters (private, ``~name``):
   ``ip``             controller address (controller backend; default 10.5.5.100)
   ``command_port``   controller command port (default 10001)
   ``status_port``    controller status port (default 10000)
+  ``status_source``  ``stream`` (port 10000, default), ``request`` (port ``data_port``, as JAKA's
+                     SDK reads status) or ``both``
+  ``data_port``      controller data_request port (default 10004)
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``servo_increment``  servo_j/servo_p take increments as JAKA's driver code does (default
+                     false: absolute targets, as the interface document says)
+  ``sim_time``       sim: the twin owns time — it publishes ``/clock`` every 8 ms cycle and
+                     sets ``/use_sim_time`` (before this node's rospy reads it); every stamp
+                     and timeout of the driver is then sim time (default false)
+  ``real_time_factor``  sim_time: sim seconds per wall second (default 1.0; 0 = as fast as
+                     the machine can step)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
                      ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
 
@@ -23,9 +33,12 @@ import sys
 import threading
 import time
 import warnings
+from contextlib import contextmanager
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import TwistStamped
+from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 
 from jaka_msgs.msg import RobotMsg
@@ -47,11 +60,15 @@ def make_backend(kind: str, model_name: str, params: dict):
     model = load_model(model_name)
     if kind == "sim":
         from ..sim.backend import SimBackend
-        return SimBackend(model, scene=params.get("scene") or None)
+        return SimBackend(model, scene=params.get("scene") or None,
+                          sim_time=bool(params.get("sim_time")),
+                          real_time_factor=float(params.get("real_time_factor", 1.0)))
     if kind == "controller":
         from ..controller.backend import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
-                                 status_port=params["status_port"])
+                                 status_port=params["status_port"],
+                                 status_source=params["status_source"],
+                                 data_port=params["data_port"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -60,19 +77,20 @@ def make_backend(kind: str, model_name: str, params: dict):
 STALL_PERIODS = 5
 
 
-def _direct_publisher(name: str, msg_type) -> rospy.Publisher:
-    """A publisher that writes each message to its subscribers' sockets in the publishing
-    thread (rospy's ``queue_size=None``). With a queue, rospy hands every message to one
-    thread per subscriber and wakes it (a ``Condition.notify`` and a thread switch per
-    message and subscriber: the node's largest cost at 4 topics × 125 Hz); the publisher
-    thread here does nothing else. A socket's send buffer holds seconds of these small
-    messages, so a subscriber that falls behind for a while does not hold the thread up; one
-    that is alive but stops reading altogether would, once its buffer is full (a subscriber
-    that goes away is dropped by rospy)."""
+@contextmanager
+def _synchronous_publishers():
+    """Context in which ``rospy.Publisher(..., queue_size=None)`` is made without rospy's
+    warning (given for the sake of callers in callbacks): such a publisher writes each
+    message to its subscribers' sockets in the publishing thread. With a queue, rospy hands
+    every message to one thread per subscriber and wakes it (a ``Condition.notify`` and a
+    thread switch per message and subscriber: the node's largest cost at 4 topics × 125 Hz);
+    the publisher thread here does nothing else. A socket's send buffer holds seconds of
+    these small messages, so a subscriber that falls behind for a while does not hold the
+    thread up; one that is alive but stops reading altogether would, once its buffer is full
+    (a subscriber that goes away is dropped by rospy)."""
     with warnings.catch_warnings():
-        # rospy warns about queue_size=None for the sake of callers in callbacks
         warnings.simplefilter("ignore")
-        return rospy.Publisher(name, msg_type, queue_size=None)
+        yield
 
 
 class StatePublisher:
@@ -91,14 +109,22 @@ class StatePublisher:
 
     def __init__(self, driver: RobotDriver, rate: float):
         self._driver = driver
+        self._clock = driver.clock
         self._period = 1.0 / rate
         self._msgs = messages.StateMessages(driver.model.joint_names)
-        self._tool = _direct_publisher("~tool_position", TwistStamped)
-        self._joints = _direct_publisher("~joint_position", JointState)
-        self._states = _direct_publisher("~robot_states", RobotMsg)
-        self._joint_states = _direct_publisher("joint_states", JointState)
+        with _synchronous_publishers():
+            self._tool = rospy.Publisher("~tool_position", TwistStamped, queue_size=None)
+            self._joints = rospy.Publisher("~joint_position", JointState, queue_size=None)
+            self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=None)
+            self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=None)
+        # The twin owns time: /clock gets every cycle's time, just before that cycle's
+        # sample, and the twin waits for this thread rather than outrun it.
+        self._sim_clock = None
+        if self._clock.simulated:             # every sample, whatever ~rate says
+            self._sim_clock = rospy.Publisher("/clock", Clock, queue_size=100)
+            self._clock.add_consumer()
         self._count = 0
-        self._window = (time.monotonic(), 0)
+        self._window = (self._clock.now(), 0)
         self._rate = 0.0
         self._thread = threading.Thread(target=self._run, name="state-publisher", daemon=True)
 
@@ -110,6 +136,8 @@ class StatePublisher:
         st = self._driver.state() if st is None else st
         msgs = self._msgs
         msgs.fill(st)
+        if self._sim_clock is not None:
+            self._sim_clock.publish(Clock(clock=msgs.joints.header.stamp))
         self._tool.publish(msgs.tool)
         self._joints.publish(msgs.joints)
         self._states.publish(msgs.robot)
@@ -117,9 +145,10 @@ class StatePublisher:
         self._count += 1
 
     def measured_rate(self) -> float:
-        """Messages per second per topic since the previous call (diagnostics, 1 Hz)."""
+        """Messages per second (of the driver's clock) per topic since the previous call
+        (diagnostics, 1 Hz)."""
         t0, n0 = self._window
-        now = time.monotonic()
+        now = self._clock.now()
         if now - t0 > 0.5:
             self._rate = (self._count - n0) / (now - t0)
             self._window = (now, self._count)
@@ -139,7 +168,7 @@ class StatePublisher:
             rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
 
     def _run(self) -> None:
-        if self.follows_samples:
+        if self.follows_samples or self._sim_clock is not None:
             self._run_on_samples()
         else:
             self._run_on_clock()
@@ -148,11 +177,14 @@ class StatePublisher:
         last = self._driver.state().stamp - 1e-6     # from the current sample on
         while not rospy.is_shutdown():
             if not self._driver.wait_for_sample(last, STALL_PERIODS * self._period):
-                self._publish_safely()          # stuck source: the latest again
-                continue
+                if self._sim_clock is None:
+                    self._publish_safely()      # stuck source: the latest again
+                continue                        # (in sim time, time merely stands still)
             for st in self._driver.states_since(last):
                 self._publish_safely(st)
                 last = st.stamp                 # also past a sample that failed
+                if self._sim_clock is not None:
+                    self._clock.consumed(last)
 
     def _run_on_clock(self) -> None:
         deadline = time.monotonic()
@@ -195,16 +227,67 @@ def _params() -> dict:
         "ip": rospy.get_param("~ip", rospy.get_param("ip", "10.5.5.100")),
         "command_port": int(rospy.get_param("~command_port", 10001)),
         "status_port": int(rospy.get_param("~status_port", 10000)),
+        "status_source": str(rospy.get_param("~status_source", "stream")),
+        "data_port": int(rospy.get_param("~data_port", 10004)),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
+        "servo_increment": bool(rospy.get_param("~servo_increment", False)),
+        "sim_time": bool(rospy.get_param("~sim_time", False)),
+        "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
     }
 
 
+def _log_files(model: str) -> None:
+    """Say where the URDF and the compiled IK came from (source tree, devel or install space)."""
+    from ..kinematics import native
+    lib = native.library_path()
+    rospy.loginfo(f"URDF {load_model(model).urdf_path}; IK library "
+                  + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
+
+
+def _sim_time_requested(argv: list[str], name: str) -> bool:
+    """``~sim_time`` before ``init_node`` (rospy reads ``/use_sim_time`` once, in init_node):
+    from a ``_sim_time:=`` argument, else from the parameter server (roslaunch)."""
+    for arg in argv[1:]:
+        if arg.startswith("_sim_time:="):
+            return arg.split(":=", 1)[1].strip().lower() in ("true", "1", "yes")
+    mappings = rosgraph.names.load_mappings(argv)
+    ns = rosgraph.names.make_global_ns(mappings.get("__ns") or rosgraph.names.get_ros_namespace())
+    private = rosgraph.names.ns_join(ns + mappings.get("__name", name), "sim_time")
+    try:
+        return bool(rosgraph.Master(f"/{name}").getParam(private))
+    except (rosgraph.MasterError, OSError):
+        return False                    # not set, or no master yet (init_node will wait)
+
+
+def _use_sim_time() -> None:
+    """Set ``/use_sim_time`` so that this node's rospy and every client follow /clock."""
+    try:
+        rosgraph.Master("/jaka_driver").setParam("/use_sim_time", True)
+    except OSError as exc:
+        print(f"jaka_driver: cannot set /use_sim_time: {exc}", file=sys.stderr)
+
+
 def main() -> int:
+    sim_time = _sim_time_requested(sys.argv, "jaka_driver")
+    if sim_time:
+        _use_sim_time()
     rospy.init_node("jaka_driver")
     _forward_logging()
     p = _params()
+    if p["sim_time"] and p["backend"] != "sim":
+        rospy.logwarn("~sim_time applies to the twin only: the controller backend runs on "
+                      "the wall clock")
+        p["sim_time"] = False
+    if p["sim_time"] and not sim_time:
+        rospy.logwarn("~sim_time was set after start-up; /use_sim_time is set now, but this "
+                      "node's rospy keeps the wall clock")
+        _use_sim_time()
+    if not p["real_time_factor"] >= 0:
+        rospy.logfatal(f"~real_time_factor {p['real_time_factor']} is negative; expected ≥ 0 "
+                       "(0 = as fast as possible)")
+        return 2
     if p["model"] not in MODEL_NAMES:
         rospy.logfatal(f"unknown model {p['model']!r}; expected one of {', '.join(MODEL_NAMES)}")
         return 2
@@ -217,19 +300,22 @@ def main() -> int:
         rospy.logfatal(str(exc))
         return 2
     driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"])
+    publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     driver.start()
     rospy.on_shutdown(driver.shutdown)
-    publisher = StatePublisher(driver, p["rate"])
     publisher.start()
-    advertise(driver)
+    advertise(driver, servo_increment=p["servo_increment"])
     advertise_faults(backend)
     advertise_snapshot(backend)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     Diagnostics(driver, publisher.measured_rate)
+    _log_files(p["model"])
+    timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
+              else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "
-                  f"{p['rate']:g} Hz")
+                  f"{p['rate']:g} Hz{timing}")
     rospy.spin()
     return 0
 

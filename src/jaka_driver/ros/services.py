@@ -16,6 +16,7 @@ from jaka_msgs import srv as jaka
 
 from ..driver import RobotDriver
 from ..results import Result
+from ..servo_increment import ServoIncrements
 
 log = logging.getLogger(__name__)
 
@@ -40,11 +41,22 @@ def _logged(name: str, handler):
     return serve
 
 
-def advertise(driver: RobotDriver) -> list[rospy.Service]:
-    """Advertise every service of contract.md; returns them so the node can shut them down."""
+def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.Service]:
+    """Advertise every service of docs/interface.md; returns them so the node can shut them down.
+
+    ``servo_increment``: servo_j / servo_p take increments as JAKA's driver code does
+    (:mod:`jaka_driver.servo_increment`), not the document's absolute targets."""
     d = driver
     move = _ret(jaka.MoveResponse)
     servo = _ret(jaka.ServoMoveResponse)
+    increments = ServoIncrements(d) if servo_increment else None
+    servo_j = increments.servo_j if increments else d.servo_j
+    servo_p = increments.servo_p if increments else d.servo_p
+
+    def servo_move_enable(enable):
+        if increments:
+            increments.reset()
+        return d.servo_move_enable(enable)
 
     def get_io(req):
         result = d.get_io(req.signal, req.path, req.type, req.index)
@@ -85,9 +97,9 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
             r.pose, r.mvvelo, r.mvacc, r.coord_mode, r.has_ref, r.ref_joint))),
         ("jog", jaka.Move, lambda r: move(d.jog(r.coord_mode, r.index, r.mvvelo, r.mvacc))),
         ("servo_move_enable", jaka.ServoMoveEnable,
-         lambda r: _ret(jaka.ServoMoveEnableResponse)(d.servo_move_enable(r.enable))),
-        ("servo_j", jaka.ServoMove, lambda r: servo(d.servo_j(r.pose))),
-        ("servo_p", jaka.ServoMove, lambda r: servo(d.servo_p(r.pose))),
+         lambda r: _ret(jaka.ServoMoveEnableResponse)(servo_move_enable(r.enable))),
+        ("servo_j", jaka.ServoMove, lambda r: servo(servo_j(r.pose))),
+        ("servo_p", jaka.ServoMove, lambda r: servo(servo_p(r.pose))),
         ("set_toolframe", jaka.SetTcpFrame,
          lambda r: _ret(jaka.SetTcpFrameResponse)(d.set_toolframe(r.pose, r.tool_num))),
         ("set_userframe", jaka.SetUserFrame,

@@ -13,6 +13,7 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..clock import make_clock
 from ..completion import Completion
 from ..constants import IN_POSITION, SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
@@ -28,7 +29,7 @@ from ..validation import fastest_step, outside_limits
 from . import jog_steps
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
-from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
+from .motions import Hold, Jog, RampedServoTarget, ServoTarget, Stopping, TrajectoryRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
@@ -44,14 +45,19 @@ class SimBackend(Backend):
     sample_period = SERVO_CYCLE
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
-                 q0: Optional[np.ndarray] = None, io_loopback: bool = False):
+                 q0: Optional[np.ndarray] = None, io_loopback: bool = False,
+                 sim_time: bool = False, real_time_factor: float = 1.0):
+        """``sim_time``: the twin owns time (jaka_driver.clock.SimClock, paced at
+        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
         super().__init__(model)
+        self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.kin = Kinematics(model)
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
         q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, SERVO_CYCLE)
-        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE)
+        self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE,
+                                   clock=self.clock if sim_time else None)
         self.payload = Payload(self.mj_model)
         self.collisions = CollisionMonitor(self.mj_model, self._collided)
         self.overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
@@ -85,6 +91,9 @@ class SimBackend(Backend):
         info = super().describe()
         info.update(physics_steps=self.physics.steps_total, overruns=self.physics.overruns,
                     timestep_s=self.mj_model.opt.timestep)
+        if self.clock.simulated:
+            info.update(sim_time_s=f"{self.clock.now():.3f}",
+                        real_time_factor=self.clock.real_time_factor or "as fast as possible")
         return info
 
     def state(self) -> RobotState:
@@ -294,7 +303,8 @@ class SimBackend(Backend):
             if on:
                 if self.physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
-                self.physics.switch(ServoTarget(self.physics.servo.setpoint))
+                # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
+                self.physics.switch(RampedServoTarget(self.physics.servo.setpoint))
             else:
                 self.physics.switch(Hold())
             self.servo_mode = on
@@ -309,6 +319,7 @@ class SimBackend(Backend):
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         target.set(np.asarray(q_target, float))
+        self.clock.streamed()
         return Result.success("servo_j target accepted")
 
     def servo_p(self, target_pose) -> Result:
@@ -335,6 +346,7 @@ class SimBackend(Backend):
                                   f"limit {self.model.max_velocity[j]:.2f} rad/s; the arm "
                                   "holds")
         target.set(q)
+        self.clock.streamed()
         return Result.success("servo_p target accepted", q)
 
     def stop_move(self) -> Result:
@@ -351,6 +363,41 @@ class SimBackend(Backend):
     def _stop_motion(self, reason: Result) -> None:
         with self._lock:
             self.physics.switch(Stopping(self._stop_decel, SERVO_CYCLE)).abort(reason)
+
+    # ---- what a controller built on the twin reads and drives (the emulator) ------------------
+    # A narrow public section: the emulator uses these and the Backend contract, never
+    # ``physics`` or ``kin`` directly. Joints rad, poses 4x4 in metres (active tool, user frame).
+    def commanded_joints(self) -> np.ndarray:
+        """The servo setpoint (rad): where the twin is driving the arm this cycle."""
+        return self.physics.servo.setpoint.copy()
+
+    def commanded_tcp(self) -> np.ndarray:
+        """The TCP of :meth:`commanded_joints` (4x4, m)."""
+        tool, user = self.frames()
+        return self.kin.tcp_pose(self.commanded_joints(), tool, user)
+
+    @property
+    def motion_active(self) -> bool:
+        """A motion source is running (a move, jog, or a stop decelerating); the live source,
+        not the last physics sample."""
+        return bool(self.physics.motion.active)
+
+    def servo_goal(self) -> Optional[np.ndarray]:
+        """The latest servo target (rad, the end of a ramp), or None outside servo mode."""
+        target = self._servo_target()
+        return target.goal if isinstance(target, RampedServoTarget) else None
+
+    def servo_ramp(self, q_target, steps: int) -> Result:
+        """servo_j reached over ``steps`` cycles (8 ms each), interpolated linearly."""
+        target = self._servo_target()
+        if not isinstance(target, RampedServoTarget):
+            return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
+        q = np.asarray(q_target, float)
+        if steps <= 1:
+            target.set(q)
+        else:
+            target.ramp(q, int(steps))
+        return Result.success("servo target accepted")
 
     # ---- frames, payload, settings ---------------------------------------------------------------
     def frames(self):

@@ -1,7 +1,7 @@
 """Collisions in the twin: contact geometry, a floor, an optional workcell, and the monitor
 that turns a contact force above the collision level's threshold into a protective stop.
 
-Levels (contract.md, ``set_collisionlevel``): 0 off, 1–4 → 25/50/75/100 N of contact force
+Levels (docs/interface.md, ``set_collisionlevel``): 0 off, 1–4 → 25/50/75/100 N of contact force
 between the arm and the environment or itself.
 
 Workcell files (``~scene``): YAML with a list of obstacles, each

@@ -1,4 +1,5 @@
-"""How one cycle of a jog moves the setpoint, for each coordinate system (doc §1.3).
+"""How one cycle of a jog moves the setpoint, for each coordinate system
+(docs/interface.md, "jog").
 
 A step function takes the current setpoint (rad) and the distance to travel this cycle along
 the jog axis (rad, or m for X/Y/Z) and returns the next setpoint, or None when the jog must

@@ -122,6 +122,40 @@ class ServoTarget(Motion):
         return target
 
 
+class RampedServoTarget(ServoTarget):
+    """Servo mode with ``stepNum``: a target may be reached over ``n`` cycles, interpolated
+    linearly, as the controller does; :meth:`set` (one cycle) is :class:`ServoTarget`'s own
+    behaviour."""
+
+    def __init__(self, q: np.ndarray):
+        super().__init__(q)
+        self._ramp: Optional[tuple] = None   # (start, end, cycles done, cycles)
+
+    def set(self, q: np.ndarray) -> None:
+        with self._lock:
+            self._ramp = None
+            self.target = q.copy()
+
+    def ramp(self, q: np.ndarray, steps: int) -> None:
+        with self._lock:
+            self._ramp = (self.target.copy(), q.copy(), 0, steps)
+
+    @property
+    def goal(self) -> np.ndarray:
+        """Where the servo target ends up (rad): the end of a ramp, or the target."""
+        with self._lock:
+            return (self._ramp[1] if self._ramp is not None else self.target).copy()
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        with self._lock:
+            if self._ramp is not None:
+                start, end, k, n = self._ramp
+                k += 1
+                self.target = start + (end - start) * (k / n)
+                self._ramp = None if k >= n else (start, end, k, n)
+        return super().next(q_sp, qd_sp, q_meas, qd_meas)
+
+
 class Jog(Motion):
     """Continuous jog: ramp the speed of one axis up to ``speed`` and hold it until told to
     stop, then ramp down. ``step(q_sp, displacement)`` maps an axis displacement to the next

@@ -1,4 +1,5 @@
-"""The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time.
+"""The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time
+(or, with a simulated clock, whenever ``jaka_driver.clock.SimClock`` lets a cycle start).
 
 Every ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next
 setpoint; the joint drives that follow it between setpoints are MuJoCo actuators
@@ -40,7 +41,8 @@ WAKE_MARGIN = 0.0002                # s
 
 @dataclass(frozen=True)
 class Sample:
-    """Measured joints at wall-clock ``stamp`` (s): rad, rad/s, N·m."""
+    """Measured joints at ``stamp`` (s: wall-clock time, or sim time when the twin owns
+    time): rad, rad/s, N·m."""
 
     stamp: float
     q: np.ndarray
@@ -53,7 +55,7 @@ class PhysicsLoop:
     """Owns ``MjData``; all access to it happens in the loop thread (or under ``lock``)."""
 
     def __init__(self, m: mujoco.MjModel, servo: JointServo, q0: np.ndarray,
-                 cycle: float = SERVO_CYCLE):
+                 cycle: float = SERVO_CYCLE, clock=None):
         self.m = m
         self.d = mujoco.MjData(m)
         self.servo = servo
@@ -73,7 +75,10 @@ class PhysicsLoop:
         self._thread: Optional[threading.Thread] = None
         # Checks at each cycle's end, before the next setpoint is chosen (contacts, overload).
         self.on_cycle: list[Callable[[mujoco.MjData], None]] = []
-        self.wall0 = time.time()
+        #: None: paced to the wall clock, samples stamped in wall time; a
+        #: :class:`jaka_driver.clock.SimClock`: the twin owns time, samples stamped in it
+        self.clock = clock
+        self.wall0 = 0.0 if self.simulated else time.time()
         self._start = time.monotonic()
         self._done = 0                              # cycles stepped since start()
         self.steps_total = 0
@@ -161,7 +166,28 @@ class PhysicsLoop:
         with self._sampled:
             return self._sampled.wait_for(lambda: self._sample.stamp > after, timeout)
 
+    @property
+    def simulated(self) -> bool:
+        return self.clock is not None and self.clock.simulated
+
     def _run(self) -> None:
+        if self.simulated:
+            self._run_in_sim_time()
+        else:
+            self._run_on_the_wall_clock()
+
+    def _run_in_sim_time(self) -> None:
+        """One cycle whenever the clock lets the next one start (its pacing and holds,
+        jaka_driver.clock); sample stamps are sim time (``d.time``)."""
+        clock = self.clock
+        while clock.wait_for_cycle(self._quit):
+            with self.lock:
+                self._cycle()
+            clock.tick()
+            with self._sampled:
+                self._sampled.notify_all()
+
+    def _run_on_the_wall_clock(self) -> None:
         self._start = time.monotonic()
         self._done = 0
         self.wall0 = time.time() - self.d.time

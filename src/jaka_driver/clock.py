@@ -1,0 +1,252 @@
+"""A backend's time: the wall clock, or the twin's simulated time.
+
+The driver keeps every timeout on its backend's clock (blocking moves, the jog watchdog, the
+servo stream, the trajectory monitor), so the same code runs in wall time against a
+controller and in simulated time against a twin that owns time (docs/design.md, "Time").
+
+:class:`WallClock` is ``time.monotonic``. :class:`SimClock` is the twin's time: cycles × 8 ms
+since the twin started, advanced by the physics loop only. Its rules (the driver relies on
+them for determinism; README "Simulated time" tells users):
+
+- **Pacing.** A cycle may start once the wall clock allows it: ``real_time_factor`` 1 paces
+  cycles to the wall clock, 2 twice as fast, 0 as fast as the machine steps.
+- **A request stops time.** While a thread is inside :meth:`SimClock.hold` (a service request
+  in the driver, the jog watchdog acting), no cycle starts: a command arrives at the sim time
+  current when it came in, and takes effect in the cycle after, however long the driver
+  needed (in wall time) to check and plan it.
+- **Waiting lets time run.** A holding thread that waits on the clock (:meth:`SimClock.wait`,
+  :meth:`SimClock.sleep`) stops holding until it is woken; it is woken *between* two cycles
+  and holds again from then, so what it does next happens at a definite sim time.
+- **A reply waits for its caller.** When a request's reply is made, time stands still until
+  the next request arrives (or an in-process caller waits on the clock), at most
+  ``REACTION_WINDOW`` s of wall time: a client that calls again at once (a robot program's
+  next line) arrives in the same cycle on any machine load.
+- **A servo stream paces the twin.** After a cycle in which a servo target arrived, the next
+  cycle waits (at most ``REACTION_WINDOW``) for the next target: a client that sends one
+  target per /clock tick or per state sample is in step with the twin at any speed.
+- **A reader is not outrun.** With a consumer registered (the node's state publisher), the
+  twin runs at most ``MAX_LAG`` cycles ahead of what it has published.
+
+Nothing may freeze the twin: a hold older than ``HOLD_LIMIT`` s of wall time stops counting.
+"""
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Optional
+
+log = logging.getLogger(__name__)
+
+REACTION_WINDOW = 0.2     # s wall: how long time waits for a caller's next request
+HOLD_LIMIT = 10.0         # s wall: a hold older than this no longer stops time
+MAX_LAG = 16              # cycles the twin may run ahead of its consumer
+STALL_CYCLES = 25         # cycles behind the pacer after which it re-anchors, not catches up
+WALL_SLICE = 0.05         # s wall: waiters re-check their condition at least this often
+
+
+class WallClock:
+    """Wall time (``time.monotonic``, s). Holds and stream marks mean nothing here."""
+
+    simulated = False
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def sleep(self, seconds: float) -> None:
+        time.sleep(max(0.0, seconds))
+
+    def wait(self, event: threading.Event, timeout: float) -> bool:
+        """Until ``event`` is set or ``timeout`` s pass; True if it is set."""
+        return event.wait(max(0.0, timeout))
+
+    @contextmanager
+    def hold(self, react: bool = True):
+        yield
+
+    def streamed(self) -> None:
+        pass
+
+
+@dataclass
+class _Waiter:
+    deadline: int                   # cycle count at which the wait times out
+    event: Optional[threading.Event]
+    woken: bool = False
+
+
+class SimClock:
+    """The twin's time: ``cycles`` × ``cycle`` s. The physics loop calls
+    :meth:`wait_for_cycle` before and :meth:`tick` after each cycle; everyone else reads it,
+    waits on it, or holds it (see the module docstring)."""
+
+    simulated = True
+
+    def __init__(self, cycle: float, real_time_factor: float = 1.0):
+        if not (real_time_factor >= 0 and math.isfinite(real_time_factor)):
+            raise ValueError(f"real_time_factor is {real_time_factor}, expected ≥ 0 "
+                             "(0 = as fast as possible)")
+        self.cycle = cycle
+        self.real_time_factor = float(real_time_factor)
+        self.cycles = 0
+        self._cond = threading.Condition()
+        self._holds: dict[int, list] = {}        # thread id -> [depth, wall time since]
+        self._waiting: dict[int, _Waiter] = {}
+        self._reaction_until = 0.0               # wall time
+        self._stream_cycle = -2                  # cycle count when the last servo target came
+        self._gap_started = time.monotonic()     # wall time the current gap between cycles began
+        self._consumed: Optional[int] = None     # cycles the consumer has taken
+        self._anchor: Optional[tuple[float, int]] = None    # (wall time, cycles) of the pacer
+        self._stale_warned = False
+
+    # ---- reading and waiting -------------------------------------------------------------
+    def now(self) -> float:
+        """Sim time, s since the twin started."""
+        return self.cycles * self.cycle
+
+    def _cycles_at(self, t: float) -> int:
+        return math.ceil(t / self.cycle - 1e-9)
+
+    def wait(self, event: Optional[threading.Event], timeout: float) -> bool:
+        """Until ``event`` is set or ``timeout`` s of sim time pass; True if it is set.
+        A thread that holds time lets it run while it waits (module docstring)."""
+        tid = threading.get_ident()
+        with self._cond:
+            if event is not None and event.is_set():
+                return True
+            waiter = _Waiter(self._cycles_at(self.now() + max(0.0, timeout)), event)
+            if waiter.deadline <= self.cycles:
+                return False
+            self._waiting[tid] = waiter
+            if tid not in self._holds:
+                self._reaction_until = 0.0      # a caller waiting on time has reacted
+            self._cond.notify_all()
+            try:
+                while not waiter.woken:
+                    self._cond.wait(WALL_SLICE)
+                    if event is not None and event.is_set():
+                        waiter.woken = True
+            finally:
+                del self._waiting[tid]
+                if tid in self._holds:
+                    self._holds[tid][1] = time.monotonic()
+            return event is not None and event.is_set()
+
+    def sleep(self, seconds: float) -> None:
+        self.wait(None, seconds)
+
+    def wait_until(self, t: float) -> None:
+        """Until sim time ``t`` (s)."""
+        self.wait(None, t - self.now())
+
+    # ---- what stops time -----------------------------------------------------------------
+    @contextmanager
+    def hold(self, react: bool = True):
+        """Time stands still while the calling thread is inside (and not waiting on the
+        clock). ``react``: when the outermost hold ends, wait up to REACTION_WINDOW for the
+        caller's next request (a reply); False for the servo stream and the watchdog."""
+        tid = threading.get_ident()
+        with self._cond:
+            self._reaction_until = 0.0          # the request the window waited for is here
+            entry = self._holds.setdefault(tid, [0, time.monotonic()])
+            entry[0] += 1
+        try:
+            yield
+        finally:
+            with self._cond:
+                entry[0] -= 1
+                if entry[0] == 0:
+                    del self._holds[tid]
+                    if react:
+                        self._reaction_until = time.monotonic() + REACTION_WINDOW
+                self._cond.notify_all()
+
+    def streamed(self) -> None:
+        """A servo target arrived: the cycle after next waits for the next one."""
+        with self._cond:
+            self._stream_cycle = self.cycles
+            self._cond.notify_all()
+
+    def add_consumer(self) -> None:
+        """Register the one consumer of samples; from now the twin waits for it."""
+        with self._cond:
+            self._consumed = self.cycles
+
+    def consumed(self, t: float) -> None:
+        """The consumer has taken the sample of sim time ``t`` (s)."""
+        with self._cond:
+            self._consumed = max(self._consumed or 0, round(t / self.cycle))
+            self._cond.notify_all()
+
+    def _blocked(self, wall: float) -> Optional[float]:
+        """None if the next cycle may start now, else the wall time to look again."""
+        again = wall + WALL_SLICE
+        for tid, (depth, since) in self._holds.items():
+            waiter = self._waiting.get(tid)
+            if depth > 0 and (waiter is None or waiter.woken):
+                if wall - since < HOLD_LIMIT:
+                    return min(again, since + HOLD_LIMIT)
+                if not self._stale_warned:
+                    self._stale_warned = True
+                    log.warning("a request has held simulated time for %.0f s of wall time; "
+                                "time runs on", HOLD_LIMIT)
+        if wall < self._reaction_until:
+            return self._reaction_until
+        if self._stream_cycle == self.cycles - 1 and wall < self._gap_started + REACTION_WINDOW:
+            return self._gap_started + REACTION_WINDOW
+        if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
+            return again
+        return None
+
+    # ---- the physics loop's side ------------------------------------------------------------
+    def wait_for_cycle(self, quit_: threading.Event) -> bool:
+        """Block until the next cycle may start (nothing holds time, the pacer allows it);
+        False if ``quit_`` was set meanwhile."""
+        held = False
+        with self._cond:
+            while not quit_.is_set():
+                wall = time.monotonic()
+                until = self._blocked(wall)
+                if until is None:
+                    break
+                held = True
+                self._cond.wait(max(0.0, min(until, wall + WALL_SLICE) - wall))
+            else:
+                return False
+        if self.real_time_factor > 0:
+            period = self.cycle / self.real_time_factor
+            wall = time.monotonic()
+            if (held or self._anchor is None
+                    or wall - self._due(period) > STALL_CYCLES * period):
+                # Time stood still (or the machine stalled): pace on from here; the held
+                # time is not caught up in a burst.
+                self._anchor = (wall, self.cycles)
+            delay = self._due(period) - wall
+            if delay > 0:
+                quit_.wait(delay)
+        return not quit_.is_set()
+
+    def _due(self, period: float) -> float:
+        """Wall time at which the coming cycle has elapsed at the real-time factor."""
+        wall0, cycles0 = self._anchor
+        return wall0 + (self.cycles + 1 - cycles0) * period
+
+    def tick(self) -> None:
+        """A cycle was stepped: time advances by one cycle; waiters due now are woken (and
+        hold again, if they held, before the next cycle may start)."""
+        with self._cond:
+            self.cycles += 1
+            self._gap_started = time.monotonic()
+            for waiter in self._waiting.values():
+                if waiter.deadline <= self.cycles or (waiter.event is not None
+                                                      and waiter.event.is_set()):
+                    waiter.woken = True
+            self._cond.notify_all()
+
+
+def make_clock(sim_time: bool, cycle: float, real_time_factor: float = 1.0):
+    """The twin's clock: simulated (``sim_time``) or the wall clock."""
+    return SimClock(cycle, real_time_factor) if sim_time else WallClock()

@@ -1,0 +1,218 @@
+// A roscpp client of jaka_driver, run by test/ros/test_catkin_workspace_and_cpp_client.py.
+//
+//   jaka_cpp_client services    joint_move, get_fk, linear_move, get_ik, set_io/get_io,
+//                               servo_move_enable + servo_j (absolute targets), while
+//                               subscribed to robot_states and joint_position
+//   jaka_cpp_client increments  servo_j as JAKA's servoj_demo calls it (200 increments of
+//                               {0.001, 0, 0, 0, 0, 0.001} rad): the driver runs with
+//                               servo_increment:=true
+//
+// Every call is checked; the first failure exits 1 naming the call and the answer. What the
+// test asserts is printed as "name value..." lines on stdout. Units: rad, mm + rotation vector.
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+
+#include <jaka_msgs/GetFK.h>
+#include <jaka_msgs/GetIK.h>
+#include <jaka_msgs/GetIO.h>
+#include <jaka_msgs/Move.h>
+#include <jaka_msgs/RobotMsg.h>
+#include <jaka_msgs/ServoMove.h>
+#include <jaka_msgs/ServoMoveEnable.h>
+#include <jaka_msgs/SetIO.h>
+
+namespace {
+
+std::mutex lock;
+std::vector<double> joints;        // latest joint_position, rad
+int joint_messages = 0;
+int state_messages = 0;
+int servo_state = -1;              // latest robot_states.servo_state
+
+void on_joints(const sensor_msgs::JointState::ConstPtr& msg) {
+  std::lock_guard<std::mutex> guard(lock);
+  joints.assign(msg->position.begin(), msg->position.end());
+  ++joint_messages;
+}
+
+void on_state(const jaka_msgs::RobotMsg::ConstPtr& msg) {
+  std::lock_guard<std::mutex> guard(lock);
+  servo_state = msg->servo_state;
+  ++state_messages;
+}
+
+std::vector<double> current_joints() {
+  std::lock_guard<std::mutex> guard(lock);
+  return joints;
+}
+
+[[noreturn]] void fail(const std::string& what) {
+  std::printf("FAILED %s\n", what.c_str());
+  std::fflush(stdout);
+  std::exit(1);
+}
+
+template <class Srv>
+void call(ros::NodeHandle& nh, const std::string& name, Srv& srv) {
+  ros::ServiceClient client = nh.serviceClient<Srv>("/jaka_driver/" + name);
+  if (!client.call(srv)) fail(name + ": the ROS call itself failed");
+}
+
+template <class Srv>
+void call_ok(ros::NodeHandle& nh, const std::string& name, Srv& srv) {
+  call(nh, name, srv);
+  if (srv.response.ret != 1)
+    fail(name + ": ret " + std::to_string(srv.response.ret) + " " + srv.response.message);
+}
+
+void print(const std::string& name, const std::vector<double>& values) {
+  std::printf("%s", name.c_str());
+  for (double v : values) std::printf(" %.6f", v);
+  std::printf("\n");
+}
+
+template <class V>
+std::vector<double> doubles(const V& values) {
+  return std::vector<double>(values.begin(), values.end());
+}
+
+double max_gap(const std::vector<double>& a, const std::vector<double>& b, size_t n) {
+  double gap = 0;
+  for (size_t i = 0; i < n; ++i) gap = std::max(gap, std::fabs(a[i] - b[i]));
+  return gap;
+}
+
+void services(ros::NodeHandle& nh) {
+  const std::vector<double> pose = {0.5, 1.9, -1.4, 1.1, 1.57, 0.0};
+
+  jaka_msgs::Move joint_move;
+  joint_move.request.pose.assign(pose.begin(), pose.end());
+  joint_move.request.mvvelo = 1.0;
+  joint_move.request.mvacc = 2.0;
+  call_ok(nh, "joint_move", joint_move);
+  ros::Duration(0.2).sleep();
+  print("joint_move_arrived", current_joints());
+
+  jaka_msgs::GetFK fk;
+  fk.request.joint.assign(pose.begin(), pose.end());
+  call(nh, "get_fk", fk);
+  if (fk.response.cartesian_pose.size() != 6 || fk.response.cartesian_pose[0] == 9999)
+    fail("get_fk: " + fk.response.message);
+  print("get_fk", doubles(fk.response.cartesian_pose));
+
+  jaka_msgs::Move linear_move;           // 50 mm straight down
+  linear_move.request.pose = fk.response.cartesian_pose;
+  linear_move.request.pose[2] -= 50.0;
+  linear_move.request.mvvelo = 100;
+  linear_move.request.mvacc = 500;
+  call_ok(nh, "linear_move", linear_move);
+  ros::Duration(0.2).sleep();
+  std::vector<double> after_line = current_joints();
+  jaka_msgs::GetFK fk_after;
+  fk_after.request.joint.assign(after_line.begin(), after_line.end());
+  call(nh, "get_fk", fk_after);
+  print("linear_move_arrived_tcp", doubles(fk_after.response.cartesian_pose));
+
+  jaka_msgs::GetIK ik;
+  ik.request.ref_joint.assign(pose.begin(), pose.end());
+  ik.request.cartesian_pose = linear_move.request.pose;
+  call(nh, "get_ik", ik);
+  if (ik.response.joint.size() != 6 || ik.response.joint[0] == 9999)
+    fail("get_ik: " + ik.response.message);
+  print("get_ik", doubles(ik.response.joint));
+
+  jaka_msgs::SetIO set_io;
+  set_io.request.signal = "digital";
+  set_io.request.type = 0;
+  set_io.request.index = 3;
+  set_io.request.value = 1;
+  call_ok(nh, "set_io", set_io);
+  jaka_msgs::GetIO get_io;
+  get_io.request.signal = "digital";
+  get_io.request.path = 1;
+  get_io.request.type = 0;
+  get_io.request.index = 3;
+  call(nh, "get_io", get_io);
+  print("get_io", {get_io.response.value});
+
+  jaka_msgs::ServoMoveEnable enable;
+  enable.request.enable = true;
+  call_ok(nh, "servo_move_enable", enable);
+  ros::Duration(0.1).sleep();
+  {
+    std::lock_guard<std::mutex> guard(lock);
+    print("servo_state_in_servo_mode", {double(servo_state)});
+  }
+  // joint_6 +0.05 rad in 50 absolute targets, one per 8 ms cycle
+  std::vector<double> start = current_joints();
+  print("servo_j_start", start);
+  jaka_msgs::ServoMove servo;
+  ros::Rate cycle(125);
+  for (int i = 1; i <= 50; ++i) {
+    servo.request.pose.assign(start.begin(), start.end());
+    servo.request.pose[5] = start[5] + 0.001 * i;
+    call_ok(nh, "servo_j", servo);
+    cycle.sleep();
+  }
+  ros::Duration(0.3).sleep();
+  print("servo_j_end", current_joints());
+  enable.request.enable = false;
+  call_ok(nh, "servo_move_enable", enable);
+}
+
+void increments(ros::NodeHandle& nh) {
+  // As JAKA's servoj_demo: enter servo mode, wait 1 s, 200 increments as fast as they go.
+  jaka_msgs::ServoMoveEnable enable;
+  enable.request.enable = true;
+  call_ok(nh, "servo_move_enable", enable);
+  ros::Duration(1.0).sleep();
+  print("increments_start", current_joints());
+  jaka_msgs::ServoMove servo;
+  const float step[6] = {0.001, 0, 0, 0, 0, 0.001};
+  servo.request.pose.assign(step, step + 6);
+  for (int i = 0; i < 200; ++i) call_ok(nh, "servo_j", servo);
+  ros::Duration(1.0).sleep();
+  print("increments_end", current_joints());
+  enable.request.enable = false;
+  call_ok(nh, "servo_move_enable", enable);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "jaka_cpp_client");
+  const std::string mode = argc > 1 ? argv[1] : "services";
+  ros::NodeHandle nh;
+  ros::Subscriber joint_sub = nh.subscribe("/jaka_driver/joint_position", 10, on_joints);
+  ros::Subscriber state_sub = nh.subscribe("/jaka_driver/robot_states", 10, on_state);
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  if (!ros::service::waitForService("/jaka_driver/servo_j", ros::Duration(60)))
+    fail("no /jaka_driver/servo_j within 60 s");
+  const ros::WallTime t0 = ros::WallTime::now();
+  while (current_joints().size() < 6) {
+    if ((ros::WallTime::now() - t0).toSec() > 10) fail("no joint_position within 10 s");
+    ros::WallDuration(0.01).sleep();
+  }
+  const ros::WallTime start = ros::WallTime::now();
+  int joints0, states0;
+  {
+    std::lock_guard<std::mutex> guard(lock);
+    joints0 = joint_messages;
+    states0 = state_messages;
+  }
+  if (mode == "services") services(nh);
+  else if (mode == "increments") increments(nh);
+  else fail("unknown mode " + mode);
+  const double seconds = (ros::WallTime::now() - start).toSec();
+  std::lock_guard<std::mutex> guard(lock);
+  print("topic_rates_hz", {(joint_messages - joints0) / seconds, (state_messages - states0) / seconds});
+  std::printf("OK\n");
+  return 0;
+}

@@ -1,0 +1,286 @@
+"""A scripted fake JAKA controller for tests: it answers as the fixtures in test/data/ do.
+
+Not the emulator, on purpose: the controller backend is tested here against something its authors
+did not write to agree with it. Every reply is the transcript's reply for that ``cmdName``
+(test/data/command_transcript.txt), with only the values that must follow the script's state
+replaced (joints, TCP, the motion queue, IO, power); every status packet is
+test/data/status_packet.json with the same values replaced and ``len`` recomputed.
+
+The script: a move is acknowledged at once and queued; each queued move takes ``move_time`` s,
+and the arm jumps to its target when it ends (a fake has no kinematics: ``moveL``/``end_move`` set
+the TCP, joint moves the joints). ``get_motion_state`` and the packets' ``inpos`` show the queue;
+``wait_complete`` answers when it is empty; ``stop_program`` empties it.
+
+Ports: command (10001 role), status stream (10000 role, optional), data_request (10004 role,
+optional), all on 127.0.0.1 with free port numbers. ``layout="compact"`` answers without spaces
+(an older firmware's layout), to prove readers do not depend on the spaces.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import socket
+import threading
+import time
+import zlib
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Tuple
+
+DATA = Path(__file__).parent / "data"
+PERIOD = 0.008   # s between two status packets
+
+
+def load_transcript() -> List[Tuple[str, str, str]]:
+    """(request text, reply text, note) of every exchange in command_transcript.txt."""
+    out, note, request = [], "", None
+    for line in (DATA / "command_transcript.txt").read_text().splitlines():
+        if line.startswith("# "):
+            note = line[2:]
+        elif line.startswith("> "):
+            request = line[2:]
+        elif line.startswith("< "):
+            out.append((request, line[2:], note))
+            note, request = "", None
+    return out
+
+
+def load_status_packet() -> str:
+    """The status packet fixture, exact text (one line)."""
+    return (DATA / "status_packet.json").read_text().strip()
+
+
+def encode_packet(fields: Dict[str, Any]) -> bytes:
+    """A status packet in the controller's layout with a self-consistent ``len``."""
+    n = 0
+    for _ in range(10):
+        text = json.dumps({**fields, "len": n}).encode()
+        if len(text) == n:
+            return text
+        n = len(text)
+    raise AssertionError("len did not converge")
+
+
+class FakeController:
+    def __init__(self, *, stream: bool = True, data_port: bool = True, move_time: float = 0.3,
+                 layout: str = "controller"):
+        self.move_time = move_time
+        self.separators = (", ", ": ") if layout == "controller" else (",", ":")
+        self.replies: Dict[str, Dict[str, Any]] = {}
+        self.refusals: Dict[str, Dict[str, Any]] = {}
+        for _, reply_text, _ in load_transcript():
+            reply = json.loads(reply_text)
+            table = self.replies if reply["errorCode"] == "0" else self.refusals
+            table.setdefault(reply["cmdName"], reply)
+        self.packet = json.loads(load_status_packet())
+        self.joints = list(self.packet["joint_actual_position"])   # deg
+        self.tcp = list(self.packet["actual_position"])            # mm, RPY deg
+        self.powered, self.enabled, self.servo = True, True, False
+        self.io: Dict[Tuple[str, int, int], float] = {}             # (kind, type, wire index)
+        self.queue: List[Dict[str, Any]] = []                       # moves, the first runs
+        self.requests: List[Dict[str, Any]] = []                    # every request decoded
+        self.raw: List[bytes] = []                                  # every request's bytes
+        self.lock = threading.RLock()
+        self._quit = threading.Event()
+        self._threads: List[threading.Thread] = []
+        self._socks: List[socket.socket] = []
+        self.command_port = self._serve(self._command_client)
+        self.status_port = self._serve(self._status_client) if stream else _closed_port()
+        self.data_port = self._serve(self._data_client) if data_port else _closed_port()
+
+    # ---- what tests read ----------------------------------------------------------------------
+    def received(self, name: str) -> List[Dict[str, Any]]:
+        with self.lock:
+            return [r for r in self.requests if r.get("cmdName") == name]
+
+    def close(self) -> None:
+        self._quit.set()
+        for s in self._socks:
+            try:
+                s.shutdown(socket.SHUT_RDWR)
+            except OSError:
+                pass
+            s.close()
+        for t in self._threads:
+            t.join(2.0)
+
+    def __enter__(self) -> "FakeController":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # ---- the script ---------------------------------------------------------------------------
+    def _advance(self) -> None:
+        """End the queued moves whose time is up; start the next one."""
+        now = time.monotonic()
+        while self.queue:
+            move = self.queue[0]
+            move.setdefault("ends", now + self.move_time)
+            if move["ends"] > now:
+                return
+            self.queue.pop(0)
+            if move["kind"] == "joints":
+                self.joints = move["target"]
+            else:
+                self.tcp = move["target"]
+            if self.queue:
+                self.queue[0]["ends"] = move["ends"] + self.move_time
+
+    def answer(self, req: Dict[str, Any]) -> Dict[str, Any]:
+        name = req.get("cmdName", "")
+        with self.lock:
+            self._advance()
+            if name not in self.replies:
+                return {"errorCode": "1", "errorMsg": f"unknown command {name}", "cmdName": name}
+            reply = copy.deepcopy(self.replies[name])
+            refusal = self._act(name, req, reply)
+        return refusal if refusal is not None else reply
+
+    def _act(self, name: str, req: Dict[str, Any], reply: Dict[str, Any]) -> Optional[Dict]:
+        if name == "joint_move":
+            target = [float(v) for v in req["jointPosition"]]
+            if any(abs(v) > 360 for v in target):
+                return copy.deepcopy(self.refusals["joint_move"])
+            if req.get("relFlag"):
+                base = self.queue[-1]["target"] if self.queue and self.queue[-1]["kind"] \
+                    == "joints" else self.joints
+                target = [a + b for a, b in zip(base, target)]
+            self.queue.append({"kind": "joints", "target": target})
+            self._advance()
+        elif name in ("moveL", "end_move"):
+            key = "cartPosition" if name == "moveL" else "endPosition"
+            self.queue.append({"kind": "tcp", "target": [float(v) for v in req[key]]})
+            self._advance()
+        elif name == "stop_program":
+            self.queue.clear()
+        elif name == "get_motion_state":
+            reply.update(inpos=not self.queue, queue=max(0, len(self.queue) - 1),
+                         active_queue=len(self.queue))
+        elif name == "get_joint_pos":
+            reply["joint_pos"] = list(self.joints)
+        elif name == "get_tcp_pos":
+            reply["tcp_pos"] = list(self.tcp)
+        elif name in ("power_on", "power_off"):
+            self.powered = name == "power_on"
+            self.enabled = self.enabled and self.powered
+        elif name in ("enable_robot", "disable_robot"):
+            self.enabled = name == "enable_robot"
+        elif name == "get_robot_state":
+            reply.update(enable="robot_enabled" if self.enabled else "robot_disabled",
+                         power="powered_on" if self.powered else "powered_off")
+        elif name == "servo_move":
+            self.servo = bool(req.get("relFlag"))
+        elif name == "is_in_servomove":
+            reply["in_servomove"] = self.servo
+        elif name.startswith("set_") and name.endswith("_output"):
+            kind = name[4:-7]   # digital / analog
+            self.io[(kind + "_output", int(req["type"]), int(req["index"]))] = float(req["value"])
+        elif name.startswith("get_") and ("_output" in name or "_input" in name):
+            value = self.io.get((name[4:], int(req["type"]), int(req["index"])), 0)
+            reply["value"] = int(value) if "digital" in name else float(value)
+        return None
+
+    def status_fields(self) -> Dict[str, Any]:
+        with self.lock:
+            self._advance()
+            p = copy.deepcopy(self.packet)
+            p["joint_actual_position"] = p["joint_position"] = list(self.joints)
+            p["actual_position"] = p["position"] = list(self.tcp)
+            p["inpos"] = not self.queue
+            p["powered_on"], p["enabled"] = int(self.powered), self.enabled
+            for (kind, io_type, index), value in self.io.items():
+                field = {"digital_output": "dout", "analog_output": "aout"}.get(kind)
+                if field and io_type == 0:
+                    p[field][index - 1] = int(value) if kind.startswith("digital") else value
+        return p
+
+    # ---- sockets -------------------------------------------------------------------------------
+    def _serve(self, handler) -> int:
+        listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        listener.bind(("127.0.0.1", 0))
+        listener.listen(4)
+        listener.settimeout(0.1)
+        self._socks.append(listener)
+        thread = threading.Thread(target=self._accept, args=(listener, handler), daemon=True)
+        thread.start()
+        self._threads.append(thread)
+        return listener.getsockname()[1]
+
+    def _accept(self, listener: socket.socket, handler) -> None:
+        while not self._quit.is_set():
+            try:
+                conn, _ = listener.accept()
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+            self._socks.append(conn)
+            thread = threading.Thread(target=handler, args=(conn,), daemon=True)
+            thread.start()
+            self._threads.append(thread)
+
+    def _requests(self, conn: socket.socket):
+        """Decoded requests from ``conn`` (compact JSON, no delimiter), until it closes."""
+        decoder, buf = json.JSONDecoder(), ""
+        conn.settimeout(0.1)
+        while not self._quit.is_set():
+            try:
+                chunk = conn.recv(65536)
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+            if not chunk:
+                return
+            buf += chunk.decode()
+            while buf.strip():
+                buf = buf.lstrip()
+                try:
+                    obj, end = decoder.raw_decode(buf)
+                except ValueError:
+                    break
+                with self.lock:
+                    self.raw.append(buf[:end].encode())
+                    self.requests.append(obj)
+                buf = buf[end:]
+                yield obj
+
+    def _command_client(self, conn: socket.socket) -> None:
+        for req in self._requests(conn):
+            if req.get("cmdName") == "wait_complete":
+                while not self._quit.is_set():
+                    with self.lock:
+                        self._advance()
+                        if not self.queue:
+                            break
+                    time.sleep(0.005)
+            reply = self.answer(req)
+            try:
+                conn.sendall(json.dumps(reply, separators=self.separators).encode())
+            except OSError:
+                return
+
+    def _status_client(self, conn: socket.socket) -> None:
+        while not self._quit.wait(PERIOD):
+            try:
+                conn.sendall(encode_packet(self.status_fields()))
+            except OSError:
+                return
+
+    def _data_client(self, conn: socket.socket) -> None:
+        for req in self._requests(conn):
+            if req.get("cmdName") == "data_request":
+                try:
+                    conn.sendall(zlib.compress(encode_packet(self.status_fields())))
+                except OSError:
+                    return
+
+
+def _closed_port() -> int:
+    """A port number nobody listens on (connecting to it is refused)."""
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
