@@ -6,7 +6,9 @@ rosmaster and the node, attaches ``py-spy record`` (``--nonblocking``: the node 
 to be sampled) for each window, and prints per window the node's CPU (% of one core, from
 ``/proc``) and the functions with the most samples: *own* (the function was on top of the
 stack, running Python or a C call it made) and *total* (anywhere on the stack), as % of
-the samples in which some thread was running. ``--node`` runs another checkout's
+the samples in which a thread held the interpreter lock (``--gil``: C work that releases
+the lock, as MuJoCo's ``mj_step`` does, and waiting threads are left out; the share of
+samples taken at all is the share of time the lock was held). ``--node`` runs another checkout's
 ``scripts/jaka_driver_node``, to profile the code before a change side by side with after.
 Not part of ``make bench``: py-spy needs ptrace rights on the node.
 """
@@ -131,7 +133,8 @@ def main(argv=None) -> int:
             if streamer is not None:
                 streamer.join()
             n, rows = hot(stacks, args.top)
-            print(f"\n## {window}: node CPU {cpu:.1f} % of one core, {n} samples running")
+            print(f"\n## {window}: node CPU {cpu:.1f} % of one core; interpreter lock held in {n} "
+                  f"samples ({100.0 * n / (250 * args.seconds):.1f} % of the time)")
             print(f"{'own %':>6} {'total %':>7}  function")
             for name, own_pct, total_pct in rows:
                 print(f"{own_pct:6.1f} {total_pct:7.1f}  {name}")
