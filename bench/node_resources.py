@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from .report import REPORT, Row, judged
 
-CPU_TARGET_PERCENT = 25.0
+# % of one core: idle (the three state topics at 125 Hz, nothing else asked) and while
+# servo_j streams at 125 Hz; the loaded window is reported only.
+CPU_TARGET_PERCENT = {"idle": 10.0, "servo streaming": 15.0}
 
 
 def rows(group: str, windows: dict, judge: bool = True,
@@ -14,27 +16,27 @@ def rows(group: str, windows: dict, judge: bool = True,
     :mod:`bench.twin_physics`), to split the node's CPU in the note."""
     out = []
     for condition, w in windows.items():
-        judged_here = judge and condition != "both cores loaded"
-        status = judged(w["cpu_percent"] <= CPU_TARGET_PERCENT) if judged_here else REPORT
+        target = CPU_TARGET_PERCENT.get(condition)
+        judged_here = judge and target is not None
+        status = judged(w["cpu_percent"] <= target) if judged_here else REPORT
         note = ""
         if status == "FAIL":
             physics = ("" if physics_percent is None else
-                       f", against {physics_percent:.0f} % for the twin's 1000 physics steps "
-                       "a second themselves (twin physics row)")
+                       f", of which the twin's physics (125 cycles of 8 steps a second) is "
+                       f"{physics_percent:.0f} % (twin physics row)")
             note = (f"{w['cpu_percent']:.0f} % of a core{physics}, the machine being "
-                    f"{w['machine_percent']:.0f} % busy (of one core). Most of the node's CPU "
-                    "is Python overhead around the work: 125 wake-ups a second of the "
-                    "physics loop, each running 8 steps of a servo law in numpy, and 125 "
-                    "times a second an FK, four messages built, serialised and each handed to "
-                    "a rospy queue thread per subscriber; contention for the interpreter lock "
-                    "grows it on a busy machine. Fixes: the servo law inside MuJoCo (position "
-                    "actuators with gravity compensation) so a cycle is one "
-                    "mj_step(m, d, nstep=8) call, and publishing without per-connection "
-                    "queues (queue_size=None) or from a C++ node.")
+                    f"{w['machine_percent']:.0f} % busy (of one core). The rest is the "
+                    "Python around it and the kernel's share of it: per 8 ms cycle two thread "
+                    "wake-ups (physics, then the publisher it notifies), an FK for the TCP, "
+                    "four messages refilled, serialised and written to each subscriber's "
+                    "socket (bench.node_profile shows the split); on a busy machine each "
+                    "wake-up and each interpreter-lock hand-over costs more. Left: the "
+                    "publisher's work in the physics thread (one wake-up a cycle), or the "
+                    "node in C++.")
         out.append(Row(group, f"node CPU and RSS, {condition}",
                        f"{w['cpu_percent']:.1f} % of one core, RSS {w['rss_mib']:.0f} MiB "
                        f"(peak {w['peak_rss_mib']:.0f} MiB); machine {w['machine_percent']:.0f} %"
                        f" of 1 core over {w['window_s']:.0f} s",
-                       f"≤ {CPU_TARGET_PERCENT:g} % of one core at 125 Hz; RSS reported"
+                       f"≤ {target:g} % of one core at 125 Hz; RSS reported"
                        if judged_here else "report", status, note, data=w))
     return out

@@ -127,28 +127,25 @@ def _round_trip_note(r: dict) -> str:
     return (f"p50 {r['p50']:.2f} ms is where a persistent connection should be; the tail is "
             "the node's service thread waiting to run: rospy answers each call in a Python "
             "thread that needs the interpreter lock and a core, both shared with the "
-            "physics thread (8 steps every 8 ms) and the 125 Hz publisher on a 2-core "
-            "machine. Taking the physics out of the node's process and real-time priority "
-            "for the node (launch-prefix \"chrt -f 10\") address the tail; a C++ node would "
-            "remove it.")
+            "physics thread (one mj_step call of 8 steps every 8 ms) and the publisher on a "
+            "2-core machine, itself shared with every other program running. Real-time "
+            "priority for the node (launch-prefix \"chrt -f 10\") addresses the tail; a "
+            "C++ node would remove it.")
 
 
 def _observed_note(o: dict, method: str) -> str:
     return (f"{method} By construction, as on a controller: a target waits for the end of "
             "the 8 ms cycle it arrived in (0–8 ms), becomes the setpoint of the next cycle, "
             "which the drive spends interpolating to it (8 ms), and the sample at that cycle's "
-            "end is published at once: 8–16 ms before any tracking error. The arm then lags "
-            "its setpoint by the drive's tracking error (PD loop at ~15 Hz natural "
-            "frequency), on a moving sine above the 1e-4 rad tolerance for part of another "
-            "cycle. Measured: p10 "
-            f"{o['p10']:.1f} ms, p50 {o['p50']:.1f} ms (targets near the sine's turning points, "
-            "where a step is under the tolerance, count as reached at once); the tail is the "
-            "service and publisher threads waiting for a core, as in the round-trip row. "
-            "The twin could act on a target within the cycle it arrived in (it did, one "
-            "version earlier: p99 19.6 ms), but then its motion would start before the command "
-            "in physics time, a cycle sooner than a real arm's. Fixes that keep it honest: "
-            "stiffer drive gains or a feed-forward that leads the setpoint by the tracking "
-            "lag, and real-time priority for the node (launch-prefix \"chrt -f 10\").")
+            "end is published at once: 8–16 ms plus the delivery to the subscriber. The "
+            "drives track a moving setpoint to ~1e-5 rad at each cycle's end (twin physics, "
+            "sine row), so the arm is at the target in that sample; the client's sends keep "
+            "one phase in the twin's cycle for the whole stream, so where that phase falls "
+            "decides whether p99 is near 9 or near 16 ms plus delivery. Measured: p10 "
+            f"{o['p10']:.1f} ms, p50 {o['p50']:.1f} ms; the tail is the service and publisher "
+            "threads waiting for a core, as in the round-trip row. Fixes that keep the twin "
+            "causal: real-time priority for the node and the client (launch-prefix "
+            "\"chrt -f 10\"), the node in C++.")
 
 
 def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True) -> list[Row]:

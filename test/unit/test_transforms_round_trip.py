@@ -132,3 +132,18 @@ def test_stacks_keep_their_shape():
     np.testing.assert_allclose(matrix_to_pose(pose_to_matrix(poses)), poses, atol=1e-12)
     assert slerp(np.eye(3), R[0, 0], np.linspace(0, 1, 9)).shape == (9, 3, 3)
     assert rotation_angle_between(R[0], R[1]).shape == (5,)
+
+
+def test_one_matrix_converts_exactly_as_a_stack_of_them():
+    # the single-matrix path (plain floats, used for every state message) and the stacked
+    # numpy path agree to rounding, also at 0 and at π
+    rng = np.random.default_rng(7)
+    v = rng.normal(size=(500, 3))
+    v *= rng.uniform(0.0, np.pi, (500, 1)) / np.linalg.norm(v, axis=1, keepdims=True)
+    v[:5] *= 1e-9
+    v[5:10] *= np.pi / np.linalg.norm(v[5:10], axis=1, keepdims=True)
+    R = rotvec_to_matrix(v)
+    one_q = np.array([matrix_to_quat(r) for r in R])
+    one_v = np.array([matrix_to_rotvec(r) for r in R])
+    np.testing.assert_allclose(one_q, matrix_to_quat(R), atol=1e-15)
+    np.testing.assert_allclose(one_v, matrix_to_rotvec(R), atol=1e-14)

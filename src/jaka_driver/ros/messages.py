@@ -1,7 +1,11 @@
 """RobotState → the driver's ROS messages (docs/interface.md, "Topics").
 
-Plain conversions, no publishing; numpy values are turned into Python floats and bools
-because rospy's serialiser mishandles numpy 2 scalars.
+Plain conversions, no publishing. :class:`StateMessages` owns one message of each kind and
+refills it for every sample: the state publisher publishes synchronously (the message is
+serialised before ``publish`` returns), so nothing keeps a reference to the previous fill,
+and the per-message Python work is the field values alone — no message constructors, no
+header objects, no name list per sample. numpy values are turned into Python floats and
+bools because rospy's serialiser mishandles numpy 2 scalars.
 """
 from __future__ import annotations
 
@@ -20,33 +24,56 @@ def user_frame_id(user_id: int) -> str:
     return "base_link" if user_id == 0 else f"user_frame_{user_id}"
 
 
-def tool_position(st: RobotState, stamp: rospy.Time) -> TwistStamped:
+def tool_position(st: RobotState, stamp: rospy.Time, msg: TwistStamped | None = None
+                  ) -> TwistStamped:
     """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad
-    (docs/interface.md, "Topics"),
-    of the active tool in the active user frame."""
-    msg = TwistStamped()
+    (docs/interface.md, "Topics"), of the active tool in the active user frame; fills ``msg``
+    if given."""
+    msg = TwistStamped() if msg is None else msg
     msg.header.stamp = stamp
     msg.header.frame_id = user_frame_id(st.user_id)
-    x, y, z = (float(v) for v in st.tcp_pose[:3, 3])
-    rx, ry, rz = (float(v) for v in matrix_to_rotvec(st.tcp_pose[:3, :3]))
-    msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z = x, y, z
-    msg.twist.angular.x, msg.twist.angular.y, msg.twist.angular.z = rx, ry, rz
+    linear, angular = msg.twist.linear, msg.twist.angular
+    linear.x, linear.y, linear.z = st.tcp_pose[:3, 3].tolist()
+    angular.x, angular.y, angular.z = matrix_to_rotvec(st.tcp_pose[:3, :3]).tolist()
     return msg
 
 
-def joint_state(st: RobotState, names, stamp: rospy.Time) -> JointState:
-    """Joints: position rad, velocity rad/s, effort N·m."""
-    msg = JointState()
+def joint_state(st: RobotState, names, stamp: rospy.Time, msg: JointState | None = None
+                ) -> JointState:
+    """Joints: position rad, velocity rad/s, effort N·m; fills ``msg`` (its names kept) if
+    given."""
+    if msg is None:
+        msg = JointState()
+        msg.name = list(names)
     msg.header.stamp = stamp
-    msg.name = list(names)
     msg.position = st.joint_position.tolist()
     msg.velocity = st.joint_velocity.tolist()
     msg.effort = st.joint_effort.tolist()
     return msg
 
 
-def robot_msg(st: RobotState) -> RobotMsg:
+def robot_msg(st: RobotState, msg: RobotMsg | None = None) -> RobotMsg:
     """``servo_state`` is servo *mode* (JAKA's documented meaning), not robot enable."""
-    return RobotMsg(motion_state=int(st.motion_state), power_state=int(bool(st.powered)),
-                    servo_state=int(bool(st.servo_mode)),
-                    collision_state=int(bool(st.collision)))
+    msg = RobotMsg() if msg is None else msg
+    msg.motion_state = int(st.motion_state)
+    msg.power_state = int(bool(st.powered))
+    msg.servo_state = int(bool(st.servo_mode))
+    msg.collision_state = int(bool(st.collision))
+    return msg
+
+
+class StateMessages:
+    """One ``tool_position``, ``joint_position``/``joint_states`` and ``robot_states`` message,
+    refilled by :meth:`fill` for each sample (see the module)."""
+
+    def __init__(self, names):
+        self.tool = TwistStamped()
+        self.joints = JointState()
+        self.joints.name = list(names)
+        self.robot = RobotMsg()
+
+    def fill(self, st: RobotState) -> None:
+        stamp = rospy.Time.from_sec(st.stamp)
+        tool_position(st, stamp, self.tool)
+        joint_state(st, None, stamp, self.joints)
+        robot_msg(st, self.robot)

@@ -32,6 +32,8 @@ import logging
 import sys
 import threading
 import time
+import warnings
+from contextlib import contextmanager
 
 import rosgraph
 import rospy
@@ -75,6 +77,22 @@ def make_backend(kind: str, model_name: str, params: dict):
 STALL_PERIODS = 5
 
 
+@contextmanager
+def _synchronous_publishers():
+    """Context in which ``rospy.Publisher(..., queue_size=None)`` is made without rospy's
+    warning (given for the sake of callers in callbacks): such a publisher writes each
+    message to its subscribers' sockets in the publishing thread. With a queue, rospy hands
+    every message to one thread per subscriber and wakes it (a ``Condition.notify`` and a
+    thread switch per message and subscriber: the node's largest cost at 4 topics × 125 Hz);
+    the publisher thread here does nothing else. A socket's send buffer holds seconds of
+    these small messages, so a subscriber that falls behind for a while does not hold the
+    thread up; one that is alive but stops reading altogether would, once its buffer is full
+    (a subscriber that goes away is dropped by rospy)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        yield
+
+
 class StatePublisher:
     """Publishes the state at ``rate`` Hz from its own thread.
 
@@ -93,11 +111,12 @@ class StatePublisher:
         self._driver = driver
         self._clock = driver.clock
         self._period = 1.0 / rate
-        self._names = driver.model.joint_names
-        self._tool = rospy.Publisher("~tool_position", TwistStamped, queue_size=10)
-        self._joints = rospy.Publisher("~joint_position", JointState, queue_size=10)
-        self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=10)
-        self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=10)
+        self._msgs = messages.StateMessages(driver.model.joint_names)
+        with _synchronous_publishers():
+            self._tool = rospy.Publisher("~tool_position", TwistStamped, queue_size=None)
+            self._joints = rospy.Publisher("~joint_position", JointState, queue_size=None)
+            self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=None)
+            self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=None)
         # The twin owns time: /clock gets every cycle's time, just before that cycle's
         # sample, and the twin waits for this thread rather than outrun it.
         self._sim_clock = None
@@ -115,14 +134,14 @@ class StatePublisher:
     def _publish_once(self, st: RobotState | None = None) -> None:
         """Publish ``st`` (default: the latest sample) on every topic."""
         st = self._driver.state() if st is None else st
-        stamp = rospy.Time.from_sec(st.stamp)
+        msgs = self._msgs
+        msgs.fill(st)
         if self._sim_clock is not None:
-            self._sim_clock.publish(Clock(clock=stamp))
-        joints = messages.joint_state(st, self._names, stamp)
-        self._tool.publish(messages.tool_position(st, stamp))
-        self._joints.publish(joints)
-        self._states.publish(messages.robot_msg(st))
-        self._joint_states.publish(joints)
+            self._sim_clock.publish(Clock(clock=msgs.joints.header.stamp))
+        self._tool.publish(msgs.tool)
+        self._joints.publish(msgs.joints)
+        self._states.publish(msgs.robot)
+        self._joint_states.publish(msgs.joints)
         self._count += 1
 
     def measured_rate(self) -> float:

@@ -60,9 +60,8 @@ class SimBackend(Backend):
                                    clock=self.clock if sim_time else None)
         self.payload = Payload(self.mj_model)
         self.collisions = CollisionMonitor(self.mj_model, self._collided)
-        self.physics.on_step.append(self.collisions.check)
         self.overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
-        self.physics.on_cycle.append(lambda: self.overload.check(self.physics.d))
+        self.physics.on_cycle += [self.collisions.check, self.overload.check]
         self.io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._lock = threading.RLock()
         self.frame_table = FrameTable()
@@ -151,10 +150,15 @@ class SimBackend(Backend):
 
     # ---- faults (sim only: /jaka_driver/sim/...) ------------------------------------------------
     def _collided(self, message: str) -> None:
-        """Protective stop on a contact above the threshold (runs in the physics thread)."""
+        """Protective stop on a contact above the threshold (runs in the physics thread).
+
+        Contacts are checked once per 8 ms cycle, so the force is seen over the threshold up
+        to a cycle after it crossed it; the arm is held where it stood at the end of the
+        previous cycle, whose contacts were below the threshold, so it does not stay pressed
+        into the obstacle (up to ~2 mm back at a 0.3 m/s swing)."""
         self.collision = True
         self.error_message = message
-        self.physics.hold_here().abort(stopped(message))
+        self.physics.hold_at(self.physics.checked_pose()).abort(stopped(message))
         self.servo_mode = False
 
     def _overloaded(self, message: str) -> None:

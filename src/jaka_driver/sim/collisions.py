@@ -78,7 +78,8 @@ def _add_scene(spec: mujoco.MjSpec, path: Path) -> None:
 
 
 class CollisionMonitor:
-    """Checks each physics step's contacts; calls ``on_collision(message)`` once when an arm
+    """Checks the contacts at the end of each 8 ms cycle (MuJoCo's contact list and contact
+    forces of the cycle's last step); calls ``on_collision(message)`` once when an arm
     contact's normal force exceeds the threshold of the current level."""
 
     def __init__(self, m: mujoco.MjModel, on_collision: Callable[[str], None]):

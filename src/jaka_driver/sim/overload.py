@@ -34,8 +34,8 @@ HOLDING_SHARE = 0.9
 class FollowingErrorMonitor:
     """Calls ``on_overload(message)`` once when a joint lags its setpoint by more than
     :data:`FOLLOWING_ERROR_LIMIT`; re-armed by :meth:`rearm` (``clear_err``). Checked once per
-    8 ms cycle in the physics thread, at the cycle boundary where the arm should be at the
-    previous setpoint."""
+    8 ms cycle in the physics thread, at the cycle's end, where the arm should be at the
+    setpoint of the cycle."""
 
     def __init__(self, servo: JointServo, joint_names: Sequence[str],
                  on_overload: Callable[[str], None]):
@@ -50,7 +50,7 @@ class FollowingErrorMonitor:
     def check(self, d: mujoco.MjData) -> None:
         if not self.armed or self._servo.released:
             return
-        lag = np.abs(self._servo.desired - d.qpos[:6])
+        lag = np.abs(self._servo.setpoint - d.qpos[:6])
         k = int(np.argmax(lag))
         if lag[k] > FOLLOWING_ERROR_LIMIT:
             self.armed = False

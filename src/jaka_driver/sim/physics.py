@@ -1,19 +1,21 @@
 """The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time
 (or, with a simulated clock, whenever ``jaka_driver.clock.SimClock`` lets a cycle start).
 
-Every physics step (``timestep``, 1 ms by default) the servo drives compute torques; every
-``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next setpoint.
-The loop wakes once per cycle, at the wall-clock cycle boundary, and steps the cycle that has
-just elapsed (8 steps; more after a stall): 125 wake-ups/s while physics keeps a 1 kHz step.
-At the end of each cycle the motion source chooses the setpoint of the next one, from the
-commands that have arrived by then — as a controller does: a command is never acted on in
-physics time before it arrived, and it takes effect in the cycle after the one it arrived in.
-The sample of a cycle exists the moment its wake-up is done.
+Every ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next
+setpoint; the joint drives that follow it between setpoints are MuJoCo actuators
+(:mod:`servo`), so a cycle is one ``mj_step(m, d, nstep=8)`` call at the 1 ms physics step,
+with no Python between the steps. The loop wakes once per cycle, at the wall-clock cycle
+boundary, and steps the cycle that has just elapsed (more after a stall): 125 wake-ups/s.
+At the end of each cycle the checks run (contacts, overload: ``on_cycle``), then the motion
+source chooses the setpoint of the next cycle from the commands that have arrived by then —
+as a controller does: a command is never acted on in physics time before it arrived, and it
+takes effect in the cycle after the one it arrived in. The sample of a cycle exists the
+moment its wake-up is done.
 
 Samples: at the end of each cycle the measured joints are copied; ``sample()`` returns the
 latest copy with its wall-clock time, ``samples_since`` the recent ones, and
-``wait_for_sample`` lets a publisher send each sample as soon as it exists. Hooks run inside the loop (``on_step`` after each step, for contact checks;
-``on_cycle`` at each cycle boundary) and must be quick.
+``wait_for_sample`` lets a publisher send each sample as soon as it exists. The checks in
+``on_cycle`` run inside the loop, once per cycle, and must be quick.
 """
 from __future__ import annotations
 
@@ -65,19 +67,20 @@ class PhysicsLoop:
         mujoco.mj_forward(m, self.d)
         servo.reset(np.asarray(q0, float))
         self._motion: Motion = Hold()
-        self._step_count = 0
         self._tau = np.zeros(6)
         self._brakes: Optional[np.ndarray] = None     # joint angles the brakes lock, rad
         self._sample: Optional[Sample] = None
         self._history: deque[Sample] = deque(maxlen=HISTORY)
         self._quit = threading.Event()
         self._thread: Optional[threading.Thread] = None
-        self.on_step: list[Callable[[mujoco.MjData], None]] = []
-        self.on_cycle: list[Callable[[], None]] = []
+        # Checks at each cycle's end, before the next setpoint is chosen (contacts, overload).
+        self.on_cycle: list[Callable[[mujoco.MjData], None]] = []
         #: None: paced to the wall clock, samples stamped in wall time; a
         #: :class:`jaka_driver.clock.SimClock`: the twin owns time, samples stamped in it
         self.clock = clock
         self.wall0 = 0.0 if self.simulated else time.time()
+        self._start = time.monotonic()
+        self._done = 0                              # cycles stepped since start()
         self.steps_total = 0
         self.overruns = 0
         self._record()
@@ -96,9 +99,18 @@ class PhysicsLoop:
 
     def hold_here(self) -> Motion:
         """Halt within one cycle at the measured position (protective stop, e-stop)."""
+        return self.hold_at(self.d.qpos[:6].copy())
+
+    def hold_at(self, q: np.ndarray) -> Motion:
+        """Halt within one cycle and hold ``q`` (rad), a pose the arm has just passed."""
         with self.lock:
-            self.servo.reset(self.d.qpos[:6].copy())
+            self.servo.reset(np.asarray(q, float).copy())
             return self.switch(Hold())
+
+    def checked_pose(self) -> np.ndarray:
+        """The joints (rad) at the end of the last cycle whose checks passed: during the
+        checks of a cycle, the previous cycle's sample."""
+        return self._sample.q
 
     # ---- brakes -------------------------------------------------------------------------
     @property
@@ -106,7 +118,7 @@ class PhysicsLoop:
         return self._brakes is not None
 
     def engage_brakes(self) -> Motion:
-        """Close the joint brakes where the arm is: from the next step the joints are locked
+        """Close the joint brakes where the arm is: from the next cycle the joints are locked
         (positions held exactly, velocities 0) and the drives give no torque."""
         with self.lock:
             self._brakes = self.d.qpos[:6].copy()
@@ -138,7 +150,15 @@ class PhysicsLoop:
         """The recent samples (one per cycle, the last ``HISTORY`` cycles) stamped later than
         ``after`` (s), oldest first: a reader that fell behind, or a loop that caught up
         several cycles at once, still gets every cycle."""
-        return [s for s in list(self._history) if s.stamp > after]
+        newer = []
+        # A copy (atomic, in C): the physics thread appends meanwhile. Newest first: usually
+        # one sample is new.
+        for s in reversed(list(self._history)):
+            if s.stamp <= after:
+                break
+            newer.append(s)
+        newer.reverse()
+        return newer
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Block until the latest sample is stamped later than ``after`` (s), at most
@@ -159,62 +179,68 @@ class PhysicsLoop:
     def _run_in_sim_time(self) -> None:
         """One cycle whenever the clock lets the next one start (its pacing and holds,
         jaka_driver.clock); sample stamps are sim time (``d.time``)."""
-        dt, clock = self.m.opt.timestep, self.clock
+        clock = self.clock
         while clock.wait_for_cycle(self._quit):
             with self.lock:
-                for _ in range(self.steps_per_cycle):
-                    self._step(dt)
+                self._cycle()
             clock.tick()
             with self._sampled:
                 self._sampled.notify_all()
 
     def _run_on_the_wall_clock(self) -> None:
-        dt, cycle = self.m.opt.timestep, self.cycle
-        start = time.monotonic()
+        self._start = time.monotonic()
+        self._done = 0
         self.wall0 = time.time() - self.d.time
-        done = 0                                    # cycles stepped
         while not self._quit.is_set():
-            due = int((time.monotonic() - start) / cycle) - done
-            if due > STALL_CYCLES:
-                # The machine stalled: skip ahead instead of bursting through dozens of
-                # cycles, and keep sample stamps on wall-clock time.
-                self.overruns += 1
-                self.wall0 += (due - 1) * cycle
-                done += due - 1
-                due = 1
-            if due > 0:
-                with self.lock:
-                    for _ in range(due * self.steps_per_cycle):
-                        self._step(dt)
-                with self._sampled:
-                    self._sampled.notify_all()
-                done += due
-            # Wake just after the next cycle boundary (the 0.2 ms margin keeps a slightly
-            # early wake-up from finding no whole cycle due).
-            time.sleep(max(0.0, start + (done + 1) * cycle + WAKE_MARGIN - time.monotonic()))
+            due = self._wait_for_cycles()
+            if due == 0:
+                continue
+            with self.lock:
+                for _ in range(due):
+                    self._cycle()
+            with self._sampled:
+                self._sampled.notify_all()
+            self._done += due
 
-    def _step(self, dt: float) -> None:
+    def _wait_for_cycles(self) -> int:
+        """Pacing to the wall clock: the number of whole cycles that have elapsed and are not
+        stepped yet, after sleeping until just past the next cycle boundary if none has.
+        After a stall of more than ``STALL_CYCLES`` it skips ahead instead of bursting
+        through dozens of cycles, keeping sample stamps on wall-clock time."""
+        cycle = self.cycle
+        due = int((time.monotonic() - self._start) / cycle) - self._done
+        if due > STALL_CYCLES:
+            self.overruns += 1
+            self.wall0 += (due - 1) * cycle
+            self._done += due - 1
+            return 1
+        if due > 0:
+            return due
+        # The 0.2 ms margin keeps a slightly early wake-up from finding no whole cycle due.
+        time.sleep(max(0.0, self._start + (self._done + 1) * cycle + WAKE_MARGIN
+                       - time.monotonic()))
+        return 0
+
+    def _cycle(self) -> None:
+        """Step one cycle, check it, choose the next setpoint and record the sample."""
         m, d = self.m, self.d
-        self._step_count += 1
-        mujoco.mj_step1(m, d)
-        brakes = self._brakes
-        self._tau = self.servo.torque(d, dt) if brakes is None else np.zeros(6)
-        d.qfrc_applied[:6] = self._tau
-        mujoco.mj_step2(m, d)
-        if brakes is not None:
-            d.qpos[:6] = brakes
-            d.qvel[:6] = 0.0
-        self.steps_total += 1
-        for hook in self.on_step:
-            hook(d)
-        if self._step_count % self.steps_per_cycle == 0:
-            # The cycle ends: the setpoint for the next one, from what has arrived by now.
-            q_sp = self._motion.next(self.servo.setpoint, self.servo.setpoint_velocity,
-                                     d.qpos[:6], d.qvel[:6])
-            self.servo.new_setpoint(np.asarray(q_sp, float))
-            for hook in self.on_cycle:
-                hook()
-            self._record()
+        if self._brakes is None:
+            self.servo.begin_cycle(d)
+            mujoco.mj_step(m, d, nstep=self.steps_per_cycle)
+            self._tau = d.qfrc_actuator[:6].copy()
+        else:
+            # Joints locked by their brakes (the arm is all there is that moves): nothing to
+            # integrate, the drives give no torque.
+            d.time += self.cycle
+            self._tau = np.zeros(6)
+        self.steps_total += self.steps_per_cycle
+        for check in self.on_cycle:
+            check(d)
+        # The cycle ends: the setpoint for the next one, from what has arrived by now.
+        q_sp = self._motion.next(self.servo.setpoint, self.servo.setpoint_velocity,
+                                 d.qpos[:6], d.qvel[:6])
+        self.servo.new_setpoint(np.asarray(q_sp, float))
+        self._record()
 
     def _record(self) -> None:
         d = self.d
