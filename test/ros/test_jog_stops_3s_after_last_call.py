@@ -32,6 +32,49 @@ def moving(recorder):
     return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
 
 
+def rest_at(recorder, q, timeout: float = 10.0):
+    """The latest sample, once it shows the arm at rest at ``q`` (rad) *after* every moving
+    sample received so far. The test's subscriber may lag the twin (on a busy machine by more
+    than a second of sim time at real_time_factor 0), so "the latest sample at rest at START"
+    alone could be one from before the last jog; this one cannot."""
+    q = np.asarray(q)
+
+    def found():
+        with recorder._lock:
+            samples = [m for _, m in recorder.samples]
+        if not samples:
+            return None
+        last_motion = max((stamp(m) for m in samples if np.max(np.abs(m.velocity)) > 1e-3),
+                          default=-np.inf)
+        m = samples[-1]
+        return m if (stamp(m) > last_motion and np.max(np.abs(m.velocity)) < 1e-3
+                     and np.max(np.abs(np.array(m.position) - q)) < 2e-3) else None
+
+    msg = wait_until(found, timeout)
+    if not msg:
+        with recorder._lock:
+            samples = [m for _, m in recorder.samples]
+        m = samples[-1]
+        moving_stamps = [stamp(x) for x in samples if np.max(np.abs(x.velocity)) > 1e-3]
+        raise AssertionError(f"the arm did not come to rest at {q}: latest {stamp(m):.3f} s, "
+                             f"|v| {np.max(np.abs(m.velocity)):.2e}, |q - target| "
+                             f"{np.max(np.abs(np.array(m.position) - q)):.2e}, last motion "
+                             f"{moving_stamps[-1] if moving_stamps else None}")
+    return msg
+
+
+def first_moving(recorder, after: float, timeout: float = 10.0):
+    """The first sample stamped after ``after`` (sim s) in which the arm moves, waiting for it."""
+    def find():
+        with recorder._lock:
+            return next((m for _, m in recorder.samples
+                         if stamp(m) > after and np.max(np.abs(m.velocity)) > 1e-3), None)
+
+    msg = wait_until(find, timeout, 0.005)
+    assert msg is not None, "the arm did not start moving"
+    return msg
+
+
 def moving_span(recorder, t0: float, t1: float):
     """(first, last) stamp in [t0, t1] at which the arm moved (sim time, s)."""
     moved = [stamp(m) for _, m in recorder.samples
@@ -41,21 +84,22 @@ def moving_span(recorder, t0: float, t1: float):
 
 
 def test_jog_stops_3_s_after_the_last_call(call, joints):
+    t0 = stamp(rest_at(joints, START))
     assert jog(call, 0, 0, 0.2).ret == 1
-    t0 = stamp(joints.latest())
-    end = stamp(sim_sleep(joints, 4.0))
+    end = stamp(sample_at(joints, stamp(first_moving(joints, t0)) + 4.0))
     first, last = moving_span(joints, t0, end)
     # the stop begins 3.0 s after the call; the ramp down at 0.2 rad/s takes ~0.02 s
     assert 2.9 <= last - first <= 3.15, (first, last)
 
 
 def test_calling_again_keeps_the_jog_alive(call, joints):
-    t0 = stamp(joints.latest())
+    t0 = stamp(rest_at(joints, START))
     for _ in range(5):
         assert jog(call, 0, 1, 0.1).ret == 1
-        sim_sleep(joints, 1.0)
+        sim_sleep(joints, 1.0)     # ≤ 1 s of sim time apart, less if the subscriber lags
     assert moving(joints), "jog stopped although it was called every second"
-    end = stamp(sim_sleep(joints, 4.0))
+    # the last call came ≤ 4 s after the motion began; its 3 s run out before 8.5 s
+    end = stamp(sample_at(joints, stamp(first_moving(joints, t0)) + 8.5))
     first, last = moving_span(joints, t0, end)
     assert last - first >= 4.0 + 2.9, (first, last)
 
@@ -65,20 +109,17 @@ def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
     from jaka_driver.transforms import rotvec_to_matrix
     for index in range(12):
         axis, sign = index // 2, (-1 if index % 2 else 1)
-        # where the arm rests before the jog, joints and TCP of one sample (the latest
-        # message to arrive may lag the twin by a few cycles)
-        rest = wait_until(lambda: (m := joints.latest()) is not None
-                          and np.max(np.abs(m.velocity)) < 1e-3 and m, 5.0)
-        assert rest, "the arm did not come to rest"
+        # where the arm rests before the jog, joints and TCP of one sample; 0.4 s of sim
+        # time after the jog's first moving sample, where it has got to
+        rest = rest_at(joints, START)
         q0, p0 = np.array(rest.position), sample_at(tcp, stamp(rest))
         speed = 0.2 if (coord == 0 or axis >= 3) else 50.0
         reply = jog(call, coord, index, speed)
         assert reply.ret == 1, reply.message
-        t1 = stamp(sim_sleep(joints, 0.4))
+        t1 = stamp(first_moving(joints, stamp(rest))) + 0.4
         q1 = np.array(sample_at(joints, t1).position)
         p1 = sample_at(tcp, t1)
-        assert call("stop_move", Empty) is not None
-        assert wait_until(lambda: not moving(joints), 1.0)
+        go_home(call)                                   # stops the jog, back to START
         if coord == 0:
             dq = q1 - q0
             assert sign * dq[axis] > 0.03, (index, dq)
@@ -98,7 +139,6 @@ def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
             turn = matrix_to_rotvec(r1 @ r0.T) if coord == 1 else matrix_to_rotvec(r0.T @ r1)
             assert sign * turn[axis - 3] > 0.03, (coord, index, turn)
             assert np.linalg.norm(b - a) < 1e-3      # rotation about the TCP: it stays put
-        call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)
 
 
 def test_jog_comes_to_rest_at_a_joint_limit(call, joints):
@@ -107,10 +147,12 @@ def test_jog_comes_to_rest_at_a_joint_limit(call, joints):
     start[2] = 2.9
     start[1] = 0.5
     assert call("joint_move", Move, pose=start, mvvelo=2.0, mvacc=8.0).ret == 1
+    t0 = stamp(rest_at(joints, start))
     assert jog(call, 0, 4, 0.5).ret == 1
-    q = np.array(sim_sleep(joints, 1.0).position)
+    msg = sample_at(joints, stamp(first_moving(joints, t0)) + 1.0)
+    q = np.array(msg.position)
     assert 3.0 <= q[2] <= 3.05 + 1e-3, q[2]
-    assert not moving(joints)
+    assert np.max(np.abs(msg.velocity)) < 1e-3, "still moving 1 s after the jog began"
 
 
 def test_bad_jog_requests_are_refused(call):
