@@ -180,32 +180,22 @@ class EmulatorServer:
         thread.start()
 
     def _data_loop(self, conn: socket.socket) -> None:
-        """Port 10004: one zlib-compressed packet per data_request."""
-        splitter = RequestSplitter()
+        """Port 10004: one zlib-compressed packet per data_request (other commands answered as
+        on the command port)."""
+        self._client_loop(conn, self._answer_data)
+
+    def _answer_data(self, conn: socket.socket, request) -> bool:
+        if not (isinstance(request, dict) and request.get("cmdName") == "data_request"):
+            return self._answer(conn, request)
+        reply = encode_data_reply(self.status_source())
+        if len(reply) > DATA_REQUEST_MAX_BYTES:
+            log.error("emulator: data_request reply of %d bytes exceeds the SDK's %d",
+                      len(reply), DATA_REQUEST_MAX_BYTES)
         try:
-            conn.settimeout(_POLL)
-            while not self._quit.is_set():
-                try:
-                    data = conn.recv(65536)
-                except socket.timeout:
-                    continue
-                if not data:
-                    break
-                for request in splitter.feed(data):
-                    if isinstance(request, dict) and request.get("cmdName") == "data_request":
-                        reply = encode_data_reply(self.status_source())
-                        if len(reply) > DATA_REQUEST_MAX_BYTES:
-                            log.error("emulator: data_request reply of %d bytes exceeds the "
-                                      "SDK's %d", len(reply), DATA_REQUEST_MAX_BYTES)
-                    else:
-                        reply = encode_json_spaced(self.handlers.handle(request)[0])
-                    conn.sendall(reply)
+            conn.sendall(reply)
         except OSError:
-            pass
-        finally:
-            with self._lock:
-                self._command_clients.pop(conn, None)
-            _close(conn)
+            return False
+        return True
 
     def _add_status_client(self, conn: socket.socket) -> None:
         conn.settimeout(SEND_TIMEOUT)
@@ -214,6 +204,11 @@ class EmulatorServer:
 
     # ---- command connections ---------------------------------------------------------------
     def _command_loop(self, conn: socket.socket) -> None:
+        self._client_loop(conn, self._answer)
+
+    def _client_loop(self, conn: socket.socket, answer) -> None:
+        """Read requests from ``conn`` until it closes; ``answer(conn, request)`` replies to
+        each and says whether the connection goes on."""
         splitter = RequestSplitter()
         last_data = time.monotonic()
         try:
@@ -223,13 +218,13 @@ class EmulatorServer:
                     data = conn.recv(65536)
                 except socket.timeout:
                     if splitter.pending and time.monotonic() - last_data > IDLE_TIMEOUT:
-                        if not self._answer(conn, splitter.expire()):
+                        if not answer(conn, splitter.expire()):
                             break
                     continue
                 if not data:
                     break
                 last_data = time.monotonic()
-                if not all(self._answer(conn, request) for request in splitter.feed(data)):
+                if not all(answer(conn, request) for request in splitter.feed(data)):
                     break
         except OSError:
             pass   # closed by drop_clients/stop, or reset by the client: this connection ends

@@ -213,7 +213,7 @@ class SimBackend(Backend):
         """Hand a planned trajectory to the physics thread; ``Result.value`` is the
         :class:`Completion` to wait on (the emulator replies at once, like a controller)."""
         completion = Completion()
-        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, completion, label)
+        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion)
         with self._lock:
             if self.physics.motion.active:
                 return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "

@@ -8,6 +8,7 @@ A source that a blocking call waits on carries a :class:`Completion`.
 from __future__ import annotations
 
 import threading
+from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
@@ -47,19 +48,22 @@ class Hold(Motion):
         return q_sp
 
 
+@dataclass(eq=False)
 class TrajectoryRun(Motion):
     """Play a planned joint trajectory, then settle: success once every joint is within
     ``tolerance`` rad of the goal and almost at rest."""
 
-    def __init__(self, trajectory: JointTrajectory, cycle: float, tolerance: float,
-                 completion: Completion, label: str):
-        self.trajectory = trajectory
-        self.cycle = cycle
-        self.tolerance = tolerance
-        self.completion = completion
-        self.label = label
-        self.t = 0.0
-        self.goal = trajectory.q[-1]
+    trajectory: JointTrajectory
+    cycle: float                 # s
+    tolerance: float             # rad
+    label: str
+    # every caller gives it; the default is only because Motion's class attribute is one
+    completion: Optional[Completion] = None
+    t: float = field(default=0.0, init=False)          # s into the trajectory
+    goal: np.ndarray = field(init=False)
+
+    def __post_init__(self):
+        self.goal = self.trajectory.q[-1]
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         # Called at the end of a cycle: the arm now stands where the setpoint of time
@@ -156,22 +160,24 @@ class RampedServoTarget(ServoTarget):
         return super().next(q_sp, qd_sp, q_meas, qd_meas)
 
 
+@dataclass(eq=False)
 class Jog(Motion):
     """Continuous jog: ramp the speed of one axis up to ``speed`` and hold it until told to
     stop, then ramp down. ``step(q_sp, displacement)`` maps an axis displacement to the next
     joint setpoint (identity on one joint, or Cartesian + IK); it returns None when the move
     cannot continue (joint limit, no IK), which ends the jog at once."""
 
-    def __init__(self, speed: float, accel: float, cycle: float,
-                 step: Callable[[np.ndarray, float], Optional[np.ndarray]], label: str):
-        self.speed = speed
-        self.accel = accel
-        self.cycle = cycle
-        self.step = step
-        self.label = label
-        self.v = 0.0
-        self.target_speed = speed
-        self.stop_reason: Optional[str] = None
+    speed: float                 # rad/s or m/s along the axis
+    accel: float                 # rad/s² or m/s²
+    cycle: float                 # s
+    step: Callable[[np.ndarray, float], Optional[np.ndarray]]
+    label: tuple                 # (coord, axis, direction): a jog call for the same axis continues it
+    v: float = field(default=0.0, init=False)
+    target_speed: float = field(init=False)
+    stop_reason: Optional[str] = field(default=None, init=False)
+
+    def __post_init__(self):
+        self.target_speed = self.speed
 
     def stop(self) -> None:
         self.target_speed = 0.0
