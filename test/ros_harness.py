@@ -249,8 +249,10 @@ def stamp(msg) -> float:
     return msg.header.stamp.to_sec()
 
 
-def sample_at(recorder, t: float, timeout: float = 10.0):
-    """The first message stamped at or after ``t`` (s, sim time), waiting for it."""
+def sample_at(recorder, t: float, timeout: float = 30.0):
+    """The first message stamped at or after ``t`` (s, sim time), waiting for it. The wait is
+    long in wall time: the twin waits for its publisher, which waits for slow subscribers, so on
+    a machine two busy processes fill, sim time can crawl at the pace the test reads."""
     def find():
         with recorder._lock:
             return next((m for _, m in recorder.samples if stamp(m) >= t - 1e-6), None)

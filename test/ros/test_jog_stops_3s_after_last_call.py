@@ -32,7 +32,7 @@ def moving(recorder):
     return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
 
 
-def rest_at(recorder, q, timeout: float = 10.0):
+def rest_at(recorder, q, timeout: float = 30.0):
     """The latest sample, once it shows the arm at rest at ``q`` (rad) *after* every moving
     sample received so far. The test's subscriber may lag the twin (on a busy machine by more
     than a second of sim time at real_time_factor 0), so "the latest sample at rest at START"
@@ -63,7 +63,7 @@ def rest_at(recorder, q, timeout: float = 10.0):
     return msg
 
 
-def first_moving(recorder, after: float, timeout: float = 10.0):
+def first_moving(recorder, after: float, timeout: float = 30.0):
     """The first sample stamped after ``after`` (sim s) in which the arm moves, waiting for it."""
     def find():
         with recorder._lock:
