@@ -215,10 +215,20 @@ def go_home(call) -> None:
     assert reply, "could not return to START"
 
 
-def position(recorder, timeout=2.0) -> np.ndarray:
-    """Latest joint position (rad) from a JointState recorder."""
-    msg = wait_until(recorder.latest, timeout)
-    assert msg is not None, "no joint_position message"
+def position(recorder, timeout=5.0) -> np.ndarray:
+    """Joint position (rad) as of now, from a JointState recorder: a message stamped
+    at or after this call (ROS time), not merely the latest received — a subscriber that a
+    busy machine holds up can be tens of ms behind, and a test that checks where a blocking
+    move left the arm must not read a sample from before its reply."""
+    import rospy
+    now = rospy.get_rostime().to_sec()
+
+    def current():
+        with recorder._lock:
+            return next((m for _, m in reversed(recorder.samples) if stamp(m) >= now), None)
+
+    msg = wait_until(current, timeout)
+    assert msg is not None, f"no joint_position message stamped after {now:.3f} within {timeout} s"
     return np.array(msg.position)
 
 
