@@ -106,6 +106,8 @@ def observed_latency(stream: dict) -> dict:
     recv, stamp, q = stream["recv"], stream["stamp"], stream["q"]
     latency = np.full(sent.size, np.nan)
     strict = np.zeros(sent.size, bool)
+    # The end of the cycle each target arrived in: the first sample stamped after its send.
+    arrival_end = np.full(sent.size, np.nan)
     step = np.diff(targets, axis=0, prepend=targets[:1])
     direction = np.sign(step)
     for k in range(sent.size):
@@ -113,6 +115,7 @@ def observed_latency(stream: dict) -> dict:
         last = np.searchsorted(stamp, sent[k] + MATCH_WINDOW_S)
         if first >= last:
             continue
+        arrival_end[k] = stamp[first]
         err = q[first:last] - targets[k]
         near = np.abs(err) <= TOLERANCE_RAD
         reached = np.all(near | (direction[k] * err >= 0.0), axis=1)
@@ -120,7 +123,11 @@ def observed_latency(stream: dict) -> dict:
         if hits.size:
             latency[k] = recv[first + hits[0]] - sent[k]
         strict[k] = bool(np.any(np.all(near, axis=1)))
-    return {"latency_s": latency, "strict_hit": strict}
+    # Two targets in one cycle: the first is replaced before it becomes a setpoint (a stream
+    # whose phase sits on the twin's cycle boundary, where the sender's jitter decides).
+    shared = np.concatenate([[False], arrival_end[1:] == arrival_end[:-1]])
+    return {"latency_s": latency, "strict_hit": strict, "wait_s": arrival_end - sent,
+            "after_s": latency - (arrival_end - sent), "shared_cycle": shared}
 
 
 def _round_trip_note(r: dict) -> str:
@@ -166,11 +173,21 @@ def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True
     strict = float(np.mean(lat["strict_hit"])) * 100 if lat["strict_hit"].size else 0.0
     rtt_ok = r["p99"] is not None and r["p99"] <= ROUND_TRIP_P99_MS and not rtt["refused"]
     obs_ok = p99 is not None and p99 <= OBSERVED_P99_MS and not stream["refused"]
+    wait = summary(lat["wait_s"][np.isfinite(lat["wait_s"])], 1e3)
+    after = summary(lat["after_s"][np.isfinite(lat["after_s"])], 1e3)
+    shared = float(np.mean(lat["shared_cycle"])) * 100 if lat["shared_cycle"].size else 0.0
     method = (f"'Reached' = within {TOLERANCE_RAD:g} rad of the target or past it (a moving "
               f"arm crosses a target between two 125 Hz samples; only {strict:.1f} % of "
               f"targets were caught strictly inside ±{TOLERANCE_RAD:g} rad on every joint). "
               f"Round trip of the streamed calls p50 / p99 {fmt(s['p50'], 2)} / "
-              f"{fmt(s['p99'], 2)} ms.")
+              f"{fmt(s['p99'], 2)} ms. The split: a target waited p50 / p99 "
+              f"{fmt(wait['p50'], 1)} / {fmt(wait['p99'], 1)} ms for the end of the cycle it "
+              "arrived in (the stream's phase in the twin's cycle, 0–8 ms, set by when the "
+              f"client started); {shared:.1f} % of the targets arrived in the same cycle as "
+              "the one before and were replaced before they became a setpoint (a phase on "
+              "the cycle boundary, where the sender's jitter decides); from the end of that "
+              f"cycle to observed p50 / p99 {fmt(after['p50'], 1)} / {fmt(after['p99'], 1)} ms "
+              "(one cycle of interpolation, 8 ms, plus delivery).")
     return [
         Row(group, f"servo_j round trip p50 / p99 / max, {condition}",
             f"{fmt(r['p50'], 3)} / {fmt(r['p99'], 3)} / {fmt(r['max'], 3)} ms "
@@ -185,5 +202,6 @@ def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True
             f"p99 ≤ 2 cycles ({2 * SERVO_CYCLE * 1e3:g} ms)", verdict(obs_ok),
             method if obs_ok or not judge else _observed_note(o, method),
             data={"latency_ms": o, "p99_ms_with_misses": p99, "never_reached": missed,
-                  "strict_hit_percent": strict, "stream_rtt_ms": s}),
+                  "strict_hit_percent": strict, "stream_rtt_ms": s, "wait_ms": wait,
+                  "after_cycle_ms": after, "shared_cycle_percent": shared}),
     ]
