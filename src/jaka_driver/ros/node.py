@@ -17,7 +17,8 @@ Parameters (private, ``~name``):
                      false: absolute targets, as the interface document says)
   ``sim_time``       sim: the twin owns time — it publishes ``/clock`` every 8 ms cycle and
                      sets ``/use_sim_time`` (before this node's rospy reads it); every stamp
-                     and timeout of the driver is then sim time (default false)
+                     and timeout of the driver is then sim time (default false); refused if
+                     another live node already publishes ``/clock`` (ros/sim_time.py)
   ``real_time_factor``  sim_time: sim seconds per wall second (default 1.0; 0 = as fast as
                      the machine can step)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
@@ -35,7 +36,6 @@ import time
 import warnings
 from contextlib import contextmanager
 
-import rosgraph
 import rospy
 from geometry_msgs.msg import TwistStamped
 from rosgraph_msgs.msg import Clock
@@ -46,7 +46,7 @@ from jaka_msgs.msg import RobotMsg
 from ..driver import RobotDriver
 from ..models import MODEL_NAMES, load_model
 from ..robot_state import RobotState
-from . import messages
+from . import messages, sim_time
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster
 from .services import advertise, advertise_faults
@@ -71,6 +71,9 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  data_port=params["data_port"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
+
+NODE_NAME = "jaka_driver"
+DEFAULT_RATE_HZ = 125.0     # the controller's cycle
 
 # Periods without a new sample after which the latest is published again (the source is
 # stuck); shorter stalls are caught up sample by sample when the source resumes.
@@ -223,7 +226,7 @@ def _params() -> dict:
     return {
         "backend": rospy.get_param("~backend", "sim"),
         "model": str(rospy.get_param("~model", "zu5")).lower(),
-        "rate": float(rospy.get_param("~rate", 125.0)),
+        "rate": float(rospy.get_param("~rate", DEFAULT_RATE_HZ)),
         "ip": rospy.get_param("~ip", rospy.get_param("ip", "10.5.5.100")),
         "command_port": int(rospy.get_param("~command_port", 10001)),
         "status_port": int(rospy.get_param("~status_port", 10000)),
@@ -246,44 +249,34 @@ def _log_files(model: str) -> None:
                   + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
 
 
-def _sim_time_requested(argv: list[str], name: str) -> bool:
-    """``~sim_time`` before ``init_node`` (rospy reads ``/use_sim_time`` once, in init_node):
-    from a ``_sim_time:=`` argument, else from the parameter server (roslaunch)."""
-    for arg in argv[1:]:
-        if arg.startswith("_sim_time:="):
-            return arg.split(":=", 1)[1].strip().lower() in ("true", "1", "yes")
-    mappings = rosgraph.names.load_mappings(argv)
-    ns = rosgraph.names.make_global_ns(mappings.get("__ns") or rosgraph.names.get_ros_namespace())
-    private = rosgraph.names.ns_join(ns + mappings.get("__name", name), "sim_time")
-    try:
-        return bool(rosgraph.Master(f"/{name}").getParam(private))
-    except (rosgraph.MasterError, OSError):
-        return False                    # not set, or no master yet (init_node will wait)
-
-
-def _use_sim_time() -> None:
-    """Set ``/use_sim_time`` so that this node's rospy and every client follow /clock."""
-    try:
-        rosgraph.Master("/jaka_driver").setParam("/use_sim_time", True)
-    except OSError as exc:
-        print(f"jaka_driver: cannot set /use_sim_time: {exc}", file=sys.stderr)
-
-
 def main() -> int:
-    sim_time = _sim_time_requested(sys.argv, "jaka_driver")
-    if sim_time:
-        _use_sim_time()
-    rospy.init_node("jaka_driver")
+    requested = sim_time.requested(sys.argv, NODE_NAME)
+    clock_owners = (sim_time.other_clock_publishers(sim_time.node_name(sys.argv, NODE_NAME))
+                    if requested else [])
+    if requested and not clock_owners:
+        sim_time.use_sim_time()
+    rospy.init_node(NODE_NAME)
     _forward_logging()
     p = _params()
     if p["sim_time"] and p["backend"] != "sim":
         rospy.logwarn("~sim_time applies to the twin only: the controller backend runs on "
                       "the wall clock")
         p["sim_time"] = False
-    if p["sim_time"] and not sim_time:
-        rospy.logwarn("~sim_time was set after start-up; /use_sim_time is set now, but this "
-                      "node's rospy keeps the wall clock")
-        _use_sim_time()
+    if p["sim_time"]:
+        if not requested:
+            clock_owners = sim_time.other_clock_publishers(rospy.get_name())
+        if clock_owners:
+            rospy.logfatal(f"~sim_time: {', '.join(clock_owners)} already publishes "
+                           f"{sim_time.CLOCK_TOPIC}; two clocks would move ROS time each their "
+                           "own way. Stop it, or start this twin with sim_time:=false")
+            return 2
+        if not requested:
+            rospy.logwarn("~sim_time was set after start-up; /use_sim_time is set now, but this "
+                          "node's rospy keeps the wall clock")
+            sim_time.use_sim_time()
+        if p["rate"] != DEFAULT_RATE_HZ:
+            rospy.logwarn(f"~rate {p['rate']:g} Hz is ignored in sim time: the twin publishes "
+                          "one sample per 8 ms cycle, every cycle (a deterministic stream)")
     if not p["real_time_factor"] >= 0:
         rospy.logfatal(f"~real_time_factor {p['real_time_factor']} is negative; expected ≥ 0 "
                        "(0 = as fast as possible)")
