@@ -24,16 +24,24 @@ def node_name(argv: list[str], name: str) -> str:
 
 
 def requested(argv: list[str], name: str) -> bool:
-    """``~sim_time`` before ``init_node``: from a ``_sim_time:=`` argument, else from the
-    parameter server (roslaunch)."""
+    """``~sim_time`` asked for, on the twin (the controller backend runs on the wall clock, so
+    for it ``/use_sim_time`` must stay as it is: set with nobody publishing ``/clock``, every
+    client's ``rospy.sleep`` would wait forever)."""
+    return (_early_param(argv, name, "sim_time", "false").lower() in ("true", "1", "yes")
+            and _early_param(argv, name, "backend", "sim") == "sim")
+
+
+def _early_param(argv: list[str], name: str, key: str, default: str) -> str:
+    """Private parameter ``key`` before ``init_node``, as text: from a ``_key:=`` argument,
+    else from the parameter server (roslaunch), else ``default``."""
     for arg in argv[1:]:
-        if arg.startswith("_sim_time:="):
-            return arg.split(":=", 1)[1].strip().lower() in ("true", "1", "yes")
-    private = rosgraph.names.ns_join(node_name(argv, name), "sim_time")
+        if arg.startswith(f"_{key}:="):
+            return arg.split(":=", 1)[1].strip()
+    private = rosgraph.names.ns_join(node_name(argv, name), key)
     try:
-        return bool(rosgraph.Master(f"/{name}").getParam(private))
+        return str(rosgraph.Master(f"/{name}").getParam(private)).strip()
     except (rosgraph.MasterError, OSError):
-        return False                    # not set, or no master yet (init_node will wait)
+        return default                  # not set, or no master yet (init_node will wait)
 
 
 def other_clock_publishers(own_name: str) -> list[str]:
