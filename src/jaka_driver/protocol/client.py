@@ -14,14 +14,14 @@ import zlib
 from typing import Any, Callable, Mapping, Optional, Tuple
 
 from . import errors
-from .commands import encode
+from .commands import data_request, encode
 from .errors import ConnectFailed, ConnectionLost, InvalidArgument, ProtocolError
 from .fields import (COMMAND_PORT, DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT,
-                     Cmd, Field)
+                     Field)
 from .replies import Reply, command_names_match, parse_reply
-from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, decode_data_reply,
+from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, data_reply_fields,
                             parse_status)
-from .wire import decode_first_object, encode_json
+from .wire import decode_first_object
 
 _log = logging.getLogger(__name__)
 _RECV_SIZE = 65536
@@ -374,22 +374,22 @@ class StatusPoller(StatusReceiver):
 
     def _run(self, sock: socket.socket, stop: threading.Event) -> None:
         reason = None
-        request = encode_json({Field.CMD_NAME: Cmd.DATA_REQUEST})
+        request = encode(data_request())
         wait = self.stall_timeout if self.stall_timeout is not None else 1.0
         next_request = time.monotonic()
         try:
             while not stop.is_set():
                 try:
                     sock.sendall(request)
-                    data = self._read_reply(sock, stop, wait)
+                    reply = self._read_reply(sock, stop, wait)
                 except (OSError, ProtocolError) as exc:
                     reason = f"status requests to {self.address} failed ({exc})"
                     break
-                if data is None:
+                if reply is None:
                     break   # stopped
                 received = self._clock()
                 try:
-                    status = parse_status(decode_data_reply(data))
+                    status = parse_status(data_reply_fields(*reply))
                 except ProtocolError as exc:
                     self.decoder.packets_dropped += 1
                     _log.warning("%s", exc)
@@ -408,10 +408,12 @@ class StatusPoller(StatusReceiver):
             self._lost(reason)
 
     def _read_reply(self, sock: socket.socket, stop: threading.Event,
-                    wait: float) -> Optional[bytes]:
-        """One whole zlib stream from ``sock`` (its end is where zlib says it ends)."""
+                    wait: float) -> Optional[Tuple[bytes, int]]:
+        """One whole zlib stream from ``sock`` (its end is where zlib says it ends), inflated as
+        it arrives: (the packet's text, the number of compressed bytes)."""
         inflater = zlib.decompressobj()
         data = bytearray()
+        text = bytearray()
         deadline = time.monotonic() + wait
         while not inflater.eof:
             if stop.is_set():
@@ -430,7 +432,7 @@ class StatusPoller(StatusReceiver):
                 raise ProtocolError(f"the data_request reply exceeds the SDK's "
                                     f"{DATA_REQUEST_MAX_BYTES} bytes")
             try:
-                inflater.decompress(chunk)
+                text += inflater.decompress(chunk)
             except zlib.error as exc:
                 raise ProtocolError(f"the data_request reply is not zlib data ({exc})") from None
-        return bytes(data)
+        return bytes(text), len(data)

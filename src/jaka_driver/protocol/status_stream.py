@@ -141,16 +141,16 @@ def encode_status(fields: Mapping[str, Any]) -> bytes:
     after ``:`` and ``,``) with ``len`` first and equal to the packet's own length in bytes, the
     ``len`` field included. Any ``len`` in ``fields`` is replaced. Numpy arrays and scalars are
     accepted."""
-    body = {k: v for k, v in fields.items() if k != S.LEN}
-    length = 0
-    # len(packet) = base + digits(len): iterate to the fixed point; the digit count settles in
-    # at most a few rounds because it only grows.
-    for _ in range(10):
-        packet = encode_json_spaced({S.LEN: length, **body})
-        if len(packet) == length:
-            return packet
-        length = len(packet)
-    raise AssertionError("status packet length did not converge")  # pragma: no cover
+    # Serialised once (the packet goes out 125 times a second): the length field is spliced
+    # in front, its value the fixed point of len(packet) = rest + digits(len).
+    body = encode_json_spaced({k: v for k, v in fields.items() if k != S.LEN})
+    head = b'{"%s": ' % S.LEN.encode()
+    tail = b"}" if body == b"{}" else b", " + body[1:]
+    rest = len(head) + len(tail)
+    digits = 1
+    while len(str(rest + digits)) != digits:
+        digits += 1
+    return head + str(rest + digits).encode() + tail
 
 
 def encode_data_reply(fields: Mapping[str, Any]) -> bytes:
@@ -164,9 +164,20 @@ def decode_data_reply(data: bytes) -> Dict[str, Any]:
     :class:`~.errors.ProtocolError` when it does not decompress to one JSON object."""
     try:
         text = zlib.decompress(data)
-        obj, _ = decode_first_object(text)
-    except (zlib.error, ValueError) as exc:
+    except zlib.error as exc:
         raise ProtocolError(f"the data_request reply ({len(data)} bytes) is not a "
+                            f"zlib-compressed JSON status packet: {exc}") from None
+    return data_reply_fields(text, len(data))
+
+
+def data_reply_fields(text: bytes, compressed_size: int) -> Dict[str, Any]:
+    """The fields of a data_request reply already decompressed (``text``; it arrived as
+    ``compressed_size`` bytes). Raises :class:`~.errors.ProtocolError` when it is not one JSON
+    object."""
+    try:
+        obj, _ = decode_first_object(text)
+    except ValueError as exc:
+        raise ProtocolError(f"the data_request reply ({compressed_size} bytes) is not a "
                             f"zlib-compressed JSON status packet: {exc}") from None
     if not isinstance(obj, dict):
         raise ProtocolError("the data_request reply is not a JSON object")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import rospy
 from geometry_msgs.msg import TwistStamped
+from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 
 from jaka_msgs.msg import RobotMsg
@@ -24,56 +25,48 @@ def user_frame_id(user_id: int) -> str:
     return "base_link" if user_id == 0 else f"user_frame_{user_id}"
 
 
-def tool_position(st: RobotState, stamp: rospy.Time, msg: TwistStamped | None = None
-                  ) -> TwistStamped:
-    """TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation vector rad
-    (docs/interface.md, "Topics"), of the active tool in the active user frame; fills ``msg``
-    if given."""
-    msg = TwistStamped() if msg is None else msg
+def tool_position(st: RobotState, stamp: rospy.Time, msg: TwistStamped) -> None:
+    """Fill ``msg`` with the TCP pose: ``twist.linear`` position m, ``twist.angular`` rotation
+    vector rad (docs/interface.md, "Topics"), of the active tool in the active user frame."""
     msg.header.stamp = stamp
     msg.header.frame_id = user_frame_id(st.user_id)
     linear, angular = msg.twist.linear, msg.twist.angular
     linear.x, linear.y, linear.z = st.tcp_pose[:3, 3].tolist()
     angular.x, angular.y, angular.z = matrix_to_rotvec(st.tcp_pose[:3, :3]).tolist()
-    return msg
 
 
-def joint_state(st: RobotState, names, stamp: rospy.Time, msg: JointState | None = None
-                ) -> JointState:
-    """Joints: position rad, velocity rad/s, effort N·m; fills ``msg`` (its names kept) if
-    given."""
-    if msg is None:
-        msg = JointState()
-        msg.name = list(names)
+def joint_state(st: RobotState, stamp: rospy.Time, msg: JointState) -> None:
+    """Fill ``msg`` (its names kept) with the joints: position rad, velocity rad/s,
+    effort N·m."""
     msg.header.stamp = stamp
     msg.position = st.joint_position.tolist()
     msg.velocity = st.joint_velocity.tolist()
     msg.effort = st.joint_effort.tolist()
-    return msg
 
 
-def robot_msg(st: RobotState, msg: RobotMsg | None = None) -> RobotMsg:
-    """``servo_state`` is servo *mode* (JAKA's documented meaning), not robot enable."""
-    msg = RobotMsg() if msg is None else msg
+def robot_msg(st: RobotState, msg: RobotMsg) -> None:
+    """Fill ``msg``; ``servo_state`` is servo *mode* (JAKA's documented meaning), not robot
+    enable."""
     msg.motion_state = int(st.motion_state)
     msg.power_state = int(bool(st.powered))
     msg.servo_state = int(bool(st.servo_mode))
     msg.collision_state = int(bool(st.collision))
-    return msg
 
 
 class StateMessages:
-    """One ``tool_position``, ``joint_position``/``joint_states`` and ``robot_states`` message,
-    refilled by :meth:`fill` for each sample (see the module)."""
+    """One ``tool_position``, ``joint_position``/``joint_states``, ``robot_states`` and ``/clock``
+    message, refilled by :meth:`fill` for each sample (see the module)."""
 
     def __init__(self, names):
         self.tool = TwistStamped()
         self.joints = JointState()
         self.joints.name = list(names)
         self.robot = RobotMsg()
+        self.clock = Clock()         # published when the twin owns time
 
     def fill(self, st: RobotState) -> None:
         stamp = rospy.Time.from_sec(st.stamp)
         tool_position(st, stamp, self.tool)
-        joint_state(st, None, stamp, self.joints)
+        joint_state(st, stamp, self.joints)
         robot_msg(st, self.robot)
+        self.clock.clock = stamp
