@@ -39,12 +39,13 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Optional
 
+from .constants import STALL_CYCLES
+
 log = logging.getLogger(__name__)
 
 REACTION_WINDOW = 0.2     # s wall: how long time waits for a caller's next request
 HOLD_LIMIT = 10.0         # s wall: a hold older than this no longer stops time
 MAX_LAG = 16              # cycles the twin may run ahead of its consumer
-STALL_CYCLES = 25         # cycles behind the pacer after which it re-anchors, not catches up
 WALL_SLICE = 0.05         # s wall: waiters re-check their condition at least this often
 
 
@@ -137,10 +138,6 @@ class SimClock:
 
     def sleep(self, seconds: float) -> None:
         self.wait(None, seconds)
-
-    def wait_until(self, t: float) -> None:
-        """Until sim time ``t`` (s)."""
-        self.wait(None, t - self.now())
 
     # ---- what stops time -----------------------------------------------------------------
     @contextmanager

@@ -8,6 +8,10 @@ from __future__ import annotations
 #: s — the controller cycle: servo set-point period, status period, the twin's control cycle
 SERVO_CYCLE = 0.008
 
+#: cycles behind its pacing after which a paced loop (the twin's physics on the wall clock, the
+#: sim clock at a real-time factor) re-anchors instead of bursting through the missed cycles
+STALL_CYCLES = 25
+
 #: rad — a joint move is in position once every joint is this close to its target
 #: (docs/interface.md, "Motion")
 IN_POSITION = 1e-3

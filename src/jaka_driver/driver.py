@@ -232,10 +232,8 @@ class RobotDriver:
         (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
         string it returns aborts: the arm is stopped and the result is -12 with that reason.
         Blocks."""
-        with self.clock.hold():
-            return self._run_move("trajectory",
-                                  lambda st: self.backend.start_trajectory(trajectory),
-                                  monitor, period)
+        return self._run_move("trajectory", lambda st: self.backend.start_trajectory(trajectory),
+                              monitor, period)
 
     def _run_move(self, what: str, start: Callable[[RobotState], Result],
                   monitor: "Callable[[float, RobotState], str | None] | None" = None,

@@ -196,6 +196,17 @@ def matrix_to_pose_mm(T) -> np.ndarray:
     return matrix_to_pose(T, rotation="rotvec", length_scale=1e-3)
 
 
+def pose_mm_rpy_to_matrix(pose_mm_rpy) -> np.ndarray:
+    """The SDK's pose — mm + RPY (rad), as the controller protocol speaks it — as a 4x4 in
+    metres."""
+    return pose_to_matrix(pose_mm_rpy, rotation="rpy", length_scale=1e-3)
+
+
+def matrix_to_pose_mm_rpy(T) -> np.ndarray:
+    """A 4x4 in metres as mm + RPY (rad); the inverse of :func:`pose_mm_rpy_to_matrix`."""
+    return matrix_to_pose(T, rotation="rpy", length_scale=1e-3)
+
+
 def rotation_angle_between(R0, R1) -> np.ndarray | float:
     """Angle (rad, [0, π]) of the rotation taking ``R0`` to ``R1``, accurate at 0 and π."""
     D = np.swapaxes(np.asarray(R0, dtype=float), -1, -2) @ np.asarray(R1, dtype=float)

@@ -63,11 +63,11 @@ def finite(name: str, value: float, unit: str = "") -> float:
 
 def joint_targets(name: str, values: Sequence[float], model: RobotModel) -> np.ndarray:
     """Six joint angles (rad) inside the model's position limits."""
-    q = vector(name, values)
-    for i, (v, lo, hi) in enumerate(zip(q, model.lower, model.upper)):
-        if not lo <= v <= hi:
-            raise invalid(f"{model.joint_names[i]} target {v:.4f} rad is outside "
-                          f"[{lo:.2f}, {hi:.2f}] rad")
+    q = vector(name, values)         # finite: the limits comparison below sees no NaN
+    i = outside_limits(model, q)
+    if i is not None:
+        raise invalid(f"{model.joint_names[i]} target {q[i]:.4f} rad is outside "
+                      f"[{model.lower[i]:.2f}, {model.upper[i]:.2f}] rad")
     return q
 
 

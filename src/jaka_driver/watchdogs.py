@@ -14,7 +14,7 @@ import threading
 from dataclasses import dataclass
 from typing import Callable, Optional
 
-from .clock import WallClock
+from .clock import SimClock, WallClock
 
 
 @dataclass
@@ -34,10 +34,11 @@ class JogWatchdog:
     holds simulated time while it acts, so the stop lands in a definite cycle.
     """
 
-    def __init__(self, stop: Callable[[], object], timeout: float = 3.0, clock=None):
+    def __init__(self, stop: Callable[[], object], timeout: float = 3.0, *,
+                 clock: WallClock | SimClock):
         self._stop = stop
         self.timeout = timeout
-        self._clock = clock or WallClock()
+        self._clock = clock
         self._lock = threading.Lock()
         self._session: Optional[JogSession] = None
         self._changed = threading.Event()       # a kick, a clear or close: look again
@@ -100,9 +101,9 @@ class ServoStream:
     stream is alive, else the measured joints (after a pause the arm is where it held).
     """
 
-    def __init__(self, timeout: float = 0.1, clock=None):
+    def __init__(self, timeout: float = 0.1, *, clock: WallClock | SimClock):
         self.timeout = timeout
-        self._clock = clock or WallClock()
+        self._clock = clock
         self._lock = threading.Lock()
         self._last_target = None
         self._last_time: Optional[float] = None

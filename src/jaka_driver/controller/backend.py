@@ -39,12 +39,12 @@ from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, JogMode
 from ..results import Code, CommandRefused, Result
 from ..robot_state import RobotState
-from ..transforms import matrix_to_pose, rotation_angle_between
+from ..transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix, rotation_angle_between
 from .commander import Commander, answers
 from .connection import ControllerLink
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
-from .status_view import StatusView, tcp_matrix
+from .status_view import StatusView
 
 log = logging.getLogger(__name__)
 
@@ -59,11 +59,6 @@ DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it ha
 #: (signal, path, io_type) → the status field that carries it; no command reads these.
 STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
              ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
-
-
-def _mm_rpy(pose: np.ndarray) -> np.ndarray:
-    """4x4 pose (m) → the protocol's [x, y, z mm, rx, ry, rz rad]."""
-    return np.asarray(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3), float)
 
 
 def _warn_unknown_frame(kind: str, frame_id: int) -> None:
@@ -310,12 +305,12 @@ class ControllerBackend(Backend):
 
     @answers
     def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
-        pose = _mm_rpy(target)
+        pose = matrix_to_pose_mm_rpy(target)
         speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
-            here = tcp_matrix(latest[0].tcp_pose)
+            here = pose_mm_rpy_to_matrix(latest[0].tcp_pose)
             distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
             angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
             estimate = (TrapezoidProfile(distance, speed_mm, accel_mm).min_duration
@@ -406,7 +401,7 @@ class ControllerBackend(Backend):
 
     @answers
     def servo_p(self, target) -> Result:
-        self.send.accepted(commands.servo_p(_mm_rpy(target)))
+        self.send.accepted(commands.servo_p(matrix_to_pose_mm_rpy(target)))
         return Result.success("servo_p target sent")
 
     @answers
@@ -445,7 +440,7 @@ class ControllerBackend(Backend):
         """Store the offset (not for id 0, the flange / base itself), then activate the id."""
         if frame_id:
             name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
-            self.send.accepted(store(frame_id, _mm_rpy(pose), name))
+            self.send.accepted(store(frame_id, matrix_to_pose_mm_rpy(pose), name))
             self.frame_table.store(kind, frame_id, pose)
         self.send.accepted(activate(frame_id))
 
@@ -520,11 +515,11 @@ class ControllerBackend(Backend):
         pose = self.send.read(commands.kine_forward(np.asarray(q, float)),
                               commands.reply_kine_forward)
         return Result.success("controller's forward kinematics (active tool, active user "
-                              "frame)", tcp_matrix(pose))
+                              "frame)", pose_mm_rpy_to_matrix(pose))
 
     @answers
     def inverse_kinematics(self, target, ref_q) -> Result:
-        request = commands.kine_inverse(np.asarray(ref_q, float), _mm_rpy(target))
+        request = commands.kine_inverse(np.asarray(ref_q, float), matrix_to_pose_mm_rpy(target))
         reply = self.send.call(request)
         if not reply.ok:
             # The controller's IK refusal means "unreachable": the contract's -4.

@@ -22,14 +22,9 @@ import numpy as np
 
 from ..protocol.status_stream import StatusPacket
 from ..robot_state import RobotState
-from ..transforms import pose_to_matrix
+from ..transforms import pose_mm_rpy_to_matrix
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
-
-
-def tcp_matrix(pose_mm_rpy: np.ndarray) -> np.ndarray:
-    """The protocol's ``[x, y, z mm, rx, ry, rz rad]`` → 4x4 pose in metres."""
-    return pose_to_matrix(pose_mm_rpy, rotation="rpy", length_scale=1e-3)
 
 
 def is_collision(status: StatusPacket) -> bool:
@@ -71,7 +66,7 @@ class StatusView:
                     self._velocity = (q - self._ref[1]) / (received - self._ref[0])
                     self._ref = (received, q)
             if np.all(np.isfinite(status.tcp_pose)):
-                self._tcp = tcp_matrix(status.tcp_pose)
+                self._tcp = pose_mm_rpy_to_matrix(status.tcp_pose)
             self._status, self._received = status, received
             self._serial += 1
 

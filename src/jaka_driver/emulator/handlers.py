@@ -31,7 +31,7 @@ from ..protocol.status_stream import encode_status
 from ..protocol.wire import as_flag, float_vector
 from ..protocol.errors import ProtocolError
 from ..frames import TOOL, USER_FRAME
-from ..transforms import pose_to_matrix
+from ..transforms import pose_mm_rpy_to_matrix
 from .status_packet import status_fields, wire_pose, zeros_of
 from .twin_controller import (ERROR_REFUSED, ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected,
                               TwinController)
@@ -125,8 +125,7 @@ def _joints(req: Mapping, key: str = Field.JOINT_POSITION) -> np.ndarray:
 
 def _pose(req: Mapping, key: str) -> np.ndarray:
     """Wire pose (mm, RPY deg) → 4x4 (m)."""
-    return pose_to_matrix(units.pose_from_wire(_vec(req, key, 6)), rotation="rpy",
-                          length_scale=1e-3)
+    return pose_mm_rpy_to_matrix(units.pose_from_wire(_vec(req, key, 6)))
 
 
 def _relative(base: np.ndarray, increment: np.ndarray) -> np.ndarray:
@@ -363,8 +362,7 @@ class CommandHandlers:
         if angle_x or angle_z:
             raise Rejected("set_installation_angle: the twin is mounted upright; only angleX 0 "
                            "and angleZ 0 are possible")
-        self.c.installation_angle = (angle_x, angle_z)
-        return Answer()
+        return Answer()         # upright, as it already is
 
     def _no_program(self, req) -> Answer:
         name = req.get(Field.PROGRAM_NAME) or req.get("programName") or ""

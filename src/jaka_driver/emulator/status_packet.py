@@ -16,7 +16,7 @@ import numpy as np
 
 from ..protocol import units
 from ..protocol.fields import InterpState, StatusField as S, TaskState
-from ..transforms import matrix_to_pose
+from ..transforms import matrix_to_pose_mm_rpy
 from .twin_controller import TwinController
 
 ERRCODE_COLLISION = 0xE001
@@ -56,7 +56,7 @@ IO_FIELDS = {S.DIN: ("digital", 0, 0), S.DOUT: ("digital", 0, 1), S.AIN: ("analo
 
 def wire_pose(pose: np.ndarray) -> list:
     """4x4 pose (m) → wire ``[x, y, z mm, rx, ry, rz deg]``."""
-    return units.pose_to_wire(matrix_to_pose(pose, rotation="rpy", length_scale=1e-3))
+    return units.pose_to_wire(matrix_to_pose_mm_rpy(pose))
 
 
 def status_fields(controller: TwinController) -> Dict[str, Any]:

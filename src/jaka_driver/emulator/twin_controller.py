@@ -21,6 +21,7 @@ from __future__ import annotations
 import collections
 import logging
 import threading
+import time
 from typing import Callable, Deque, Optional, Tuple
 
 import numpy as np
@@ -28,6 +29,7 @@ import numpy as np
 from ..completion import Completion
 from ..constants import SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
+from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED
 from ..results import Code, Result
 from ..sim.backend import SimBackend
 from ..validation import fastest_step, outside_limits
@@ -36,8 +38,8 @@ log = logging.getLogger(__name__)
 
 #: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
 #: missing or malformed field); "2": a valid command refused in the current state.
-ERROR_REQUEST = "1"
-ERROR_REFUSED = "2"
+ERROR_REQUEST = ERROR_CODE_EXCEPTION
+ERROR_REFUSED = ERROR_CODE_FAILED
 
 FRAME_IDS = range(0, 16)          # tool and user frame slots of the controller
 MAX_CLSN_LEVEL = 5
@@ -78,7 +80,6 @@ class TwinController:
         self._worker = threading.Thread(target=self._run_queue, daemon=True,
                                         name="emulator-motion-queue")
         self._worker.start()
-        self.installation_angle = (0.0, 0.0)          # deg, (angleX, angleZ)
         self.tio_vout = (0, 0)                        # (enable, voltage code)
         self.frames = FrameTable()
         self.payload_mass = 0.0
@@ -146,13 +147,9 @@ class TwinController:
 
     def wait_idle(self, timeout: float) -> bool:
         """Block until the queue is done (``wait_complete``); False on timeout."""
-        done = threading.Event()
-        deadline = timeout
-        while deadline > 0:
-            if self.inpos:
-                return True
-            done.wait(0.01)
-            deadline -= 0.01
+        deadline = time.monotonic() + timeout
+        while not self.inpos and time.monotonic() < deadline:
+            time.sleep(0.01)
         return self.inpos
 
     # ---- state --------------------------------------------------------------------------

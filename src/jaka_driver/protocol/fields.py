@@ -34,6 +34,7 @@ DATA_REQUEST_MAX_BYTES = 8200
 #: ``errorCode`` of a successful reply (a string on the wire). Other codes seen: "1" (exception)
 #: and "2" (error, e.g. ``"call joint_move failed"`` or a program that does not exist).
 ERROR_CODE_OK = "0"
+ERROR_CODE_EXCEPTION = "1"
 ERROR_CODE_FAILED = "2"
 
 

@@ -55,7 +55,7 @@ class SimBackend(Backend):
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
         q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
-        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, model.max_effort, SERVO_CYCLE)
+        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE)
         self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE,
                                    clock=self.clock if sim_time else None)
         self.payload = Payload(self.mj_model)

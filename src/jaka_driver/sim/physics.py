@@ -28,13 +28,12 @@ from typing import Callable, Optional
 import mujoco
 import numpy as np
 
-from ..constants import SERVO_CYCLE
+from ..constants import SERVO_CYCLE, STALL_CYCLES
 from .motions import Hold, Motion
 from .servo import JointServo
 
 
 # Cycles after which a late wake-up counts as a stall and time is skipped, not caught up.
-STALL_CYCLES = 25                   # 0.2 s at 8 ms
 HISTORY = 32                        # samples kept for readers that fell behind (0.26 s)
 WAKE_MARGIN = 0.0002                # s
 
@@ -68,7 +67,7 @@ class PhysicsLoop:
         servo.reset(np.asarray(q0, float))
         self._motion: Motion = Hold()
         self._tau = np.zeros(6)
-        self._brakes: Optional[np.ndarray] = None     # joint angles the brakes lock, rad
+        self._braked = False          # joints locked where they stand, drives off
         self._sample: Optional[Sample] = None
         self._history: deque[Sample] = deque(maxlen=HISTORY)
         self._quit = threading.Event()
@@ -115,13 +114,13 @@ class PhysicsLoop:
     # ---- brakes -------------------------------------------------------------------------
     @property
     def braked(self) -> bool:
-        return self._brakes is not None
+        return self._braked
 
     def engage_brakes(self) -> Motion:
         """Close the joint brakes where the arm is: from the next cycle the joints are locked
         (positions held exactly, velocities 0) and the drives give no torque."""
         with self.lock:
-            self._brakes = self.d.qpos[:6].copy()
+            self._braked = True
             self.d.qvel[:6] = 0.0
             self._record()      # locked from now: a client told so sees it in the sample
             return self.hold_here()
@@ -129,8 +128,8 @@ class PhysicsLoop:
     def release_brakes(self) -> None:
         """Open the brakes: the drives hold the arm where the brakes had it."""
         with self.lock:
-            if self._brakes is not None:
-                self._brakes = None
+            if self._braked:
+                self._braked = False
                 self.servo.reset(self.d.qpos[:6].copy())
 
     # ---- thread -------------------------------------------------------------------------
@@ -224,7 +223,7 @@ class PhysicsLoop:
     def _cycle(self) -> None:
         """Step one cycle, check it, choose the next setpoint and record the sample."""
         m, d = self.m, self.d
-        if self._brakes is None:
+        if not self._braked:
             self.servo.begin_cycle(d)
             mujoco.mj_step(m, d, nstep=self.steps_per_cycle)
             self._tau = d.qfrc_actuator[:6].copy()

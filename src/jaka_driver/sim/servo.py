@@ -73,14 +73,12 @@ def add_drives(spec: mujoco.MjSpec, joint_names: Sequence[str], max_effort: np.n
 class JointServo:
     """Setpoints and gains of the 6 joint drives; everything it computes is per cycle."""
 
-    def __init__(self, m: mujoco.MjModel, kp: np.ndarray, kd: np.ndarray,
-                 max_effort: np.ndarray, cycle: float):
+    def __init__(self, m: mujoco.MjModel, kp: np.ndarray, kd: np.ndarray, cycle: float):
         if m.nu != 12:
             raise ValueError(f"the twin has {m.nu} actuators, expected 12 (see add_drives)")
         self._m = m
         self.kp = np.asarray(kp, float)
         self.kd = np.asarray(kd, float)
-        self.max_effort = np.asarray(max_effort, float)
         self.cycle = cycle
         self._from = np.zeros(6)
         self._to = np.zeros(6)
