@@ -78,7 +78,6 @@ class FakeController:
         self.io: Dict[Tuple[str, int, int], float] = {}             # (kind, type, wire index)
         self.queue: List[Dict[str, Any]] = []                       # moves, the first runs
         self.requests: List[Dict[str, Any]] = []                    # every request decoded
-        self.raw: List[bytes] = []                                  # every request's bytes
         self.lock = threading.RLock()
         self._quit = threading.Event()
         self._threads: List[threading.Thread] = []
@@ -241,7 +240,6 @@ class FakeController:
                 except ValueError:
                     break
                 with self.lock:
-                    self.raw.append(buf[:end].encode())
                     self.requests.append(obj)
                 buf = buf[end:]
                 yield obj

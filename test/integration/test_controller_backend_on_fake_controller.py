@@ -7,13 +7,13 @@ from __future__ import annotations
 
 import json
 import threading
-import time
 
 import numpy as np
 import pytest
 
 from fake_controller import FakeController, load_status_packet, load_transcript
 from move_helpers import run_move
+from ros_harness import wait_until
 
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.models import load_model
@@ -71,7 +71,7 @@ def test_state_comes_from_port_10000_port_10004_or_both(source):
             ports = {"stream": [fake.status_port], "request": [fake.data_port],
                      "both": [fake.status_port, fake.data_port]}[source]
             for port in ports:
-                assert _wait(lambda: backend.describe()[f"status port {port} packets"] > 10, 2.0)
+                assert wait_until(lambda: backend.describe()[f"status port {port} packets"] > 10, 2.0)
             assert bool(fake.received("data_request")) == (source != "stream")
         finally:
             backend.shutdown()
@@ -122,7 +122,7 @@ def test_a_move_while_one_runs_is_refused_and_never_reaches_the_controllers_queu
         r=run_move(backend.start_joint_move(target, 1, 4))))
     runner.start()
     try:
-        assert _wait(lambda: fake.received("joint_move"), 2.0)
+        assert wait_until(lambda: fake.received("joint_move"), 2.0)
         second = backend.start_joint_move(np.radians(START_DEG), 1.0, 4.0)
         assert second.code == Code.BUSY and "still running" in second.message
     finally:
@@ -130,14 +130,14 @@ def test_a_move_while_one_runs_is_refused_and_never_reaches_the_controllers_queu
     assert first["r"].ok and len(fake.received("joint_move")) == 1
 
 
-def test_stop_move_empties_the_controllers_queue_and_ends_the_wait(fake, backend):
+def test_stop_move_empties_the_controllers_queue_and_ends_thewait_until(fake, backend):
     outcome = {}
     target = np.radians(START_DEG) - 0.1
     runner = threading.Thread(target=lambda: outcome.update(
         r=run_move(backend.start_joint_move(target, 1, 4))))
     fake.move_time = 5.0
     runner.start()
-    assert _wait(lambda: fake.received("joint_move"), 2.0)
+    assert wait_until(lambda: fake.received("joint_move"), 2.0)
     assert backend.stop_move().ok
     runner.join(3.0)
     assert not runner.is_alive()
@@ -152,11 +152,3 @@ def test_a_controller_refusal_is_code_2_with_its_message(fake, backend):
     assert not reply.ok and reply.error_code == "2"
     assert reply.error_msg == "call joint_move failed"
 
-
-def _wait(predicate, timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return False

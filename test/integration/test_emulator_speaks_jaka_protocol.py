@@ -326,11 +326,3 @@ def test_drop_connections_closes_every_client_and_keeps_listening(emu, client):
     finally:
         again.close()
 
-
-def _wait_inpos(client, timeout: float = 5.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if client.call("get_data")["inpos"]:
-            return True
-        time.sleep(0.02)
-    return False

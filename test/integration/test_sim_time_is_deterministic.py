@@ -9,6 +9,8 @@ import time
 import numpy as np
 import pytest
 
+from ros_harness import wait_until
+
 from jaka_driver.clock import SimClock
 from jaka_driver.driver import RobotDriver
 from jaka_driver.models import load_model
@@ -99,7 +101,7 @@ def run_once(loaded: bool):
     samples = Collector(driver)
     try:
         end = scenario(driver)
-        assert wait_for(lambda: end in samples.q, 2.0)
+        assert wait_until(lambda: end in samples.q, 2.0)
     finally:
         samples.close()
         driver.shutdown()
@@ -108,13 +110,6 @@ def run_once(loaded: bool):
             p.join(5.0)
     cycles = np.arange(0, end + 1)
     return cycles, np.array([samples.q[n] for n in cycles])
-
-
-def wait_for(predicate, timeout):
-    end = time.monotonic() + timeout
-    while not predicate() and time.monotonic() < end:
-        time.sleep(0.01)
-    return predicate()
 
 
 def test_a_scenario_gives_the_same_samples_idle_and_with_both_cores_loaded():
@@ -135,7 +130,7 @@ def test_a_servo_target_takes_effect_in_the_cycle_after_it_arrived(twin):
         assert twin.servo_j(q0 + [0, 0, 0, 0, 0, 0.004]).ok
         clock.sleep(3 * CYCLE)
     n = round(arrived / CYCLE)
-    assert wait_for(lambda: n + 2 in twin.samples.q, 2.0)
+    assert wait_until(lambda: n + 2 in twin.samples.q, 2.0)
     by_time = {k: twin.samples.q[k][5] - q0[5] for k in (n + 1, n + 2)}
     # cycle n (ending at n+1) still holds; the target is the setpoint of cycle n+1
     assert abs(by_time[n + 1]) < 1e-6, by_time
@@ -149,7 +144,7 @@ def test_the_jog_stops_3_s_of_sim_time_after_its_last_call(twin):
         assert twin.jog(0, 0, 0.2).ok
         clock.sleep(3.5)
     end = round(clock.now() / CYCLE)
-    assert wait_for(lambda: end in twin.samples.q, 2.0)
+    assert wait_until(lambda: end in twin.samples.q, 2.0)
     start = round(called / CYCLE)
     q = np.array([twin.samples.q[n][0] for n in range(start, end + 1)])
     moving = np.nonzero(np.abs(np.diff(q)) > 1e-6)[0] + 1      # cycles after the call

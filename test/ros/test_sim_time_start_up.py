@@ -6,7 +6,7 @@ controller backend asked for sim_time runs on the wall clock and leaves /use_sim
 import pytest
 from rosgraph_msgs.msg import Clock
 
-from ros_harness import DriverProcess, free_port, wait_until
+from ros_harness import DriverProcess, free_port, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -41,11 +41,8 @@ def test_the_controller_backend_leaves_ros_time_on_the_wall_clock(request, rospy
     rospy = rospy_node
     use_sim_time_before = rospy.get_param("/use_sim_time", None)
     # No controller listens on these ports: the node starts anyway and keeps retrying.
-    driver = DriverProcess(log_name="controller_sim_time", backend="controller",
-                           ip="127.0.0.1", command_port=free_port(), status_port=free_port(),
-                           sim_time="true")
-    request.addfinalizer(driver.stop)
-    driver.wait_ready()
+    driver = start_driver(request, backend="controller", ip="127.0.0.1",
+                          command_port=free_port(), status_port=free_port(), sim_time="true")
     assert "~sim_time applies to the twin only" in driver.log(), driver.log()
     assert rospy.get_param("/use_sim_time", None) == use_sim_time_before
     assert "/clock" not in dict(rospy.get_published_topics())
