@@ -71,7 +71,8 @@ def test_state_comes_from_port_10000_port_10004_or_both(source):
             ports = {"stream": [fake.status_port], "request": [fake.data_port],
                      "both": [fake.status_port, fake.data_port]}[source]
             for port in ports:
-                assert wait_until(lambda: backend.describe()[f"status port {port} packets"] > 10, 2.0)
+                assert wait_until(
+                    lambda: backend.describe()[f"status port {port} packets"] > 10, 2.0)
             assert bool(fake.received("data_request")) == (source != "stream")
         finally:
             backend.shutdown()
@@ -130,7 +131,7 @@ def test_a_move_while_one_runs_is_refused_and_never_reaches_the_controllers_queu
     assert first["r"].ok and len(fake.received("joint_move")) == 1
 
 
-def test_stop_move_empties_the_controllers_queue_and_ends_thewait_until(fake, backend):
+def test_stop_move_empties_the_controllers_queue_and_ends_the_wait(fake, backend):
     outcome = {}
     target = np.radians(START_DEG) - 0.1
     runner = threading.Thread(target=lambda: outcome.update(

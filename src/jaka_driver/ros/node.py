@@ -124,7 +124,7 @@ class StatePublisher:
         # sample, and the twin waits for this thread rather than outrun it.
         self._sim_clock = None
         if self._clock.simulated:             # every sample, whatever ~rate says
-            self._sim_clock = rospy.Publisher(sim_time.CLOCK_TOPIC, Clock, queue_size=100)
+            self._sim_clock = rospy.Publisher("/clock", Clock, queue_size=100)
             self._clock.add_consumer()
         self._count = 0
         self._window = (self._clock.now(), 0)
