@@ -65,7 +65,7 @@ class Backend(ABC):
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Block until a sample stamped later than ``after`` (s, as ``RobotState.stamp``)
         exists, at most ``timeout`` s; True if one does. Lets the node publish each sample the
-        moment it exists instead of on a clock of its own. Only called when
+        moment it exists instead of on a clock of its own; the node uses it only when
         :attr:`sample_period` is set."""
         raise NotImplementedError(f"{type(self).__name__} has no sample clock")
 

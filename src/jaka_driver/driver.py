@@ -27,17 +27,15 @@ from .watchdogs import JogWatchdog, ServoStream
 log = logging.getLogger(__name__)
 
 
-
-# Requests a client streams once per cycle: their reply does not keep time waiting for the
-# next call (the twin's clock waits for the next target instead; jaka_driver.clock).
-STREAMED = ("servo_j", "servo_p")
-
-
-def _answers(method: Callable) -> Callable:
+def _answers(method: Callable | None = None, *, react: bool = True) -> Callable:
     """Turn a refusal into its Result and any other exception into a -3 answer: a request may
     be refused, but it never takes the driver down. Simulated time stands still while a
-    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived."""
-    react = method.__name__ not in STREAMED
+    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived.
+    ``react=False`` for requests a client streams once per cycle (servo_j, servo_p): their
+    reply does not keep time waiting for the next call (the twin's clock waits for the next
+    target instead). Use as ``@_answers`` or ``@_answers(react=False)``."""
+    if method is None:
+        return lambda m: _answers(m, react=react)
 
     def wrapper(self, *args, **kwargs) -> Result:
         try:
@@ -290,7 +288,7 @@ class RobotDriver:
         self._servo.reset()
         return self.backend.servo_enable(bool(enable))
 
-    @_answers
+    @_answers(react=False)
     def servo_j(self, pose: Sequence[float]) -> Result:
         """Absolute joint target (rad) for the next 8 ms cycle."""
         q = check.joint_targets("pose", pose, self.model)
@@ -302,7 +300,7 @@ class RobotDriver:
             self._servo.accepted(q)
         return _with_gap(result, gap, self._servo.timeout)
 
-    @_answers
+    @_answers(react=False)
     def servo_p(self, pose: Sequence[float]) -> Result:
         """Absolute TCP target (m + RPY rad, active user frame) for the next cycle."""
         p = check.vector("pose", pose)

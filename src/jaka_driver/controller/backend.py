@@ -271,17 +271,21 @@ class ControllerBackend(Backend):
                 return
             if state.inpos and state.queue == 0:
                 # the move ended: let a packet from after now arrive, so state() shows it ended
-                self._await_packet_after(time.time())
+                self.wait_for_sample(time.time(), 0.2)
             watch.on_motion_state(state.inpos, state.queue, self.link.latest)
 
-    def _await_packet_after(self, moment: float, limit: float = 0.2) -> None:
-        """Wait (at most ``limit`` s) for a status packet received after ``moment``."""
-        deadline = time.monotonic() + limit
+    def wait_for_sample(self, after: float, timeout: float) -> bool:
+        """Until a status packet received later than ``after`` (s, ``time.time()``, as
+        ``RobotState.stamp``), at most ``timeout`` s. The node does not use it here (no
+        :attr:`sample_period`: the packets' timing is the controller's); the move follower
+        does."""
+        deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             latest = self.link.latest
-            if latest is not None and latest[1] > moment:
-                return
+            if latest is not None and latest[1] > after:
+                return True
             time.sleep(0.002)
+        return False
 
     @answers
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:

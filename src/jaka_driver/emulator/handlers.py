@@ -306,13 +306,17 @@ class CommandHandlers:
         if isinstance(request, dict) and request.get(Field.CMD_NAME) == Cmd.WAIT_COMPLETE:
             self.c.wait_idle(limit)
 
+    def _joint_speed(self, req) -> Tuple[float, float]:
+        """A joint-interpolated move's speed and accel (wire deg/s, deg/s² → rad/s, rad/s²).
+        Without accel (a fw 1.4.11 client sends none) the joints' own limit is used."""
+        speed = math.radians(_num(req, Field.SPEED, positive=True))
+        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
+        return speed, math.radians(_num(req, Field.ACCEL, default=default_accel, positive=True))
+
     def _joint_move(self, req) -> Answer:
         q = _joints(req)
         relative = _int(req, Field.REL_FLAG, 0, 1, default=0)
-        speed = math.radians(_num(req, Field.SPEED, positive=True))
-        # Without accel (a fw 1.4.11 client sends none) the joints' own limit is used.
-        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
-        accel = math.radians(_num(req, Field.ACCEL, default=default_accel, positive=True))
+        speed, accel = self._joint_speed(req)
         # A relative move adds to where the move before it ends: resolved when its turn comes.
         self.c.joint_move((lambda: self.c.commanded_joints() + q) if relative else (lambda: q),
                           speed, accel)
@@ -330,10 +334,7 @@ class CommandHandlers:
 
     def _end_move(self, req) -> Answer:
         pose = _pose(req, Field.END_POSITION)
-        speed = math.radians(_num(req, Field.SPEED, positive=True))
-        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
-        accel = math.radians(_num(req, Field.ACCEL, default=default_accel, positive=True))
-        self.c.end_move(pose, speed, accel)
+        self.c.end_move(pose, *self._joint_speed(req))
         return Answer()
 
     def _get_motion_state(self, _req) -> Answer:

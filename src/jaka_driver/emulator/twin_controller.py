@@ -246,12 +246,9 @@ class TwinController:
             if not solution.ok:
                 raise Rejected(f"end_move: {solution.message}")
             return solution.value
-        with self.lock:
-            self.require_can_move("end_move")
-            if not self.moving:
-                target()   # unreachable: refused now, not later
-            self.enqueue("end_move",
-                         lambda: self._start_joint_move(target(), speed, accel, "end_move"))
+        # Queued as a joint move: an unreachable pose is refused at once when idle, as a joint
+        # target outside the limits is.
+        self.joint_move(target, speed, accel, what="end_move")
 
     def linear_move(self, target: Callable[[], np.ndarray], speed: float, accel: float) -> None:
         """Queue a straight-line move; ``target()`` gives its pose (4x4, m) when its turn

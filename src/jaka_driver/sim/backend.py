@@ -29,7 +29,7 @@ from ..validation import fastest_step, outside_limits
 from . import jog_steps
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
-from .motions import Hold, Jog, RampedServoTarget, ServoTarget, Stopping, TrajectoryRun, stopped
+from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
@@ -304,7 +304,7 @@ class SimBackend(Backend):
                 if self.physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
                 # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
-                self.physics.switch(RampedServoTarget(self.physics.servo.setpoint))
+                self.physics.switch(ServoTarget(self.physics.servo.setpoint))
             else:
                 self.physics.switch(Hold())
             self.servo_mode = on
@@ -385,12 +385,12 @@ class SimBackend(Backend):
     def servo_goal(self) -> Optional[np.ndarray]:
         """The latest servo target (rad, the end of a ramp), or None outside servo mode."""
         target = self._servo_target()
-        return target.goal if isinstance(target, RampedServoTarget) else None
+        return None if target is None else target.goal
 
     def servo_ramp(self, q_target, steps: int) -> Result:
         """servo_j reached over ``steps`` cycles (8 ms each), interpolated linearly."""
         target = self._servo_target()
-        if not isinstance(target, RampedServoTarget):
+        if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         q = np.asarray(q_target, float)
         if steps <= 1:

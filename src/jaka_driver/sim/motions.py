@@ -107,33 +107,16 @@ class Stopping(Motion):
 
 
 class ServoTarget(Motion):
-    """Servo mode: the latest servo_j / servo_p target, reached within one cycle."""
+    """Servo mode: the latest servo_j / servo_p target, reached within one cycle — or, with
+    ``stepNum`` (:meth:`ramp`), over ``n`` cycles interpolated linearly, as the controller
+    does."""
 
     moving = False
 
     def __init__(self, q: np.ndarray):
         self.target = q.copy()
-        self._lock = threading.Lock()
-
-    def set(self, q: np.ndarray) -> None:
-        with self._lock:
-            self.target = q.copy()
-
-    def next(self, q_sp, qd_sp, q_meas, qd_meas):
-        with self._lock:
-            target = self.target
-        self.moving = bool(np.any(target != q_sp))
-        return target
-
-
-class RampedServoTarget(ServoTarget):
-    """Servo mode with ``stepNum``: a target may be reached over ``n`` cycles, interpolated
-    linearly, as the controller does; :meth:`set` (one cycle) is :class:`ServoTarget`'s own
-    behaviour."""
-
-    def __init__(self, q: np.ndarray):
-        super().__init__(q)
         self._ramp: Optional[tuple] = None   # (start, end, cycles done, cycles)
+        self._lock = threading.Lock()
 
     def set(self, q: np.ndarray) -> None:
         with self._lock:
@@ -157,7 +140,9 @@ class RampedServoTarget(ServoTarget):
                 k += 1
                 self.target = start + (end - start) * (k / n)
                 self._ramp = None if k >= n else (start, end, k, n)
-        return super().next(q_sp, qd_sp, q_meas, qd_meas)
+            target = self.target
+        self.moving = bool(np.any(target != q_sp))
+        return target
 
 
 @dataclass(eq=False)
