@@ -16,7 +16,7 @@ if str(ROOT / "test") not in sys.path:
 
 
 from ros_harness import (DriverProcess, Recorder, RosMaster, Services,  # noqa: E402,F401
-                         stop_process, wait_until)
+                         forget_sim_time, stop_process, wait_until)
 
 
 def start_ros(stack: ExitStack) -> RosMaster:

@@ -8,18 +8,18 @@
 """
 from __future__ import annotations
 
-import multiprocessing
 import threading
 import time
 
 import numpy as np
 
+from .cpu_load import BusyLoad
+from .poses import HOME
 from .report import Row, judged
 
 SIM_SECONDS = 60.0
 WALL_TARGET = 15.0
-HOME = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
-POSES = [[0.5, 1.2, -1.0, 1.9, 1.2, 0.8], [-0.6, 1.8, -1.9, 1.2, 1.9, -0.5], HOME]
+POSES = [[0.5, 1.2, -1.0, 1.9, 1.2, 0.8], [-0.6, 1.8, -1.9, 1.2, 1.9, -0.5], HOME.tolist()]
 GROUP = "Simulated time (zu5 twin, real_time_factor 0)"
 
 
@@ -42,7 +42,7 @@ def speed_through_ros(stack) -> dict:
     from . import ros_session
     driver = ros_session.start_driver(stack, "bench_sim_time", backend="sim", model="zu5",
                                       sim_time="true", real_time_factor=0)
-    stack.callback(_forget_use_sim_time)
+    stack.callback(ros_session.forget_sim_time)
     calls = ros_session.services(stack, driver)
     joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
     ros_session.wait_until(joints.latest, 10.0)
@@ -61,18 +61,6 @@ def speed_through_ros(stack) -> dict:
     return {"moves": moves, "sim_s": sim, "wall_s": wall, "factor": sim / wall}
 
 
-def _forget_use_sim_time():
-    import os
-    import xmlrpc.client
-    xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam("/bench",
-                                                                        "/use_sim_time")
-
-
-def _burn(stop):
-    while not stop.is_set():
-        sum(i * i for i in range(10000))
-
-
 def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
     """Joint samples of every cycle of one run (the client holds the clock from the start)."""
     from jaka_driver.driver import RobotDriver
@@ -80,11 +68,7 @@ def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
     from jaka_driver.constants import SERVO_CYCLE as CYCLE
     from jaka_driver.sim.backend import SimBackend
 
-    stop = multiprocessing.Event()
-    burners = [multiprocessing.Process(target=_burn, args=(stop,), daemon=True)
-               for _ in range(2 if loaded else 0)]
-    for p in burners:
-        p.start()
+    load = BusyLoad(2).__enter__() if loaded else None
     driver = RobotDriver(SimBackend(load_model("zu5"), sim_time=True, real_time_factor=0))
     clock, seen, done = driver.clock, {}, threading.Event()
 
@@ -129,9 +113,8 @@ def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
         done.set()
         collector.join(2.0)
         driver.shutdown()
-        stop.set()
-        for p in burners:
-            p.join(5.0)
+        if load is not None:
+            load.stop()
     return np.array([seen[n] for n in range(end + 1)]), wall
 
 

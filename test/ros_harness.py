@@ -243,13 +243,15 @@ def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
 
 # --- simulated time: the twin owns time (sim_time); the tests read it from the samples ---
 
+def forget_sim_time() -> None:
+    """Remove /use_sim_time, so the next node starts on the wall clock."""
+    xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam("/test_harness",
+                                                                        "/use_sim_time")
+
+
 def start_sim_time_driver(request, real_time_factor=0, **params):
     """The node on the zu5 twin with ``sim_time``: /use_sim_time is removed again when it
     stops, so the next module's driver starts on the wall clock."""
-    def forget_sim_time():
-        xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam(
-            "/test_harness", "/use_sim_time")
-
     request.addfinalizer(forget_sim_time)
     return start_driver(request, backend="sim", model="zu5", sim_time="true",
                         real_time_factor=real_time_factor, **params)
