@@ -50,4 +50,7 @@ class FrameBroadcaster:
                 self._tf.sendTransform(out)
             except Exception as exc:  # noqa: BLE001 — TF must not take the node down
                 rospy.logerr_throttle(10.0, f"frame TF failed: {exc!r}")
-            rospy.sleep(self._period)
+            try:
+                rospy.sleep(self._period)
+            except rospy.ROSInterruptException:
+                return          # shutting down (in sim time the sleep is interrupted, not ended)
