@@ -17,11 +17,12 @@ the flange (:meth:`NativeIk.solve_seeded`) or of the joint-6 frame (:meth:`Nativ
 from __future__ import annotations
 
 import ctypes
-import os
 from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
+
+from .. import native_library
 
 LIBRARY = "libjaka_ik.so"
 _DoubleP = ctypes.POINTER(ctypes.c_double)
@@ -42,20 +43,8 @@ class _Chain(ctypes.Structure):
 
 
 def library_path() -> Path:
-    """``$JAKA_IK_LIB``, else ``devel/lib`` of the source tree (``make setup``), else the ``lib``
-    folder of the first catkin devel or install space on ``CMAKE_PREFIX_PATH`` that has it."""
-    explicit = os.environ.get("JAKA_IK_LIB")
-    if explicit:
-        return Path(explicit)
-    from ..models import repo_root
-    made = repo_root() / "devel" / "lib" / LIBRARY
-    if made.is_file():
-        return made
-    for prefix in filter(None, os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep)):
-        built = Path(prefix) / "lib" / LIBRARY
-        if built.is_file():
-            return built
-    return made
+    """``$JAKA_IK_LIB``, else where :func:`jaka_driver.native_library.path` finds it."""
+    return native_library.path(LIBRARY, "JAKA_IK_LIB")
 
 
 def _open() -> Optional[ctypes.CDLL]:

@@ -241,12 +241,21 @@ def _params() -> dict:
     }
 
 
-def _log_files(model: str) -> None:
-    """Say where the URDF and the compiled IK came from (source tree, devel or install space)."""
+def _log_files(model: str, twin: bool) -> None:
+    """Say where the URDF and the compiled libraries came from (source tree, devel or install
+    space), or that the Python path does their work (the twin's cycle: with ``twin`` only)."""
     from ..kinematics import native
+    from ..sim import native_drives
     lib = native.library_path()
     rospy.loginfo(f"URDF {load_model(model).urdf_path}; IK library "
                   + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
+    if not twin:
+        return
+    drives = native_drives.library_path()
+    rospy.loginfo("twin cycle library "
+                  + (str(drives) if native_drives.load() is not None else
+                     f"{drives} not found or built for another MuJoCo: the twin steps its "
+                     "cycle in numpy"))
 
 
 def main() -> int:
@@ -304,7 +313,7 @@ def main() -> int:
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     Diagnostics(driver, publisher.measured_rate)
-    _log_files(p["model"])
+    _log_files(p["model"], twin=p["backend"] == "sim")
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "

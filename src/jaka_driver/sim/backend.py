@@ -26,7 +26,7 @@ from ..results import Code, Result
 from ..robot_state import RobotState
 from ..transforms import matrix_to_pose_mm
 from ..validation import fastest_step, outside_limits
-from . import jog_steps
+from . import jog_steps, native_drives
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
 from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
@@ -55,7 +55,8 @@ class SimBackend(Backend):
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
         q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
-        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE)
+        servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE,
+                           native_drives.load())
         self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE,
                                    clock=self.clock if sim_time else None)
         self.payload = Payload(self.mj_model)

@@ -50,11 +50,10 @@ class FollowingErrorMonitor:
     def check(self, d: mujoco.MjData) -> None:
         if not self.armed or self._servo.released:
             return
-        lag = np.abs(self._servo.setpoint - d.qpos[:6])
-        k = int(np.argmax(lag))
-        if lag[k] > FOLLOWING_ERROR_LIMIT:
+        k, lag = self._servo.following_error(d)
+        if lag > FOLLOWING_ERROR_LIMIT:
             self.armed = False
-            self._on_overload(f"protective stop: {self._names[k]} is {lag[k]:.3f} rad behind its "
+            self._on_overload(f"protective stop: {self._names[k]} is {lag:.3f} rad behind its "
                               f"setpoint (limit {FOLLOWING_ERROR_LIMIT:g} rad): the drive cannot "
                               "hold the arm (payload too heavy or too far out, or pushed); brakes "
                               "closed")

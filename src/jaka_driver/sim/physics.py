@@ -22,8 +22,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, NamedTuple, Optional
 
 import mujoco
 import numpy as np
@@ -36,12 +35,14 @@ from .servo import JointServo
 # Cycles after which a late wake-up counts as a stall and time is skipped, not caught up.
 HISTORY = 32                        # samples kept for readers that fell behind (0.26 s)
 WAKE_MARGIN = 0.0002                # s
+_NO_TORQUE = np.zeros(6)            # N·m: joints held by their brakes
+_NO_TORQUE.flags.writeable = False
 
 
-@dataclass(frozen=True)
-class Sample:
+class Sample(NamedTuple):
     """Measured joints at ``stamp`` (s: wall-clock time, or sim time when the twin owns
-    time): rad, rad/s, N·m."""
+    time): rad, rad/s, N·m. A named tuple: one is made every cycle, and a tuple is made in a
+    third of a frozen dataclass's time."""
 
     stamp: float
     q: np.ndarray
@@ -58,11 +59,13 @@ class PhysicsLoop:
         self.m = m
         self.d = mujoco.MjData(m)
         self.servo = servo
-        self.steps_per_cycle = max(1, round(cycle / m.opt.timestep))
+        self.steps_per_cycle = servo.steps
         self.cycle = self.steps_per_cycle * m.opt.timestep
         self.lock = threading.RLock()
         self._sampled = threading.Condition()
         self.d.qpos[:6] = q0
+        # The measured joints (rad, rad/s): views made once (MjData's arrays stay where they are)
+        self._q, self._qd = self.d.qpos[:6], self.d.qvel[:6]
         mujoco.mj_forward(m, self.d)
         servo.reset(np.asarray(q0, float))
         self._motion: Motion = Hold()
@@ -222,28 +225,25 @@ class PhysicsLoop:
 
     def _cycle(self) -> None:
         """Step one cycle, check it, choose the next setpoint and record the sample."""
-        m, d = self.m, self.d
+        d = self.d
         if not self._braked:
-            self.servo.begin_cycle(d)
-            mujoco.mj_step(m, d, nstep=self.steps_per_cycle)
-            self._tau = d.qfrc_actuator[:6].copy()
+            self.servo.step(d)
+            self._tau = self.servo.tau
         else:
             # Joints locked by their brakes (the arm is all there is that moves): nothing to
             # integrate, the drives give no torque.
             d.time += self.cycle
-            self._tau = np.zeros(6)
+            self._tau = _NO_TORQUE
         self.steps_total += self.steps_per_cycle
         for check in self.on_cycle:
             check(d)
         # The cycle ends: the setpoint for the next one, from what has arrived by now.
-        q_sp = self._motion.next(self.servo.setpoint, self.servo.setpoint_velocity,
-                                 d.qpos[:6], d.qvel[:6])
-        self.servo.new_setpoint(np.asarray(q_sp, float))
+        servo = self.servo
+        servo.new_setpoint(self._motion.next(servo.setpoint, servo.setpoint_velocity,
+                                             self._q, self._qd))
         self._record()
 
     def _record(self) -> None:
-        d = self.d
-        self._sample = Sample(stamp=self.wall0 + d.time, q=d.qpos[:6].copy(),
-                              qd=d.qvel[:6].copy(), tau=self._tau.copy(),
-                              moving=self._motion.moving)
+        self._sample = Sample(self.wall0 + self.d.time, self._q.copy(), self._qd.copy(),
+                              self._tau.copy(), self._motion.moving)
         self._history.append(self._sample)
