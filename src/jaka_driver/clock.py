@@ -16,7 +16,11 @@ them for determinism; README "Simulated time" tells users):
   needed (in wall time) to check and plan it.
 - **Waiting lets time run.** A holding thread that waits on the clock (:meth:`SimClock.wait`,
   :meth:`SimClock.sleep`) stops holding until it is woken; it is woken *between* two cycles
-  and holds again from then, so what it does next happens at a definite sim time.
+  and holds again from then, so what it does next happens at a definite sim time — also when
+  what it waits for (a move's completion) happens inside a cycle: it wakes once that cycle
+  has ended.
+- **Requests act between cycles.** A request that arrives while a cycle is being stepped
+  starts once that cycle has ended, as a controller latches commands between its cycles.
 - **A reply waits for its caller.** When a request's reply is made, time stands still until
   the next request arrives (or an in-process caller waits on the clock), at most
   ``REACTION_WINDOW`` s of wall time: a client that calls again at once (a robot program's
@@ -47,6 +51,7 @@ REACTION_WINDOW = 0.2     # s wall: how long time waits for a caller's next requ
 HOLD_LIMIT = 10.0         # s wall: a hold older than this no longer stops time
 MAX_LAG = 16              # cycles the twin may run ahead of its consumer
 WALL_SLICE = 0.05         # s wall: waiters re-check their condition at least this often
+STEPPING_WAIT = 1.0       # s wall: the longest a new request waits for a cycle to end
 
 
 class WallClock:
@@ -101,6 +106,7 @@ class SimClock:
         self._gap_started = time.monotonic()     # wall time the current gap between cycles began
         self._consumed: Optional[int] = None     # cycles the consumer has taken
         self._anchor: Optional[tuple[float, int]] = None    # (wall time, cycles) of the pacer
+        self._stepping = False                   # a cycle has started and not ticked yet
         self._stale_warned = False
 
     # ---- reading and waiting -------------------------------------------------------------
@@ -128,7 +134,9 @@ class SimClock:
             try:
                 while not waiter.woken:
                     self._cond.wait(WALL_SLICE)
-                    if event is not None and event.is_set():
+                    # An event set inside a cycle wakes the waiter when the cycle ends (tick),
+                    # not while the twin is still finishing it.
+                    if event is not None and event.is_set() and not self._stepping:
                         waiter.woken = True
             finally:
                 del self._waiting[tid]
@@ -148,6 +156,10 @@ class SimClock:
         tid = threading.get_ident()
         with self._cond:
             self._reaction_until = 0.0          # the request the window waited for is here
+            if tid not in self._holds:
+                # A cycle being stepped ends first (well under a millisecond; bounded, so a
+                # caller that holds what the cycle needs cannot freeze both).
+                self._cond.wait_for(lambda: not self._stepping, STEPPING_WAIT)
             entry = self._holds.setdefault(tid, [0, time.monotonic()])
             entry[0] += 1
         try:
@@ -200,31 +212,43 @@ class SimClock:
 
     # ---- the physics loop's side ------------------------------------------------------------
     def wait_for_cycle(self, quit_: threading.Event) -> bool:
-        """Block until the next cycle may start (nothing holds time, the pacer allows it);
-        False if ``quit_`` was set meanwhile."""
+        """Block until the next cycle may start (nothing holds time, the pacer allows it)
+        and mark it started (until :meth:`tick`); False if ``quit_`` was set meanwhile.
+        Whether anything holds time is decided in the same critical section that starts the
+        cycle: a request that came during the pacer's wait stops it."""
         held = False
-        with self._cond:
-            while not quit_.is_set():
-                wall = time.monotonic()
-                until = self._blocked(wall)
-                if until is None:
-                    break
-                held = True
-                self._cond.wait(max(0.0, min(until, wall + WALL_SLICE) - wall))
-            else:
+        while True:
+            with self._cond:
+                while not quit_.is_set():
+                    wall = time.monotonic()
+                    until = self._blocked(wall)
+                    if until is None:
+                        break
+                    held = True
+                    self._cond.wait(max(0.0, min(until, wall + WALL_SLICE) - wall))
+                else:
+                    return False
+                delay = self._pacing_delay(held)
+                if delay <= 0:
+                    self._stepping = True
+                    return True
+                held = False
+            if quit_.wait(delay):
                 return False
-        if self.real_time_factor > 0:
-            period = self.cycle / self.real_time_factor
-            wall = time.monotonic()
-            if (held or self._anchor is None
-                    or wall - self._due(period) > STALL_CYCLES * period):
-                # Time stood still (or the machine stalled): pace on from here; the held
-                # time is not caught up in a burst.
-                self._anchor = (wall, self.cycles)
-            delay = self._due(period) - wall
-            if delay > 0:
-                quit_.wait(delay)
-        return not quit_.is_set()
+
+    def _pacing_delay(self, held: bool) -> float:
+        """Wall seconds until the coming cycle may start at the real-time factor (0 or less:
+        now)."""
+        if self.real_time_factor <= 0:
+            return 0.0
+        period = self.cycle / self.real_time_factor
+        wall = time.monotonic()
+        if (held or self._anchor is None
+                or wall - self._due(period) > STALL_CYCLES * period):
+            # Time stood still (or the machine stalled): pace on from here; the held
+            # time is not caught up in a burst.
+            self._anchor = (wall, self.cycles)
+        return self._due(period) - wall
 
     def _due(self, period: float) -> float:
         """Wall time at which the coming cycle has elapsed at the real-time factor."""
@@ -236,6 +260,7 @@ class SimClock:
         hold again, if they held, before the next cycle may start)."""
         with self._cond:
             self.cycles += 1
+            self._stepping = False
             self._gap_started = time.monotonic()
             for waiter in self._waiting.values():
                 if waiter.deadline <= self.cycles or (waiter.event is not None

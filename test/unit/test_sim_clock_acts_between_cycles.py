@@ -1,0 +1,75 @@
+"""The twin's simulated clock lets requests and woken waiters act only between cycles.
+
+The test plays the physics loop itself (``wait_for_cycle`` … ``tick``) and holds a cycle
+"in progress" for far longer than the clock's wall-time slices, so each rule is checked
+without depending on how the threads happen to be scheduled:
+
+* an event set inside a cycle (a move's completion) wakes its holding waiter when that cycle
+  has ticked, not while it is being stepped — else what the waiter does next (plan from the
+  latest sample, read the time) depends on how far the cycle had got;
+* a request (``hold``) that arrives while a cycle is being stepped starts after it;
+* a request that arrives while the pacer waits for the wall clock stops the cycle from
+  starting.
+"""
+import threading
+import time
+
+from jaka_driver.clock import SimClock
+
+CYCLE = 0.008
+IN_CYCLE_S = 0.3          # wall time a cycle stays "being stepped": 6 wall slices
+
+
+def _in_thread(fn) -> threading.Thread:
+    thread = threading.Thread(target=fn, daemon=True)
+    thread.start()
+    return thread
+
+
+def test_an_event_set_inside_a_cycle_wakes_its_waiter_after_the_tick():
+    clock, event, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event(), threading.Event()
+    woke_at = []
+
+    def waiter():
+        with clock.hold():
+            clock.wait(event, 10.0)
+            woke_at.append(clock.cycles)
+
+    thread = _in_thread(waiter)
+    time.sleep(0.1)                          # the waiter waits: time may run
+    assert clock.wait_for_cycle(quit_)       # a cycle starts...
+    event.set()                              # ...and the move completes inside it
+    time.sleep(IN_CYCLE_S)
+    assert woke_at == [], "the waiter woke while the cycle was still being stepped"
+    clock.tick()
+    thread.join(2.0)
+    assert woke_at == [1]
+
+
+def test_a_request_arriving_during_a_cycle_starts_after_it():
+    clock, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event()
+    started_at = []
+
+    def request():
+        with clock.hold():
+            started_at.append(clock.cycles)
+
+    assert clock.wait_for_cycle(quit_)
+    thread = _in_thread(request)
+    time.sleep(IN_CYCLE_S)
+    assert started_at == [], "the request started inside the cycle"
+    clock.tick()
+    thread.join(2.0)
+    assert started_at == [1]
+
+
+def test_a_request_during_the_pacers_wait_stops_the_cycle():
+    cycle = 0.5                              # paced at real time: the pacer waits ~0.5 s
+    clock, quit_ = SimClock(cycle, real_time_factor=1.0), threading.Event()
+    started = threading.Event()
+    _in_thread(lambda: clock.wait_for_cycle(quit_) and started.set())
+    time.sleep(0.1)                          # the pacer is waiting for the wall clock
+    with clock.hold():
+        assert not started.wait(1.0), "the cycle started while a request held time"
+    assert started.wait(2.0)
+    quit_.set()
