@@ -7,7 +7,8 @@ For the zu5 twin (``SimBackend`` built, its physics thread not started):
   contact detection switched off;
 * the twin's full cycle, as its thread runs it: the drives' per-cycle set-up, one
   ``mj_step(m, d, nstep=8)``, the collision and overload checks, the motion source and the
-  sample — counted in physics steps (8 per cycle);
+  sample — counted in physics steps (8 per cycle); the row says whether the compiled cycle
+  (sim/joint_drives.c) or its numpy fallback ran;
 * the drives' tracking: a 0.5 Hz sine of 0.5 rad/s peak on every joint streamed as servo
   targets, one per cycle; the error (rad) of each joint at the end of each cycle against that
   cycle's setpoint.
@@ -113,7 +114,7 @@ def run(model_name: str = "zu5", seconds: float = SECONDS) -> dict:
     hot = hot_functions(physics._cycle, 1000)
     return {"model": model_name, "timestep_s": dt, "mj_step_per_s": mj_rate,
             "twin_step_per_s": twin_rate, "mj_step_no_contacts_per_s": free_rate,
-            "contacts_at_pose": contacts,
+            "contacts_at_pose": contacts, "compiled": physics.servo.compiled,
             "mj_rtf": mj_rate * dt, "twin_rtf": twin_rate * dt, "profile": hot,
             "sine": sine_tracking(model_name)}
 
@@ -126,14 +127,17 @@ def rows(r: dict) -> list[Row]:
             f"{r['mj_step_no_contacts_per_s'] / 1e3:.0f} k steps/s ({r['contacts_at_pose']} "
             "contacts)", "report", REPORT, data=r),
         Row(group, f"{r['model']}: full twin cycle (drives set-up + mj_step × 8 + checks), "
-            "per step", f"{r['twin_step_per_s'] / 1e3:.1f} k steps/s, RTF {r['twin_rtf']:.0f}",
+            "per step", f"{r['twin_step_per_s'] / 1e3:.1f} k steps/s, RTF {r['twin_rtf']:.0f} "
+            + ("(compiled cycle)" if r.get("compiled") else
+               "(numpy cycle: libjaka_drives.so not built)"),
             f"report; RTF ≥ {RTF_TARGET:g}", judged(r["twin_rtf"] >= RTF_TARGET),
             note=("" if r["twin_rtf"] >= RTF_TARGET else
                   f"MuJoCo alone, stepped as the twin steps it, runs at RTF {r['mj_rtf']:.0f} "
                   "in the row above (same run): that is the ceiling at a 1 ms physics step. "
-                  "The rest of the cycle is the Python around the one mj_step call, paid once "
-                  f"per 8 ms (cProfile, own time: {describe(r['profile'])}). The target needs "
-                  "MuJoCo's own step well above RTF 150, or a longer physics step.")),
+                  "The rest of the cycle is paid once per 8 ms: the drives' set-up (in C with "
+                  "the compiled cycle) and the Python of the checks, the motion source and the "
+                  f"sample (cProfile, own time: {describe(r['profile'])}). With MuJoCo this "
+                  "close to the target, a busy machine decides the row.")),
         Row(group, f"{r['model']}: drives' tracking of a {r['sine']['hz']:g} Hz sine of "
             f"{r['sine']['peak_rad_s']:g} rad/s peak, error at each cycle's end",
             f"max {r['sine']['max_rad'] * 1e3:.4f} mrad, RMS {r['sine']['rms_rad'] * 1e3:.4f} "
