@@ -72,6 +72,9 @@ class TwinController:
         self.identity = f"jaka_driver emulator ({twin.model.name} MuJoCo twin), not a controller"
         self.lock = threading.RLock()
         self._pending: Optional[Completion] = None    # the running move, until it ends
+        # A move taken from the queue and being started (planned): it counts as moving, so
+        # a client never sees the queue done between two queued moves.
+        self._starting = False
         self._running_label = ""
         self._queue: Deque[QueuedMove] = collections.deque()
         self._queue_changed = threading.Condition(threading.Lock())
@@ -105,6 +108,7 @@ class TwinController:
             with self.lock:
                 if not self._queue:
                     continue
+                self._starting = True           # before the queue looks empty (lock-free readers)
                 label, start = self._queue.popleft()
                 try:
                     started = start()
@@ -116,8 +120,10 @@ class TwinController:
                     log.warning("emulator: queued %s refused when its turn came: %s; the queue "
                                 "is cleared", label, started.message)
                     self._queue.clear()
+                    self._starting = False
                     continue
                 self._pending, self._running_label = started.value[0], label
+                self._starting = False
             outcome = started.value[0]
             while outcome.wait(0.1) is None and not self._quit.is_set():
                 pass
@@ -143,7 +149,8 @@ class TwinController:
     @property
     def moving(self) -> bool:
         pending = self._pending
-        return bool(self._queue) or (pending is not None and not pending.done)
+        return (self._starting or bool(self._queue)
+                or (pending is not None and not pending.done))
 
     def wait_idle(self, timeout: float) -> bool:
         """Block until the queue is done (``wait_complete``); False on timeout."""
