@@ -114,7 +114,9 @@ class JointServo:
         self._setpoint, self._setpoint_velocity = self._to.view(), self._velocity.view()
         self._setpoint.flags.writeable = False
         self._setpoint_velocity.flags.writeable = False
-        self._native = native
+        # The C cycle takes MuJoCo's structures by address (``_address`` of the bindings);
+        # bindings without it step in numpy.
+        self._native = native if hasattr(m, "_address") else None
         self._d_addr = None
         self._views = None
 
