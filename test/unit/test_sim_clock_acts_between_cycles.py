@@ -26,6 +26,17 @@ def _in_thread(fn) -> threading.Thread:
     return thread
 
 
+def _acts_only_after_the_tick(clock: SimClock, thread: threading.Thread, acted_at: list,
+                              what: str) -> None:
+    """With a cycle started, ``thread`` has not acted ``IN_CYCLE_S`` later; after the tick it
+    acts, at cycle 1."""
+    time.sleep(IN_CYCLE_S)
+    assert acted_at == [], what
+    clock.tick()
+    thread.join(2.0)
+    assert acted_at == [1]
+
+
 def test_an_event_set_inside_a_cycle_wakes_its_waiter_after_the_tick():
     clock, event, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event(), threading.Event()
     woke_at = []
@@ -39,11 +50,8 @@ def test_an_event_set_inside_a_cycle_wakes_its_waiter_after_the_tick():
     time.sleep(0.1)                          # the waiter waits: time may run
     assert clock.wait_for_cycle(quit_)       # a cycle starts...
     event.set()                              # ...and the move completes inside it
-    time.sleep(IN_CYCLE_S)
-    assert woke_at == [], "the waiter woke while the cycle was still being stepped"
-    clock.tick()
-    thread.join(2.0)
-    assert woke_at == [1]
+    _acts_only_after_the_tick(clock, thread, woke_at,
+                              "the waiter woke while the cycle was still being stepped")
 
 
 def test_a_request_arriving_during_a_cycle_starts_after_it():
@@ -55,12 +63,8 @@ def test_a_request_arriving_during_a_cycle_starts_after_it():
             started_at.append(clock.cycles)
 
     assert clock.wait_for_cycle(quit_)
-    thread = _in_thread(request)
-    time.sleep(IN_CYCLE_S)
-    assert started_at == [], "the request started inside the cycle"
-    clock.tick()
-    thread.join(2.0)
-    assert started_at == [1]
+    _acts_only_after_the_tick(clock, _in_thread(request), started_at,
+                              "the request started inside the cycle")
 
 
 def test_a_request_during_the_pacers_wait_stops_the_cycle():
