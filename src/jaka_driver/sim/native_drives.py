@@ -46,9 +46,8 @@ class NativeDrives:
     whole cycle (ctypes.CDLL); ``new_setpoint``, a few dozen nanoseconds of work, keeps it
     (ctypes.PyDLL: no lock hand-over for so little)."""
 
-    def __init__(self, path: Path):
-        released = ctypes.CDLL(str(path))
-        held = ctypes.PyDLL(str(path))
+    def __init__(self, released: ctypes.CDLL, path: Path):
+        held = ctypes.PyDLL(str(path))      # the same library, its calls keeping the lock
         self.cycle = released.jd_cycle
         self.cycle.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
         self.cycle.restype = None
@@ -59,9 +58,9 @@ class NativeDrives:
 
 @functools.lru_cache(maxsize=None)
 def load() -> Optional[NativeDrives]:
-    """The compiled cycle (opened once per process), or None when the library is not built, does not open, was built
-    from another joint_drives.c or against another MuJoCo (its structures could be laid out
-    otherwise: never guess)."""
+    """The compiled cycle (opened once per process), or None when the library is not built,
+    does not open, was built from another joint_drives.c or against another MuJoCo (its
+    structures could be laid out otherwise: never guess)."""
     path = library_path()
     if not path.is_file():
         return None
@@ -70,6 +69,6 @@ def load() -> Optional[NativeDrives]:
         if (lib.jd_drives_size() != ctypes.sizeof(Drives)
                 or lib.jd_mujoco_version() != mujoco.mj_version()):
             return None
-        return NativeDrives(path)
+        return NativeDrives(lib, path)
     except (OSError, AttributeError):
         return None
