@@ -1,8 +1,10 @@
 """The state topics through ROS: all four publish at 125 Hz (a generous window here; the tight
 numbers are in bench/), every message is stamped with its sample time, and a blocking move
 in a service thread does not hold the publisher up."""
+import platform
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -67,3 +69,25 @@ def test_topic_names_are_exactly_the_contracts(sim_driver, rospy_node):
     expected = {"/jaka_driver/tool_position", "/jaka_driver/joint_position",
                 "/jaka_driver/robot_states", "/joint_states"}
     assert expected <= published, expected - published
+
+
+def _kernel_has_custom_slices() -> bool:
+    """Linux 6.12 and later honour a SCHED_OTHER thread's own time slice."""
+    major, minor = (int(x) for x in platform.release().split(".")[:2])
+    return (major, minor) >= (6, 12)
+
+
+def test_every_node_thread_asks_the_kernel_for_a_short_time_slice(sim_driver):
+    """Set once in the main thread before rospy and the twin start theirs, so the physics,
+    publisher and service threads all wake as latency-sensitive (jaka_driver.latency_hint)."""
+    slices = {}
+    for task in Path(f"/proc/{sim_driver.proc.pid}/task").iterdir():
+        sched = (task / "sched").read_text()
+        slices[task.name] = int(sched.split("se.slice")[1].split(":")[1].split()[0])
+    log = sim_driver.log_path.read_text()
+    if _kernel_has_custom_slices():
+        assert len(slices) >= 5, slices         # main, physics, publisher, rospy's own...
+        assert set(slices.values()) == {200_000}, slices
+        assert "scheduling: time slice 0.2 ms" in log
+    else:
+        assert "scheduling: no short time slice: this kernel has no custom slices" in log

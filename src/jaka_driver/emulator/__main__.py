@@ -13,6 +13,7 @@ import signal
 import sys
 import threading
 
+from .. import latency_hint
 from ..models import MODEL_NAMES
 from .handlers import EMULATOR_COMMANDS
 
@@ -42,8 +43,10 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
+    scheduling = latency_hint.request_short_slice()     # done already by the script
     logging.basicConfig(level=args.log_level.upper(),
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    logging.getLogger("jaka_driver.emulator").info("scheduling: %s", scheduling)
     from .app import Emulator   # imports MuJoCo: after argument errors are reported
     done = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):

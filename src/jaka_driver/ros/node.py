@@ -43,6 +43,7 @@ from sensor_msgs.msg import JointState
 
 from jaka_msgs.msg import RobotMsg
 
+from .. import latency_hint
 from ..driver import RobotDriver
 from ..models import MODEL_NAMES, load_model
 from ..robot_state import RobotState
@@ -259,6 +260,7 @@ def _log_files(model: str, twin: bool) -> None:
 
 
 def main() -> int:
+    scheduling = latency_hint.request_short_slice()     # done already by the script
     requested = sim_time.requested(sys.argv, NODE_NAME)
     clock_owners = (sim_time.other_clock_publishers(sim_time.node_name(sys.argv, NODE_NAME))
                     if requested else [])
@@ -266,6 +268,7 @@ def main() -> int:
         sim_time.use_sim_time()
     rospy.init_node(NODE_NAME)
     _forward_logging()
+    rospy.loginfo(f"scheduling: {scheduling}")
     p = _params()
     if p["sim_time"] and p["backend"] != "sim":
         rospy.logwarn("~sim_time applies to the twin only: the controller backend runs on "
