@@ -1,6 +1,7 @@
 """The measurements that need a running driver node, in the order they run on it.
 
-1. state topics for ``topic_s`` with the machine otherwise idle (node CPU measured alongside);
+1. state topics for ``topic_s`` with the machine otherwise idle (node CPU measured alongside),
+   then the bare timer loop of :mod:`bench.scheduler_floor` (what the machine allows);
 2. the same with both cores loaded by :class:`bench.cpu_load.BusyLoad` (node CPU too);
 3. servo_j round trip; 4. the servo sine stream (node CPU measured during it).
 
@@ -13,19 +14,22 @@ from contextlib import ExitStack
 
 from sensor_msgs.msg import JointState
 
-from . import node_resources, ros_session, servo_latency, state_topics
+from . import node_resources, ros_session, scheduler_floor, servo_latency, state_topics
 from .cpu_load import BusyLoad
 from .proc_meter import CpuWindow, MachineWindow
 
+FLOOR_S = 10.0      # the bare loop's window: 1250 wake-ups
+
 
 def _window(driver, seconds: float, loaded: bool):
+    """The topics for ``seconds``, then the bare timer loop under the same load."""
     with ExitStack() as stack:
         if loaded:
             stack.enter_context(BusyLoad())
-        machine = stack.enter_context(MachineWindow())
-        cpu = stack.enter_context(CpuWindow(driver.proc.pid))
-        samples = state_topics.record(driver, seconds)
-    return samples, {**cpu.as_dict(), "machine_percent": machine.percent}
+        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu:
+            samples = state_topics.record(driver, seconds)
+        floor = scheduler_floor.timer_loop(min(seconds, FLOOR_S))
+    return samples, {**cpu.as_dict(), "machine_percent": machine.percent}, floor
 
 
 def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: float,
@@ -35,11 +39,14 @@ def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: floa
     rows, raw, cpu = [], {}, {}
     for condition, loaded in (("idle", False), ("both cores loaded", True)):
         log(f"  state topics, {condition}, {topic_s:g} s")
-        samples, cpu[condition] = _window(driver, topic_s, loaded)
+        samples, cpu[condition], floor = _window(driver, topic_s, loaded)
         stats = state_topics.analyse(samples)
         rows += state_topics.rows(group, condition, stats, judge=judge,
                                   machine_percent=cpu[condition]["machine_percent"])
+        rows += scheduler_floor.rows(group, condition, scheduler_floor.analyse(floor),
+                                     state_topics.INTERARRIVAL_P99_MS)
         raw[f"topics {condition}"] = samples
+        raw[f"timer loop {condition}"] = floor
         raw[f"machine {condition}"] = cpu[condition]["machine_percent"]
     with ExitStack() as stack:
         joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
