@@ -9,9 +9,14 @@ Since kernel 6.12 a thread may ask for a shorter slice (``sched_setattr`` with
 first when it wakes. It gets no larger share of the CPU and needs no privilege, unlike
 real-time priority. Older kernels accept the call and ignore the slice.
 
-Measured on the 2-core development machine, both cores loaded by busy programs, five paired
-10 s windows: state-topic inter-arrival p99 13.7 → 12.4 ms and sample age p99 6.7 → 5.9 ms
-(medians), node CPU unchanged (10.3 / 9.9 %).
+Measured on the 2-core development machine, the node's threads with and without it in one
+running node, both cores loaded by busy programs for the latency (medians of paired 8–10 s
+windows): state-topic inter-arrival p99 13.5 → 11.3 ms and sample age p99 6.8 → 4.6 ms (4
+pairs; 13.7 → 12.4 and 6.7 → 5.9 in 5 earlier pairs). The price, idle: 513 instead of 287
+context switches a second and 1.1–1.3 points more of a core (8.6 → 9.9 %, 10.7 → 11.8 % in
+two sets of pairs): the publisher, woken by the physics thread, now runs at once and finds
+the interpreter lock still held, so it sleeps again until the physics thread lets go. The
+physics thread alone with the short slice costs nothing and gains nothing measurable.
 
 Threads inherit the setting from the thread that starts them, so the scripts request it first
 thing, before an import can start one (numpy's BLAS pool does); this module imports nothing
