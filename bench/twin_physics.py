@@ -72,13 +72,13 @@ def sine_tracking(model_name: str = "zu5", seconds: float = SINE_S) -> dict:
     cycle = physics.cycle
     center = physics.servo.setpoint.copy()
     amplitude = SINE_PEAK_RAD_S / (2 * np.pi * SINE_HZ)
-    target = ServoTarget(center)
+    target = ServoTarget(center, physics)
     physics.switch(target)
     errors, previous = [], None
     for k in range(int(round(seconds / cycle))):
         q = center + amplitude * np.sin(2 * np.pi * SINE_HZ * k * cycle)
         target.set(q)
-        physics._cycle()        # steps the setpoint chosen last cycle, then chooses q
+        physics.step_cycle()        # steps the setpoint chosen last cycle, then chooses q
         if previous is not None and k * cycle >= 1.0:
             errors.append(physics.d.qpos[:6] - previous)
         previous = q
@@ -98,7 +98,7 @@ def run(model_name: str = "zu5", seconds: float = SECONDS) -> dict:
     # call. (A freshly compiled model with no drive set-up sags onto the floor: its contacts
     # and constraint solve cost twice as much and are not what the twin pays.)
     for _ in range(10):
-        physics._cycle()
+        physics.step_cycle()
     raw_model, raw_data = copy.deepcopy(physics.m), copy.deepcopy(physics.d)
     # The same without contact detection: how much of MuJoCo's cost is collision checking.
     free_model, free_data = copy.deepcopy(raw_model), copy.deepcopy(raw_data)

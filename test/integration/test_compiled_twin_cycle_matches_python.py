@@ -27,12 +27,12 @@ def _trace(twin: SimBackend) -> list[np.ndarray]:
     """Every cycle's joints (rad), velocities (rad/s), torques (N·m) and following error."""
     physics, servo = twin.physics, twin.physics.servo
     center = servo.setpoint.copy()
-    target = ServoTarget(center)
+    target = ServoTarget(center, physics)
     physics.switch(target)
     rows = []
 
     def cycle():
-        physics._cycle()
+        physics.step_cycle()
         sample = physics.sample()
         joint, lag = servo.following_error(physics.d)
         rows.append(np.concatenate([sample.q, sample.qd, sample.tau, [joint, lag]]))

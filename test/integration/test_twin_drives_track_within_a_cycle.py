@@ -23,38 +23,38 @@ from jaka_driver.sim.motions import ServoTarget
 def twin():
     backend = SimBackend(load_model("zu5"))
     for _ in range(5):
-        backend.physics._cycle()
+        backend.physics.step_cycle()
     return backend
 
 
 def test_a_servo_target_moves_the_arm_in_the_cycle_after_it_arrived(twin):
     physics = twin.physics
     q0 = physics.sample().q.copy()
-    target = ServoTarget(q0)
+    target = ServoTarget(q0, physics)
     physics.switch(target)
-    physics._cycle()
+    physics.step_cycle()
     goal = q0 + np.array([0.004, -0.003, 0.002, 0.004, -0.004, 0.005])   # ~0.5 rad/s
-    target.set(goal)            # arrives during this cycle...
-    physics._cycle()            # ...which still holds the previous setpoint
+    target.set(goal)        # arrives during this cycle...
+    physics.step_cycle()    # ...which still holds the previous setpoint
     assert np.max(np.abs(physics.sample().q - q0)) < 1e-6
-    physics._cycle()            # the next cycle moves the arm to it: from rest, a 0.5 rad/s
+    physics.step_cycle()    # the next cycle moves the arm to it: from rest, a 0.5 rad/s
     moved = (physics.sample().q - q0) / (goal - q0)    # step ends within 10 % of it...
     assert np.all(moved > 0.9) and np.all(moved < 1.1)
-    for _ in range(5):          # ...and settles on it (the velocity steps, 60 rad/s² for one
-        physics._cycle()        # cycle, are beyond any arm's acceleration)
+    for _ in range(5):      # ...and settles on it (the velocity steps, 60 rad/s² for one
+        physics.step_cycle()    # cycle, are beyond any arm's acceleration)
     assert np.max(np.abs(physics.sample().q - goal)) < 1e-4
 
 
 def test_a_moving_setpoint_is_tracked_within_a_cycle(twin):
     physics = twin.physics
     center = physics.sample().q.copy()
-    target = ServoTarget(center)
+    target = ServoTarget(center, physics)
     physics.switch(target)
     worst, previous = 0.0, None
     for k in range(500):                             # 4 s, from rest into a 0.5 Hz sine
         q = center + 0.2 * np.sin(np.pi * k * physics.cycle)
         target.set(q)
-        physics._cycle()
+        physics.step_cycle()
         if previous is not None and k >= 125:
             worst = max(worst, float(np.max(np.abs(physics.sample().q - previous))))
         previous = q

@@ -305,7 +305,7 @@ class SimBackend(Backend):
                 if self.physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
                 # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
-                self.physics.switch(ServoTarget(self.physics.servo.setpoint))
+                self.physics.switch(ServoTarget(self.physics.servo.setpoint, self.physics))
             else:
                 self.physics.switch(Hold())
             self.servo_mode = on
@@ -328,7 +328,7 @@ class SimBackend(Backend):
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         tool, user = self.frames()
-        seed = target.target
+        seed = target.latest
         solution = self.kin.ik(target_pose, seed=seed, tool=tool, user=user)
         if not solution.success:
             return Result.failure(Code.IK_FAILED, f"servo_p target has no IK solution near the "
@@ -354,7 +354,7 @@ class SimBackend(Backend):
         with self._lock:
             current = self.physics.motion
             if isinstance(current, ServoTarget):
-                current.set(self.physics.servo.setpoint)
+                current.hold(self.physics.servo.setpoint)
                 return Result.success("servo target held where the arm is")
             if not current.active:
                 return Result.success("nothing was moving")

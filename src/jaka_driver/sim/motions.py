@@ -8,8 +8,9 @@ A source that a blocking call waits on carries a :class:`Completion`.
 from __future__ import annotations
 
 import threading
+from collections import deque
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Callable, Optional, Protocol
 
 import numpy as np
 
@@ -106,40 +107,89 @@ class Stopping(Motion):
         return q_sp + self.velocity * self.cycle
 
 
+class CycleClock(Protocol):
+    """The twin's cycles as a servo target sees them (the physics loop is one): a command's
+    arrival time and the nominal end of the cycle whose end chooses the next setpoint, on one
+    clock (monotonic s on the wall clock, sim s in sim time)."""
+
+    cycle_end: float
+
+    def arrival_time(self) -> float: ...
+
+
 class ServoTarget(Motion):
     """Servo mode: the latest servo_j / servo_p target, reached within one cycle — or, with
     ``stepNum`` (:meth:`ramp`), over ``n`` cycles interpolated linearly, as the controller
-    does."""
+    does.
+
+    A target takes effect in the cycle after the one it arrived in, by the cycles' nominal
+    times (the sample stamps): the setpoint chosen at the end of cycle k takes the targets
+    that arrived by cycle k's nominal end. The physics thread steps cycle k a little after
+    that end (its wake-up margin and delay); a target that arrives in between belongs to
+    cycle k + 1 and waits for the next choice, instead of joining cycle k + 1 early.
+    """
 
     moving = False
+    PENDING = 64        # commands kept for the coming choices (a stream brings one a cycle)
 
-    def __init__(self, q: np.ndarray):
+    def __init__(self, q: np.ndarray, cycles: CycleClock):
         self.target = q.copy()
+        self._cycles = cycles
         self._ramp: Optional[tuple] = None   # (start, end, cycles done, cycles)
+        # (arrival time, q, steps) of commands not taken yet, oldest first
+        self._pending: deque[tuple[float, np.ndarray, int]] = deque(maxlen=self.PENDING)
         self._lock = threading.Lock()
 
     def set(self, q: np.ndarray) -> None:
+        """Go to ``q`` (rad) in the cycle after this one."""
+        self._command(q, 1)
+
+    def ramp(self, q: np.ndarray, steps: int) -> None:
+        """Go to ``q`` (rad) over ``steps`` cycles from the one after this one."""
+        self._command(q, steps)
+
+    def _command(self, q: np.ndarray, steps: int) -> None:
+        arrival = self._cycles.arrival_time()
         with self._lock:
+            self._pending.append((arrival, q.copy(), steps))
+
+    def hold(self, q: np.ndarray) -> None:
+        """Hold ``q`` (rad) from the next choice on, whenever this arrives, and drop the
+        commands not taken yet: a stop does not wait for a cycle boundary."""
+        with self._lock:
+            self._pending.clear()
             self._ramp = None
             self.target = q.copy()
 
-    def ramp(self, q: np.ndarray, steps: int) -> None:
-        with self._lock:
-            self._ramp = (self.target.copy(), q.copy(), 0, steps)
-
     @property
     def goal(self) -> np.ndarray:
-        """Where the servo target ends up (rad): the end of a ramp, or the target."""
+        """Where the servo target ends up (rad): the latest command's target, or the end of
+        a ramp under way, or the target."""
         with self._lock:
+            if self._pending:
+                return self._pending[-1][1].copy()
             return (self._ramp[1] if self._ramp is not None else self.target).copy()
+
+    @property
+    def latest(self) -> np.ndarray:
+        """The latest command's target (rad), taken or not: what the next command is a step
+        from."""
+        with self._lock:
+            return (self._pending[-1][1] if self._pending else self.target).copy()
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         with self._lock:
+            end = self._cycles.cycle_end
+            while self._pending and self._pending[0][0] <= end:
+                _, q, steps = self._pending.popleft()
+                self._ramp = None if steps <= 1 else (self.target.copy(), q, 0, steps)
+                if steps <= 1:
+                    self.target = q
             if self._ramp is not None:
-                start, end, k, n = self._ramp
+                start, end_q, k, n = self._ramp
                 k += 1
-                self.target = start + (end - start) * (k / n)
-                self._ramp = None if k >= n else (start, end, k, n)
+                self.target = start + (end_q - start) * (k / n)
+                self._ramp = None if k >= n else (start, end_q, k, n)
             target = self.target
         self.moving = bool(np.any(target != q_sp))
         return target

@@ -7,10 +7,11 @@ setpoint; the joint drives that follow it between setpoints are MuJoCo actuators
 with no Python between the steps. The loop wakes once per cycle, at the wall-clock cycle
 boundary, and steps the cycle that has just elapsed (more after a stall): 125 wake-ups/s.
 At the end of each cycle the checks run (contacts, overload: ``on_cycle``), then the motion
-source chooses the setpoint of the next cycle from the commands that have arrived by then —
-as a controller does: a command is never acted on in physics time before it arrived, and it
-takes effect in the cycle after the one it arrived in. The sample of a cycle exists the
-moment its wake-up is done.
+source chooses the setpoint of the next cycle from the commands that arrived by that cycle's
+nominal end (:attr:`PhysicsLoop.cycle_end`; the loop wakes a little after it) — as a
+controller does: a command is never acted on in physics time before it arrived, and it takes
+effect in the cycle after the one it arrived in, by the samples' stamps. The sample of a
+cycle exists the moment its wake-up is done.
 
 Samples: at the end of each cycle the measured joints are copied; ``sample()`` returns the
 latest copy with its wall-clock time, ``samples_since`` the recent ones, and
@@ -83,6 +84,9 @@ class PhysicsLoop:
         self.wall0 = 0.0 if self.simulated else time.time()
         self._start = time.monotonic()
         self._done = 0                              # cycles stepped since start()
+        #: Nominal end of the cycle being stepped, on :meth:`arrival_time`'s clock: commands
+        #: that arrived by then count for the setpoint chosen at its end (motions.ServoTarget).
+        self.cycle_end = float("-inf")
         self.steps_total = 0
         self.overruns = 0
         self._record()
@@ -108,6 +112,19 @@ class PhysicsLoop:
         with self.lock:
             self.servo.reset(np.asarray(q, float).copy())
             return self.switch(Hold())
+
+    def step_cycle(self) -> None:
+        """One cycle now, outside the real-time thread (tests and benchmarks that step the
+        twin themselves, the thread not started): every command that has arrived counts
+        for the setpoint chosen at its end."""
+        with self.lock:
+            self.cycle_end = self.arrival_time()
+            self._cycle()
+
+    def arrival_time(self) -> float:
+        """Now, on the clock :attr:`cycle_end` counts in: monotonic s on the wall clock (the
+        pacing's own), sim s in sim time."""
+        return self.clock.now() if self.simulated else time.monotonic()
 
     def checked_pose(self) -> np.ndarray:
         """The joints (rad) at the end of the last cycle whose checks passed: during the
@@ -184,6 +201,7 @@ class PhysicsLoop:
         clock = self.clock
         while clock.wait_for_cycle(self._quit):
             with self.lock:
+                self.cycle_end = clock.now() + self.cycle
                 self._cycle()
             clock.tick()
             with self._sampled:
@@ -198,7 +216,8 @@ class PhysicsLoop:
             if due == 0:
                 continue
             with self.lock:
-                for _ in range(due):
+                for i in range(due):
+                    self.cycle_end = self._start + (self._done + i + 1) * self.cycle
                     self._cycle()
             with self._sampled:
                 self._sampled.notify_all()
