@@ -27,17 +27,27 @@ def jog(call, coord, index, speed):
     return call("jog", Move, coord_mode=coord, index=index, mvvelo=speed)
 
 
+REST_S = 0.1       # sim s of samples at rest that make "at rest"
+
+
 def moving(recorder):
     msg = recorder.latest()
     return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
 
 
 def rest_at(recorder, q, timeout: float = 30.0):
-    """The latest sample, once it shows the arm at rest at ``q`` (rad) *after* every moving
-    sample received so far. The test's subscriber may lag the twin (on a busy machine by more
-    than a second of sim time at real_time_factor 0), so "the latest sample at rest at START"
-    alone could be one from before the last jog; this one cannot."""
+    """The latest sample, once it and every sample of the ``REST_S`` before it show the arm at
+    rest at ``q`` (rad), *after* every moving sample received so far. The test's subscriber
+    may lag the twin (on a busy machine by more than a second of sim time at real_time_factor
+    0), so "the latest sample at rest at START" alone could be one from before the last jog;
+    this one cannot. And one sample alone is not rest: a move that ends settles, its speed
+    dipping under 1e-3 rad/s for a cycle and rising over it again (2e-3 rad/s), and that rise
+    would pass for the next jog's start."""
     q = np.asarray(q)
+
+    def still(m) -> bool:
+        return (np.max(np.abs(m.velocity)) < 1e-3
+                and np.max(np.abs(np.array(m.position) - q)) < 2e-3)
 
     def found():
         with recorder._lock:
@@ -47,8 +57,9 @@ def rest_at(recorder, q, timeout: float = 30.0):
         last_motion = max((stamp(m) for m in samples if np.max(np.abs(m.velocity)) > 1e-3),
                           default=-np.inf)
         m = samples[-1]
-        return m if (stamp(m) > last_motion and np.max(np.abs(m.velocity)) < 1e-3
-                     and np.max(np.abs(np.array(m.position) - q)) < 2e-3) else None
+        window = [x for x in samples if stamp(x) >= stamp(m) - REST_S]
+        return m if (stamp(m) - REST_S > last_motion and len(window) >= REST_S / 0.008
+                     and all(still(x) for x in window)) else None
 
     msg = wait_until(found, timeout)
     if not msg:
