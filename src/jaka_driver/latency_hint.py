@@ -34,7 +34,6 @@ SLICE_S = 0.0002        # one wake-up's work in the node is 0.1–0.6 ms
 # sched_setattr(2) has no wrapper in glibc 2.36 or in Python's os module.
 _SYSCALL = {"x86_64": 314, "aarch64": 274, "riscv64": 274, "armv7l": 380, "armv6l": 380,
             "i686": 351, "ppc64le": 355}
-_SCHED_OTHER = 0
 _outcome: str | None = None     # the first request's, for the log
 
 
@@ -67,7 +66,10 @@ def request_short_slice(slice_s: float = SLICE_S) -> str:
     process: a second call returns the first one's sentence."""
     global _outcome
     if _outcome is None:
-        _outcome = _request(slice_s)
+        try:
+            _outcome = _request(slice_s)
+        except (OSError, AttributeError) as exc:   # no libc to load, no sched_* in os
+            _outcome = f"no short time slice: {exc}"
     return _outcome
 
 
@@ -79,9 +81,9 @@ def _request(slice_s: float) -> str:
     if policy in (os.SCHED_FIFO, os.SCHED_RR):
         # Started at real-time priority (chrt): that wakes sooner still; do not undo it.
         return "no short time slice: the process runs at real-time priority already"
-    if policy != _SCHED_OTHER:
+    if policy != os.SCHED_OTHER:
         return f"no short time slice: the process was started with scheduling policy {policy}"
-    attr = _SchedAttr(size=ctypes.sizeof(_SchedAttr), sched_policy=_SCHED_OTHER,
+    attr = _SchedAttr(size=ctypes.sizeof(_SchedAttr), sched_policy=os.SCHED_OTHER,
                       sched_nice=os.getpriority(os.PRIO_PROCESS, 0),
                       sched_runtime=int(round(slice_s * 1e9)))
     libc = ctypes.CDLL(None, use_errno=True)

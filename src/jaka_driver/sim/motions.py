@@ -149,9 +149,8 @@ class ServoTarget(Motion):
         self._command(q, steps)
 
     def _command(self, q: np.ndarray, steps: int) -> None:
-        arrival = self._cycles.arrival_time()
-        with self._lock:
-            self._pending.append((arrival, q.copy(), steps))
+        with self._lock:    # stamped under the lock: the queue stays in arrival order
+            self._pending.append((self._cycles.arrival_time(), q.copy(), steps))
 
     def hold(self, q: np.ndarray) -> None:
         """Hold ``q`` (rad) from the next choice on, whenever this arrives, and drop the
