@@ -18,10 +18,11 @@ import sys
 
 import numpy as np
 
+from jaka_driver.constants import SERVO_CYCLE  # the twin's cycle, the topics' period
+
 from .report import REPORT, Row
 from .stats import fmt, summary
 
-PERIOD_S = 0.008        # the twin's cycle and the topics' period
 
 # Run with ``python -c``: only the standard library, so nothing but the loop is in the
 # process. Prints one JSON object: each wake-up's lateness past its deadline (s) and the
@@ -68,7 +69,7 @@ def kernel_tick() -> str:
 
 def timer_loop(seconds: float) -> dict:
     """Run the bare loop for ``seconds``; wake-up times and lateness (s) as arrays."""
-    out = subprocess.run([sys.executable, "-c", _LOOP, str(PERIOD_S), str(seconds)],
+    out = subprocess.run([sys.executable, "-c", _LOOP, str(SERVO_CYCLE), str(seconds)],
                          capture_output=True, text=True, timeout=seconds + 30, check=True)
     data = json.loads(out.stdout)
     return {"woke": np.array(data["woke"]), "late": np.array(data["late"])}

@@ -393,11 +393,7 @@ class SimBackend(Backend):
         target = self._servo_target()
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
-        q = np.asarray(q_target, float)
-        if steps <= 1:
-            target.set(q)
-        else:
-            target.ramp(q, int(steps))
+        target.ramp(np.asarray(q_target, float), int(steps))     # 1 or fewer: one cycle
         return Result.success("servo target accepted")
 
     # ---- frames, payload, settings ---------------------------------------------------------------
