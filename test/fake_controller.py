@@ -67,10 +67,12 @@ class FakeController:
         self.separators = (", ", ": ") if layout == "controller" else (",", ":")
         self.replies: Dict[str, Dict[str, Any]] = {}
         self.refusals: Dict[str, Dict[str, Any]] = {}
-        for _, reply_text, _ in load_transcript():
+        for request_text, reply_text, _ in load_transcript():
             reply = json.loads(reply_text)
+            # a reply may lack cmdName (fw 1.5.14's emergency_stop_status): the request names it
+            name = json.loads(request_text)["cmdName"]
             table = self.replies if reply["errorCode"] == "0" else self.refusals
-            table.setdefault(reply["cmdName"], reply)
+            table.setdefault(name, reply)
         self.packet = json.loads(load_status_packet())
         self.joints = list(self.packet["joint_actual_position"])   # deg
         self.tcp = list(self.packet["actual_position"])            # mm, RPY deg

@@ -106,7 +106,43 @@ class Field:
     ANGLE_X = "angleX"                    # set_installation_angle, deg
     ANGLE_Z = "angleZ"
     PROGRAM_NAME = "programName"
-    PROGRAM_STATE = "programState"
+    PROGRAM_STATE = "programState"        # a string: see ProgramState
+    CURRENT_LINE = "current_line"         # get_current_line: int
+    VAR_LIST = "var_list"                 # query_user_defined_variable: [{id, value, alias}]
+    ID_NEW = "id_new"                     # modify_user_defined_variable
+    VALUE_NEW = "value_new"
+    ALIAS_NEW = "alias_new"
+    DH_PARAM = "dh_param"                 # get_dh_param: 4 rows of 6: alpha deg, a mm, d mm,
+                                          # joint_homeoff deg
+    TIO_VOUT_ENA = "tio_vout_ena"         # get/set_tio_vout_param: 0/1
+    TIO_VOUT_VOL = "tio_vout_vol"         # voltage code
+    ORI_VEL = "ori_vel"                   # moveL orientation speed, deg/s
+    ORI_ACC = "ori_acc"                   # moveL orientation acceleration, deg/s²
+    EXECUTING_LINE_ID = "executing_line_id"   # the SDK adds it to every move; ignored
+    SDK_VERSION = "sdk_version"           # get_version request, the SDK's own version
+    # get_version reply: the controller's identity, every one a string (a number here aborts
+    # the login of JAKA's SDK)
+    CONTROLLER_ID = "controller_id"
+    CONTROLLER_GUARANTEE = "controller_guarantee"
+    ROBOT_ID = "robot_id"
+    ROBOT_NAME = "robot_name"
+    SCB_VERSION = "scb_version"
+    SERVO_VERSION = "servo_version"
+    # set_servo_move_filter, by filter_type (values unconverted: Hz, deg/s…, mm/s…)
+    NLF_MAX_VR = "nlf_max_vr"
+    NLF_MAX_AR = "nlf_max_ar"
+    NLF_MAX_JR = "nlf_max_jr"
+    NLF_MAX_VP = "nlf_max_vp"
+    NLF_MAX_AP = "nlf_max_ap"
+    NLF_MAX_JP = "nlf_max_jp"
+    MMF_MAX_BUF = "mmf_max_buf"
+    MMF_KP = "mmf_kp"
+    MMF_KV = "mmf_kv"
+    MMF_KA = "mmf_ka"
+
+#: The ``get_version`` identity keys JAKA's SDK reads at login, all strings.
+IDENTITY_FIELDS = (Field.VERSION, Field.CONTROLLER_ID, Field.CONTROLLER_GUARANTEE,
+                   Field.ROBOT_ID, Field.ROBOT_NAME, Field.SCB_VERSION, Field.SERVO_VERSION)
 
 
 class Cmd:
@@ -179,6 +215,10 @@ class Cmd:
     MODIFY_USER_DEFINED_VARIABLE = "modify_user_defined_variable"
     SET_TIO_VOUT_PARAM = "set_tio_vout_param"
     GET_TIO_VOUT_PARAM = "get_tio_vout_param"
+    GET_CURRENT_LINE = "get_current_line"
+    GET_DH_PARAM = "get_dh_param"
+    SET_TOOL_PAYLOAD = "set_tool_payload"   # the torque sensor's tool payload
+    GET_TOOL_PAYLOAD = "get_tool_payload"
     DATA_REQUEST = "data_request"         # port 10004 only
 
 
@@ -199,16 +239,30 @@ class CoordMap(IntEnum):
 
 
 class IOType(IntEnum):
-    """``type`` of the IO commands."""
+    """``type`` of the IO commands, as JAKA's SDK numbers them. The status packet carries
+    3 in ``relay_io`` (outputs, cabinet CAB V3 only) and 4–6 in ``mb_slave_*``, ``pn_dev_*``,
+    ``eip_adpt_*``."""
     CABINET = 0
     TOOL = 1
-    EXTEND = 2
+    EXTEND = 2            # extension IO (Modbus master)
+    RELAY = 3
+    MODBUS_SLAVE = 4
+    PROFINET_SLAVE = 5
+    EIP_SLAVE = 6
 
 
 class ServoFilter(IntEnum):
     """``filter_type`` of ``set_servo_move_filter`` (only the two the driver uses)."""
     NONE = 0
     JOINT_LPF = 1
+
+
+class ProgramState:
+    """``programState`` of ``get_program_state``: a **string** on the wire (JAKA's SDK compares
+    strings and aborts on a number)."""
+    IDLE = "idle"
+    RUNNING = "running"
+    PAUSED = "paused"
 
 
 class TaskState(IntEnum):
@@ -358,4 +412,14 @@ class StatusField:
     TIO_DOUT = "tio_dout"
     TIO_AIN = "tio_ain"
     MOTION_LINE = "motion_line"
-    HOMED = "homed"
+    ERR_ADD_LINE = "err_add_line"
+    EXECUTING_LINE = "executing_line"
+    HOMED = "homed"                                   # 9 entries on a real controller
+    INST_VEL = "instVel"                              # [6] joint speeds, top level
+    MONITOR_DATA = "monitor_data"                     # an array: [scbMajor, scbMinor, cabinet
+    # temperature, average power, average current, [6 joint rows of >= 10 numbers: [0] current,
+    # [1] voltage, [2] temperature, [9] torque]]
+    TORQSENSOR = "torqsensor"                         # [[commType, [ip, port], [mass, [x,y,z]]],
+    # [status, errcode, [6] actual contact force, [6] raw reading, [6] real contact force]]
+    RELAY_IO = "relay_io"
+    EXTIO = "extio"                                   # {num, status: [[din],[dout],[ain],[aout]]}
