@@ -36,6 +36,8 @@ ALL_REQUESTS = [
     c.get_digital_output(0, 2), c.get_analog_input(0, 0), c.get_motion_state(),
     c.wait_complete(), c.is_on_limit(), c.end_move(POSE, 0.5, 1.0), c.data_request(),
     c.get_drag_status(), c.get_rapid_rate(), c.get_tool_offsets(), c.get_user_offsets(),
+    c.torque_control_enable(True), c.get_dh_param(),
+    c.moveL(POSE, 100, 500, ori_vel_rad_s=0.5, ori_acc_rad_s2=1.0),
 ]
 
 
@@ -71,7 +73,19 @@ def test_move_l_goes_out_in_mm_and_rpy_degrees():
     assert r[Field.CMD_NAME] == "moveL"
     assert r[Field.CART_POSITION] == pytest.approx(POSE_WIRE)
     assert (r[Field.SPEED], r[Field.ACCEL], r[Field.REL_FLAG]) == (100, 500, 0)
-    assert Field.TOL not in r
+    assert Field.TOL not in r and Field.ORI_VEL not in r
+
+
+def test_move_l_carries_the_orientation_limits_in_degrees():
+    r = c.moveL(POSE, 100, 500, ori_vel_rad_s=math.pi / 4, ori_acc_rad_s2=math.pi)
+    assert (r["ori_vel"], r["ori_acc"]) == pytest.approx((45.0, 180.0))
+    with pytest.raises(InvalidArgument, match="orientation speed"):
+        c.moveL(POSE, 100, 500, ori_vel_rad_s=0.0)
+
+
+def test_drag_mode_goes_out_as_torque_control_enable():
+    assert c.torque_control_enable(True) == {"cmdName": "torque_control_enable", "enable_flag": 1}
+    assert c.torque_control_enable(False)["enable_flag"] == 0
 
 
 def test_servo_commands():
@@ -194,6 +208,58 @@ def test_typed_accessors():
     assert c.reply_version(ok(version="1.7.2.16")) == "1.7.2.16"
 
 
+# the SDK's own test of get_dh_param (sdk_wire_formats): rows alpha deg, a mm, d mm, homeoff deg
+DH_WIRE = [[0, 90, 0, 0, 90, -90], [0, 0, 360, 303.5, 0, 0], [120.15, 0, 0, 115, 113.5, 107],
+           [0, 90, 0, 90, 0, 0]]
+
+
+def test_dh_param_rows_become_the_sdk_units():
+    dh = c.reply_dh_param(ok(dh_param=DH_WIRE))
+    np.testing.assert_allclose(dh.alpha, np.radians(DH_WIRE[0]))
+    np.testing.assert_allclose(dh.alpha[[1, 5]], [math.pi / 2, -math.pi / 2])
+    assert dh.a.tolist() == DH_WIRE[1] and dh.d.tolist() == DH_WIRE[2]
+    np.testing.assert_allclose(dh.joint_homeoff, [0, math.pi / 2, 0, math.pi / 2, 0, 0])
+
+
+@pytest.mark.parametrize("raw", [
+    {"alpha": DH_WIRE[0], "a": DH_WIRE[1], "d": DH_WIRE[2], "joint_homeoff": DH_WIRE[3]},
+    sum(DH_WIRE, []),                                   # flat
+    DH_WIRE[:3],                                        # a row short
+    DH_WIRE + [DH_WIRE[0]],                             # a row too many
+    [DH_WIRE[0], DH_WIRE[1][:5], DH_WIRE[2], DH_WIRE[3]],
+    [["90"] * 6] + DH_WIRE[1:],                         # a string element
+    [[True] * 6] + DH_WIRE[1:],
+    [[math.inf] * 6] + DH_WIRE[1:],                     # 1e999 on the wire
+    None, "dh",
+], ids=["object", "flat", "3-rows", "5-rows", "short-row", "string", "bool", "inf", "null",
+        "string-table"])
+def test_dh_param_of_any_other_shape_is_refused(raw):
+    with pytest.raises(ProtocolError, match="dh_param"):
+        c.reply_dh_param(ok(dh_param=raw))
+
+
+def test_frame_tables_are_read_by_id():
+    # the SDK's own test: row i = [10i+1, 10i+2, 10i+3, i, 2i, 90]
+    rows = [[10 * i + 1, 10 * i + 2, 10 * i + 3, i, 2 * i, 90] for i in range(11)]
+    tools = c.reply_tool_offsets(ok(tool_offsets=rows))
+    assert len(tools) == 11
+    np.testing.assert_allclose(tools[3], [31, 32, 33, 0.05236, 0.10472, 1.5708], atol=1e-4)
+    users = c.reply_user_offsets(ok(user_offsets=rows))
+    np.testing.assert_allclose(users[10], [101, 102, 103, *np.radians([10, 20, 90])])
+    for bad in ([0, 0, 100, 0, 0, 90], {"1": rows[1]}, [rows[0], rows[1][:5]], []):
+        with pytest.raises(ProtocolError, match="tool_offsets"):
+            c.reply_tool_offsets(ok(tool_offsets=bad))
+    with pytest.raises(ProtocolError, match="tool_offsets"):
+        c.reply_tool_offsets(ok(user_offsets=rows))   # the other table
+
+
+def test_identity_strings_of_get_version():
+    ident = c.reply_identity(ok(version="1.5.14_13_X64", robot_id="ZU5S-1", robot_name="JAKA Zu 5",
+                                scb_version=172, controller_id=None, other="x"))
+    assert ident == {"version": "1.5.14_13_X64", "robot_id": "ZU5S-1", "robot_name": "JAKA Zu 5",
+                     "scb_version": "172"}
+
+
 @pytest.mark.parametrize("reply, read", [
     (ok(), c.reply_joint_pos),
     (ok(joint_pos=[1, 2, 3]), c.reply_joint_pos),
@@ -201,6 +267,9 @@ def test_typed_accessors():
     (ok(power="maybe", enable=1), c.reply_robot_state),
     (ok(value=None), c.reply_value),
     (ok(id="three"), c.reply_id),
+    (ok(value=math.inf), c.reply_value),
+    (ok(value=True), c.reply_value),
+    (ok(mass=math.nan, centroid=[0, 0, 0]), c.reply_payload),
 ])
 def test_accessors_report_bad_fields(reply, read):
     with pytest.raises(ProtocolError):

@@ -134,7 +134,7 @@ class ControllerBackend(Backend):
                      "reconnects": self.link.reconnects})
         if not self.link.connected:
             info["link"] = self.link.down_message()
-        info.update(self.link.receiver_counters())
+        info.update(self.link.counters())
         return info
 
     # ---- link hooks -------------------------------------------------------------------------

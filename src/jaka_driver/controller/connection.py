@@ -110,6 +110,7 @@ class ControllerLink:
         self.down_reason = "not connected yet"
         self.next_attempt: Optional[float] = None   # monotonic time of the next retry
         self.reconnects = 0
+        self._closed_counts: dict = {}   # counters of the connections closed so far
 
     # ---- facts -------------------------------------------------------------------------
     @property
@@ -125,15 +126,32 @@ class ControllerLink:
         """The last (status, received) pair of any connection, or None before the first."""
         return self._latest
 
-    def receiver_counters(self) -> dict:
-        counters: dict = {}
-        for receiver in self._receivers:
+    def counters(self) -> dict:
+        """What the connections received and dropped, added up over every connection since
+        :meth:`start` (diagnostics): replies on the command port; packets, dropped bytes,
+        dropped packets and dropped (malformed) fields per status port; messages whose text
+        had invalid UTF-8 repaired."""
+        with self._lock:
+            totals = dict(self._closed_counts)
+            for name, value in self._counts_of(self._client, self._receivers).items():
+                totals[name] = totals.get(name, 0) + value
+        return totals
+
+    def _counts_of(self, client, receivers) -> dict:
+        counts: dict = {}
+        if client is not None:
+            counts.update({"command replies": client.replies,
+                           "command replies dropped": client.replies_dropped,
+                           "command replies repaired": client.text_repaired})
+        for receiver in receivers:
             d = receiver.decoder
             port = f"status port {receiver.port}"
-            counters.update({f"{port} packets": d.packets,
-                             f"{port} bytes dropped": d.bytes_dropped,
-                             f"{port} packets dropped": d.packets_dropped})
-        return counters
+            counts.update({f"{port} packets": d.packets,
+                           f"{port} bytes dropped": d.bytes_dropped,
+                           f"{port} packets dropped": d.packets_dropped,
+                           f"{port} fields dropped": d.fields_dropped,
+                           f"{port} packets repaired": d.text_repaired})
+        return counts
 
     def down_message(self) -> str:
         """Why a request cannot be sent now, for a -1 answer."""
@@ -221,6 +239,8 @@ class ControllerLink:
         with self._lock:
             client, receivers = self._client, self._receivers
             self._client, self._receivers = None, ()
+            for name, value in self._counts_of(client, receivers).items():
+                self._closed_counts[name] = self._closed_counts.get(name, 0) + value
         for receiver in receivers:
             receiver.stop()
         if client is not None:

@@ -3,6 +3,12 @@ pushed packets) and the status poller thread (port 10004, ``data_request``).
 
 Neither reconnects by itself: the backend owns that policy. Both make ``connect``/``start`` and
 ``close``/``stop`` idempotent, so a policy can simply call them again.
+
+No input ends a thread or escapes as anything but the library's own errors: a reply that cannot
+be parsed closes its connection (the bytes after it could not be trusted) and raises
+:class:`~.errors.ProtocolError`; a status packet that cannot be parsed is dropped and the stream
+read on. Every drop is counted (``CommandClient.replies_dropped``, the receivers'
+``decoder.packets_dropped`` and ``decoder.fields_dropped``).
 """
 from __future__ import annotations
 
@@ -15,16 +21,19 @@ from typing import Any, Callable, Mapping, Optional, Tuple
 
 from . import errors
 from .commands import data_request, encode
-from .errors import ConnectFailed, ConnectionLost, InvalidArgument, ProtocolError
+from .errors import ConnectFailed, ConnectionLost, InvalidArgument, MalformedInput, ProtocolError
 from .fields import (COMMAND_PORT, DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT,
                      Field)
 from .replies import Reply, command_names_match, parse_reply
 from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, data_reply_fields,
                             parse_status)
-from .wire import decode_first_object
+from .wire import HeadDecoder
 
 _log = logging.getLogger(__name__)
 _RECV_SIZE = 65536
+#: A reply longer than this without its end is not a controller's (the longest, ``get_data``,
+#: is a status packet: under 10 kB).
+MAX_REPLY_BYTES = 1 << 18
 _WHITESPACE = b" \t\r\n"
 
 
@@ -47,6 +56,7 @@ class _Connection:
     def __init__(self, sock: socket.socket):
         self.sock = sock
         self.buf = bytearray()
+        self.head = HeadDecoder()   # of ``buf``
         self.closed_locally = False
 
     def close(self) -> None:
@@ -68,6 +78,10 @@ class CommandClient:
 
     ``timeout`` (s) is the default time a :meth:`call` waits for its reply; ``connect_timeout``
     (s, default ``timeout``) bounds :meth:`connect`.
+
+    Counters, cumulative over connections: ``replies`` (parsed), ``replies_dropped`` (bytes
+    that were no reply — not JSON, nested too deep, longer than :data:`MAX_REPLY_BYTES`, not an
+    object, no ``errorCode``), ``text_repaired`` (replies with invalid UTF-8 in a string).
     """
 
     def __init__(self, host: str, port: int = COMMAND_PORT, timeout: float = 1.0,
@@ -81,6 +95,9 @@ class CommandClient:
         self._call_lock = threading.Lock()    # one request in flight
         self._conn_lock = threading.Lock()    # guards swapping self._conn
         self._conn: Optional[_Connection] = None
+        self.replies = 0
+        self.replies_dropped = 0
+        self.text_repaired = 0
 
     @property
     def address(self) -> str:
@@ -137,6 +154,7 @@ class CommandClient:
                 _log.warning("discarding %d unexpected bytes from %s before sending %r",
                              len(conn.buf), self.address, name)
             conn.buf.clear()
+            conn.head.reset()
             try:
                 conn.sock.settimeout(wait)
                 conn.sock.sendall(payload)
@@ -149,7 +167,12 @@ class CommandClient:
                 lost = self._lost(conn, name, f"sending failed ({exc})")
                 self._discard(conn)
                 raise lost from None
-            reply = parse_reply(self._read_object(conn, name, deadline, wait))
+            try:
+                reply = parse_reply(self._read_object(conn, name, deadline, wait))
+            except ProtocolError:
+                self.replies_dropped += 1
+                raise
+            self.replies += 1
             if reply.cmd_name and not command_names_match(name, reply.cmd_name):
                 self._discard(conn)
                 raise ProtocolError(
@@ -204,11 +227,14 @@ class CommandClient:
             conn.buf += chunk
 
     def _take_object(self, conn: _Connection, name: str):
-        """The next complete JSON object from the buffer, or None if it is not complete yet."""
+        """The next complete JSON object from the buffer, or None if it is not complete yet.
+        Bytes that can never become one close the connection (ProtocolError)."""
         start = 0
         while start < len(conn.buf) and conn.buf[start] in _WHITESPACE:
             start += 1
-        del conn.buf[:start]
+        if start:
+            del conn.buf[:start]
+            conn.head.reset()
         if not conn.buf:
             return None
         if conn.buf[0] != ord("{"):
@@ -216,15 +242,26 @@ class CommandClient:
             raise ProtocolError(f"the reply to {name!r} from {self.address} is not a JSON object: "
                                 f"{bytes(conn.buf[:80])!r}; is {self.address} really a JAKA "
                                 "command port? The connection was closed")
-        if b"}" not in conn.buf:   # cheap test before a full parse attempt
-            return None
         try:
-            obj, used = decode_first_object(conn.buf)
-        except ValueError:   # json.JSONDecodeError: not complete yet (or broken: timeout tells)
+            decoded = conn.head.decode(conn.buf)
+        except MalformedInput as exc:
+            self._discard(conn)
+            raise MalformedInput(f"the reply to {name!r} from {self.address} is malformed: "
+                                 f"{exc}; the connection was closed") from None
+        if decoded is None:
+            if len(conn.buf) > MAX_REPLY_BYTES:
+                self._discard(conn)
+                raise MalformedInput(f"the reply to {name!r} from {self.address} has no end "
+                                     f"after {len(conn.buf)} bytes; the connection was closed")
             return None
-        del conn.buf[:used]
-        return obj
+        del conn.buf[:decoded.used]
+        if decoded.repaired:
+            self.text_repaired += 1
+        return decoded.value
 
+
+#: A status packet inflates to well under this (the longest seen: 9 kB).
+MAX_INFLATED_BYTES = 1 << 16
 
 StatusCallback = Callable[[StatusPacket, float], None]
 LostCallback = Callable[[str], None]
@@ -337,8 +374,16 @@ class StatusReceiver:
                     break
                 received = self._clock()
                 last_data = time.monotonic()
-                for packet in self.decoder.feed(chunk):
-                    self._deliver(parse_status(packet), received)
+                try:
+                    packets = self.decoder.feed(chunk)
+                except Exception:  # noqa: BLE001 - no input may end the status stream
+                    _log.exception("status bytes from %s could not be decoded; dropped",
+                                   self.address)
+                    self.decoder.reset()
+                    self.decoder.packets_dropped += 1
+                    continue
+                for packet in packets:
+                    self._deliver_fields(packet, received)
         finally:
             sock.close()
         if reason is not None and not stop.is_set():
@@ -352,6 +397,21 @@ class StatusReceiver:
             except Exception:  # noqa: BLE001 - a callback must not kill the reader
                 _log.exception("on_connection_lost callback raised")
 
+    def _deliver_fields(self, fields, received: float) -> None:
+        """Parse one decoded packet and deliver it, counting its malformed fields."""
+        try:
+            status = parse_status(fields)
+        except ProtocolError as exc:   # not an object: nothing of it is usable
+            self.decoder.packets_dropped += 1
+            _log.debug("status packet from %s dropped: %s", self.address, exc)
+            return
+        except Exception:  # noqa: BLE001 - no input may end the status stream
+            self.decoder.packets_dropped += 1
+            _log.exception("status packet from %s could not be read; dropped", self.address)
+            return
+        self.decoder.fields_dropped += len(status.malformed)
+        self._deliver(status, received)
+
     def _deliver(self, status: StatusPacket, received: float) -> None:
         self._latest = (status, received)
         if self.on_status is not None:
@@ -363,9 +423,15 @@ class StatusReceiver:
 
 class StatusPoller(StatusReceiver):
     """Port 10004, as JAKA's SDK reads status: every ``period`` s it sends
-    ``{"cmdName":"data_request"}`` and reads one zlib-compressed packet back (at most
-    :data:`~.fields.DATA_REQUEST_MAX_BYTES` bytes, the SDK's buffer). Same callbacks, life cycle
-    and counters as :class:`StatusReceiver`; ``stall_timeout`` bounds the wait for one reply."""
+    ``{"cmdName":"data_request"}`` and reads one zlib-compressed packet back. Same callbacks,
+    life cycle and counters as :class:`StatusReceiver`; ``stall_timeout`` bounds the wait for
+    one reply.
+
+    A reply is read to the end of its zlib stream, so one that is unusable — more than the
+    SDK's :data:`~.fields.DATA_REQUEST_MAX_BYTES` compressed bytes, inflating past
+    :data:`MAX_INFLATED_BYTES` (a zlib bomb is inflated in bounded pieces and thrown away), not
+    a JSON object — is a counted drop and the next request follows. Bytes that are not zlib at
+    all end the connection: where the next reply begins is then unknown."""
 
     def __init__(self, host: str, port: int = STATUS_REQUEST_PORT, *, period: float = 0.008,
                  **kwargs):
@@ -383,19 +449,25 @@ class StatusPoller(StatusReceiver):
                     sock.sendall(request)
                     reply = self._read_reply(sock, stop, wait)
                 except (OSError, ProtocolError) as exc:
+                    if isinstance(exc, ProtocolError):
+                        self.decoder.packets_dropped += 1
                     reason = f"status requests to {self.address} failed ({exc})"
                     break
                 if reply is None:
                     break   # stopped
                 received = self._clock()
                 try:
-                    status = parse_status(data_reply_fields(*reply))
+                    if not reply[0]:
+                        raise ProtocolError(f"the data_request reply of {reply[1]} bytes is "
+                                            f"longer than the SDK's {DATA_REQUEST_MAX_BYTES} "
+                                            f"or inflates past {MAX_INFLATED_BYTES} bytes")
+                    fields = data_reply_fields(*reply)
                 except ProtocolError as exc:
                     self.decoder.packets_dropped += 1
-                    _log.warning("%s", exc)
+                    _log.debug("status reply from %s dropped: %s", self.address, exc)
                 else:
                     self.decoder.packets += 1
-                    self._deliver(status, received)
+                    self._deliver_fields(fields, received)
                 next_request += self.period
                 delay = next_request - time.monotonic()
                 if delay > 0:
@@ -410,10 +482,12 @@ class StatusPoller(StatusReceiver):
     def _read_reply(self, sock: socket.socket, stop: threading.Event,
                     wait: float) -> Optional[Tuple[bytes, int]]:
         """One whole zlib stream from ``sock`` (its end is where zlib says it ends), inflated as
-        it arrives: (the packet's text, the number of compressed bytes)."""
+        it arrives: (the packet's text, the number of compressed bytes). A reply too long to use
+        comes back as ``(b"", size)``, which no reader takes for a packet."""
         inflater = zlib.decompressobj()
-        data = bytearray()
+        size = 0
         text = bytearray()
+        too_long = False
         deadline = time.monotonic() + wait
         while not inflater.eof:
             if stop.is_set():
@@ -423,16 +497,28 @@ class StatusPoller(StatusReceiver):
             except socket.timeout:
                 if time.monotonic() > deadline:
                     raise ProtocolError(f"no whole data_request reply within {wait:.2f} s "
-                                        f"({len(data)} bytes arrived)") from None
+                                        f"({size} bytes arrived)") from None
                 continue
             if not chunk:
                 raise ProtocolError("the controller closed the connection")
-            data += chunk
-            if len(data) > DATA_REQUEST_MAX_BYTES:
-                raise ProtocolError(f"the data_request reply exceeds the SDK's "
-                                    f"{DATA_REQUEST_MAX_BYTES} bytes")
+            size += len(chunk)
+            too_long = too_long or size > DATA_REQUEST_MAX_BYTES
             try:
-                text += inflater.decompress(chunk)
+                while not inflater.eof:
+                    # Bounded pieces: a zlib bomb never sits in memory whole.
+                    piece = inflater.decompress(chunk, MAX_INFLATED_BYTES)
+                    chunk = inflater.unconsumed_tail
+                    if not too_long:
+                        text += piece
+                        too_long = len(text) > MAX_INFLATED_BYTES
+                    if not chunk and len(piece) < MAX_INFLATED_BYTES:
+                        break   # this input is used up; more is on its way
             except zlib.error as exc:
                 raise ProtocolError(f"the data_request reply is not zlib data ({exc})") from None
-        return bytes(text), len(data)
+            if too_long:
+                text.clear()
+        if too_long:
+            _log.debug("data_request reply from %s of %d bytes is too long to use", self.address,
+                       size)
+            return b"", size
+        return bytes(text), size

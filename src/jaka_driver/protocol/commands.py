@@ -25,10 +25,11 @@ from . import units
 from .errors import InvalidArgument
 from .fields import Cmd, CoordMap, Field, JogMode, ServoFilter
 # Replies live in their own module; re-exported so requests and their accessors read together.
-from .replies import (PowerState, Reply, command_names_match, parse_reply,  # noqa: F401
-                      MotionState, reply_clsn_sensitivity, reply_din_status, reply_flag,
-                      reply_id, reply_joint_pos, reply_kine_forward, reply_kine_inverse,
-                      reply_motion_state, reply_payload, reply_robot_state, reply_tcp_pos,
+from .replies import (DHParam, PowerState, Reply, command_names_match,  # noqa: F401
+                      parse_reply, MotionState, reply_clsn_sensitivity, reply_dh_param,
+                      reply_din_status, reply_flag, reply_id, reply_identity, reply_joint_pos,
+                      reply_kine_forward, reply_kine_inverse, reply_motion_state, reply_payload,
+                      reply_robot_state, reply_tcp_pos, reply_tool_offsets, reply_user_offsets,
                       reply_value, reply_version)
 from .wire import encode_json
 
@@ -164,10 +165,14 @@ def joint_move(q_rad, speed_rad_s: float, accel_rad_s2: float, relative: bool = 
 
 
 def moveL(pose_mm_rpy, speed_mm_s: float, accel_mm_s2: float, relative: bool = False,
-          tol_mm: Optional[float] = None) -> Request:  # noqa: N802 - the protocol's name
+          tol_mm: Optional[float] = None, ori_vel_rad_s: Optional[float] = None,
+          ori_acc_rad_s2: Optional[float] = None) -> Request:  # noqa: N802 - the protocol's name
     """Straight-line move of the TCP to ``pose_mm_rpy`` (mm + RPY rad) at
     ``speed_mm_s`` (mm/s) and ``accel_mm_s2`` (mm/s²); ``tol_mm`` is the optional blending
-    tolerance.
+    tolerance. ``ori_vel_rad_s`` (rad/s) and ``ori_acc_rad_s2`` (rad/s²) bound the
+    orientation's speed and acceleration, sent as ``ori_vel`` deg/s and ``ori_acc`` deg/s² as
+    JAKA's SDK sends them with every moveL; without them the controller turns the tool at its
+    own defaults (the SDK's are 3.14 rad/s and 12.56 rad/s²).
 
     With ``relative`` the pose is an increment (how the controller composes a relative
     orientation is not documented)."""
@@ -179,6 +184,12 @@ def moveL(pose_mm_rpy, speed_mm_s: float, accel_mm_s2: float, relative: bool = F
         Field.REL_FLAG: _rel_flag(relative)})
     if tol_mm is not None:
         request[Field.TOL] = _number(tol_mm, "tolerance (mm)", lo=0.0)
+    if ori_vel_rad_s is not None:
+        request[Field.ORI_VEL] = math.degrees(_number(ori_vel_rad_s, "orientation speed "
+                                                      "(rad/s)", positive=True))
+    if ori_acc_rad_s2 is not None:
+        request[Field.ORI_ACC] = math.degrees(_number(ori_acc_rad_s2, "orientation "
+                                                      "acceleration (rad/s²)", positive=True))
     return request
 
 
@@ -364,6 +375,17 @@ def drag_status() -> Request:
     return _cmd(Cmd.DRAG_STATUS)
 
 
+def torque_control_enable(on: bool) -> Request:
+    """Enter (``True``) or leave drag mode (hand guiding), as JAKA's SDK's
+    ``drag_mode_enable`` does; confirm with :func:`get_drag_status`."""
+    return _cmd(Cmd.TORQUE_CONTROL_ENABLE, **{Field.ENABLE_FLAG: 1 if on else 0})
+
+
+def get_dh_param() -> Request:
+    """The arm's own kinematic parameters. Reply: :func:`reply_dh_param`."""
+    return _cmd(Cmd.GET_DH_PARAM)
+
+
 # ---- IO -------------------------------------------------------------------------------------
 # io_type: fields.IOType (0 cabinet, 1 tool, 2 extension; controllers know more). ``index`` is
 # 0-based, as the SDK's API counts; the wire is 1-based, and JAKA's SDK sends index + 1 for every
@@ -456,10 +478,10 @@ def get_rapid_rate() -> Request:
 
 
 def get_tool_offsets() -> Request:
-    """The active tool's offset; reply key ``tool_offsets`` (mm, RPY deg on the wire)."""
+    """Every stored tool, by id. Reply: :func:`reply_tool_offsets`."""
     return _cmd(Cmd.GET_TOOL_OFFSETS)
 
 
 def get_user_offsets() -> Request:
-    """The active user frame; reply key ``user_offsets`` (mm, RPY deg on the wire)."""
+    """Every stored user frame, by id. Reply: :func:`reply_user_offsets`."""
     return _cmd(Cmd.GET_USER_OFFSETS)

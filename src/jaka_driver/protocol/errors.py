@@ -21,6 +21,13 @@ class ProtocolError(JakaProtocolError):
     ``errorCode``, a reply to another command, a field of the wrong type)."""
 
 
+class MalformedInput(ProtocolError):
+    """Bytes that can never become a valid message: not JSON (a ``NaN`` literal, an integer too
+    long to convert, invalid UTF-8 outside a string, brackets that do not match), nested deeper
+    than any real one, or longer than any real one without an end. The reader drops them and
+    counts the drop; framing may be lost with them."""
+
+
 class ConnectFailed(JakaProtocolError, builtins.ConnectionError):
     """The TCP connection to the controller could not be opened (refused, unreachable, timed
     out)."""

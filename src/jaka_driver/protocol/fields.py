@@ -307,9 +307,10 @@ _SPECS = (
     CommandSpec(Cmd.JOINT_MOVE, request=(F.JOINT_POSITION, F.SPEED, F.ACCEL, F.REL_FLAG),
                 confidence="medium", note="speed deg/s, accel deg/s² per client doc strings; "
                 "reply comes when the motion is accepted, not when it ends"),
-    CommandSpec(Cmd.MOVE_L, request=(F.CART_POSITION, F.SPEED, F.ACCEL, F.REL_FLAG, F.TOL),
+    CommandSpec(Cmd.MOVE_L, request=(F.CART_POSITION, F.SPEED, F.ACCEL, F.REL_FLAG, F.TOL,
+                                     F.ORI_VEL, F.ORI_ACC),
                 confidence="medium", note='some clients spell it "move_l"; speed mm/s, accel '
-                "mm/s²; tol optional"),
+                "mm/s²; tol optional; ori_vel deg/s, ori_acc deg/s² as JAKA's SDK sends them"),
     CommandSpec(Cmd.JOG, request=(F.JOG_MODE, F.COORD_MAP, F.JNUM, F.JOGVEL, F.POSCMD),
                 confidence="medium", note="jogvel deg/s or mm/s, poscmd deg or mm (inferred "
                 "from the deg/mm rule of the protocol)"),
@@ -365,12 +366,19 @@ _SPECS = (
     CommandSpec(Cmd.IS_ON_LIMIT, reply=(F.ON_LIMIT,)),
     CommandSpec(Cmd.GET_DRAG_STATUS, reply=(F.STATUS,), note="status is a JSON bool"),
     CommandSpec(Cmd.GET_RAPID_RATE, reply=(F.VALUE,)),
-    CommandSpec(Cmd.GET_TOOL_OFFSETS, reply=(F.TOOL_OFFSETS,)),
-    CommandSpec(Cmd.GET_USER_OFFSETS, reply=(F.USER_OFFSETS,)),
+    CommandSpec(Cmd.GET_TOOL_OFFSETS, reply=(F.TOOL_OFFSETS,),
+                note="a table, row = tool id (11 rows, ids 0-10), each mm + RPY deg"),
+    CommandSpec(Cmd.GET_USER_OFFSETS, reply=(F.USER_OFFSETS,),
+                note="a table, row = user frame id (11 rows, ids 0-10), each mm + RPY deg"),
+    CommandSpec(Cmd.TORQUE_CONTROL_ENABLE, request=(F.ENABLE_FLAG,),
+                note="drag mode on (1) / off (0); JAKA's SDK confirms with get_drag_status"),
+    CommandSpec(Cmd.GET_DH_PARAM, reply=(F.DH_PARAM,),
+                note="4 rows of 6: alpha deg, a mm, d mm, joint_homeoff deg"),
     CommandSpec(Cmd.DATA_REQUEST, note="port 10004; the reply is one zlib-compressed status "
                 "packet"),
     CommandSpec(Cmd.DRAG_STATUS, reply=(F.DRAG_STATUS,), confidence="medium"),
-    CommandSpec(Cmd.GET_VERSION, reply=(F.VERSION,)),
+    CommandSpec(Cmd.GET_VERSION, reply=IDENTITY_FIELDS,
+                note="every identity key a string; older controllers send only version"),
     CommandSpec(Cmd.QUIT, note="the controller closes this connection"),
 )
 del F

@@ -15,13 +15,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Mapping, NamedTuple, Tuple
+import math
+from typing import Any, Dict, Mapping, NamedTuple, Tuple
 
 import numpy as np
 
 from . import units
 from .errors import CommandRejected, ProtocolError
-from .fields import ERROR_CODE_OK, Field
+from .fields import ERROR_CODE_OK, IDENTITY_FIELDS, Field
 from .wire import as_flag, clean_text, float_vector
 
 
@@ -149,13 +150,20 @@ def reply_motion_state(reply: Reply) -> MotionState:
 
 def reply_value(reply: Reply) -> float:
     """``get_digital_input`` / ``get_digital_output`` / ``get_analog_input`` /
-    ``get_analog_output`` → value."""
-    raw = _field(reply, Field.VALUE)
+    ``get_analog_output`` / ``get_rapid_rate`` → value."""
+    return _number(reply, Field.VALUE)
+
+
+def _number(reply: Reply, key: str) -> float:
+    raw = _field(reply, key)
     try:
-        return float(raw)
-    except (TypeError, ValueError):
-        raise ProtocolError(f"'value' in the reply to {reply.cmd_name!r} is not a number: "
-                            f"{raw!r}") from None
+        value = float(raw)
+    except (TypeError, ValueError, OverflowError):
+        value = math.nan
+    if isinstance(raw, bool) or not math.isfinite(value):
+        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} is not a finite "
+                            f"number: {raw!r}")
+    return value
 
 
 def reply_din_status(reply: Reply) -> Tuple[int, ...]:
@@ -177,24 +185,91 @@ def reply_clsn_sensitivity(reply: Reply) -> int:
 
 
 def reply_payload(reply: Reply) -> Tuple[float, np.ndarray]:
-    """``get_payload`` → (mass kg, centroid mm (3,))."""
-    mass = _field(reply, Field.MASS)
-    try:
-        return float(mass), _wire_vector(reply, Field.CENTROID, 3)
-    except (TypeError, ValueError):
-        raise ProtocolError(f"'mass' in the reply to {reply.cmd_name!r} is not a number: "
-                            f"{mass!r}") from None
+    """``get_payload`` / ``get_tool_payload`` → (mass kg, centroid mm (3,))."""
+    return _number(reply, Field.MASS), _wire_vector(reply, Field.CENTROID, 3)
 
 
 def reply_version(reply: Reply) -> str:
     """``get_version`` → the controller's version string."""
-    return str(_field(reply, Field.VERSION))
+    return clean_text(_field(reply, Field.VERSION))
+
+
+def reply_identity(reply: Reply) -> Dict[str, str]:
+    """``get_version`` → the identity strings the controller sent, by key (``version``,
+    ``controller_id``, ``controller_guarantee``, ``robot_id``, ``robot_name``, ``scb_version``,
+    ``servo_version``; older controllers send only ``version``). A number is taken as its text
+    (JAKA's SDK would abort on it); any other type is left out."""
+    _field(reply, Field.VERSION)
+    return {key: clean_text(value) for key, value in reply.fields.items()
+            if key in IDENTITY_FIELDS and isinstance(value, (str, int, float))
+            and not isinstance(value, bool)}
+
+
+def _table(reply: Reply, key: str, rows: int, columns: int) -> np.ndarray:
+    """A reply field that must be a JSON array of ``rows`` arrays of ``columns`` finite numbers
+    (``rows`` 0: any number of rows, at least one) → float array (rows, columns)."""
+    raw = _field(reply, key)
+    where = f"{key!r} in the reply to {reply.cmd_name!r}"
+    if not isinstance(raw, list) or not raw or (rows and len(raw) != rows):
+        shape = f"{rows} rows" if rows else "rows"
+        raise ProtocolError(f"{where} should be an array of {shape} of {columns} numbers; got "
+                            f"{str(raw)[:120]}")
+    table = []
+    for i, row in enumerate(raw):
+        if not isinstance(row, list) or len(row) != columns or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in row):
+            raise ProtocolError(f"{where}: row {i} should be {columns} numbers; got "
+                                f"{str(row)[:120]}")
+        table.append([float(v) for v in row])
+    out = np.asarray(table)
+    if not np.all(np.isfinite(out)):
+        raise ProtocolError(f"{where} has a value that is not finite")
+    return out
+
+
+class DHParam(NamedTuple):
+    """``get_dh_param``: the arm's own kinematic parameters, in the SDK's units."""
+    alpha: np.ndarray
+    """link twists, rad (6,)"""
+    a: np.ndarray
+    """link lengths, mm (6,)"""
+    d: np.ndarray
+    """link offsets, mm (6,)"""
+    joint_homeoff: np.ndarray
+    """joint zero offsets, rad (6,)"""
+
+
+def reply_dh_param(reply: Reply) -> DHParam:
+    """``get_dh_param`` → :class:`DHParam`. The wire sends ``dh_param`` as 4 rows of 6:
+    alpha (deg), a (mm), d (mm), joint_homeoff (deg); any other shape or a non-number is a
+    :class:`~.errors.ProtocolError` (JAKA's SDK crashes on an object or a flat list)."""
+    rows = _table(reply, Field.DH_PARAM, 4, 6)
+    return DHParam(alpha=units.deg_to_rad(rows[0]), a=rows[1], d=rows[2],
+                   joint_homeoff=units.deg_to_rad(rows[3]))
+
+
+def reply_tool_offsets(reply: Reply) -> Tuple[np.ndarray, ...]:
+    """``get_tool_offsets`` → the stored tools by id (see :func:`_frames_by_id`)."""
+    return _frames_by_id(reply, Field.TOOL_OFFSETS)
+
+
+def reply_user_offsets(reply: Reply) -> Tuple[np.ndarray, ...]:
+    """``get_user_offsets`` → the stored user frames by id (see :func:`_frames_by_id`)."""
+    return _frames_by_id(reply, Field.USER_OFFSETS)
+
+
+def _frames_by_id(reply: Reply, key: str) -> Tuple[np.ndarray, ...]:
+    """Element ``i`` is frame ``i`` as [x, y, z mm, rx, ry, rz rad] (RPY). The wire sends a
+    table, row = id, each [x, y, z mm, rx, ry, rz deg] (a real controller: 11 rows, ids
+    0–10); a flat list or any other shape is a :class:`~.errors.ProtocolError` (JAKA's SDK
+    crashes on it)."""
+    return tuple(units.pose_from_wire(row) for row in _table(reply, key, 0, 6))
 
 
 def _int_field(reply: Reply, *keys: str) -> int:
     raw = _field(reply, *keys)
     try:
         return int(raw)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ProtocolError(f"{keys[0]!r} in the reply to {reply.cmd_name!r} is not an "
                             f"integer: {raw!r}") from None

@@ -8,7 +8,7 @@ byte costs at most one packet, and it never holds more than ``max_buffer`` bytes
 """
 from __future__ import annotations
 
-import json
+import math
 import re
 import zlib
 from dataclasses import dataclass, field
@@ -17,9 +17,9 @@ from typing import Any, Dict, List, Mapping, Tuple
 import numpy as np
 
 from . import units
-from .errors import ProtocolError
+from .errors import MalformedInput, ProtocolError
 from .fields import StatusField as S
-from .wire import as_flag, clean_text, decode_first_object, encode_json_spaced
+from .wire import HeadDecoder, as_flag, clean_text, encode_json_spaced
 
 #: Every packet starts with these bytes (``len`` first; a space may follow the colon).
 PACKET_START = b'{"len":'
@@ -37,12 +37,16 @@ class StatusStreamDecoder:
 
     * ``packets`` — packets decoded;
     * ``bytes_dropped`` — bytes thrown away (garbage between packets, broken packets, overflow);
-    * ``packets_dropped`` — packets lost: a broken object skipped at the next token, or the
-      buffer discarded because it grew past ``max_buffer`` without a decodable packet.
+    * ``packets_dropped`` — packets lost: a malformed object (not JSON, nested too deep: see
+      :class:`~.wire.HeadDecoder`), an unfinished one skipped at the next token, or the buffer
+      discarded because it grew past ``max_buffer`` without a decodable packet;
+    * ``fields_dropped`` — fields of decoded packets that were malformed and read as their
+      default (:func:`parse_status`'s ``malformed``; the readers of :mod:`.client` count them);
+    * ``text_repaired`` — packets with invalid UTF-8 inside a string (kept as U+FFFD).
 
-    A packet is declared broken when it cannot be decoded although the next token has arrived
-    and the buffer holds at least the packet's declared ``len``; the ``len`` check keeps a
-    nested ``{"len":`` from being mistaken for the next packet. The decoder does not otherwise
+    A packet is declared unfinished when it cannot be decoded although the next token has
+    arrived and the buffer holds at least the packet's declared ``len``; the ``len`` check keeps
+    a nested ``{"len":`` from being mistaken for the next packet. The decoder does not otherwise
     rely on ``len``, whose exact meaning on real controllers is not verified.
     """
 
@@ -53,7 +57,10 @@ class StatusStreamDecoder:
         self.packets = 0
         self.bytes_dropped = 0
         self.packets_dropped = 0
+        self.fields_dropped = 0
+        self.text_repaired = 0
         self._buf = bytearray()
+        self._head = HeadDecoder()
         # Where to look for a '}' in the buffer before trying to decode again: a packet can only
         # have completed if a '}' arrived since the last failed attempt.
         self._scan_from = 0
@@ -67,6 +74,7 @@ class StatusStreamDecoder:
         """Forget buffered bytes (e.g. on a new connection); the counters are kept."""
         self._buf.clear()
         self._scan_from = 0
+        self._head.reset()
 
     def feed(self, data: bytes) -> List[Dict[str, Any]]:
         """Add received bytes; return the packets they completed, in order."""
@@ -79,7 +87,11 @@ class StatusStreamDecoder:
                 break
             if start > 0:
                 self._drop(start)
-            packet = self._try_decode()
+            try:
+                packet = self._try_decode()
+            except MalformedInput:
+                self._drop_broken()
+                continue
             if packet is not None:
                 packets.append(packet)
                 continue
@@ -101,17 +113,28 @@ class StatusStreamDecoder:
         return packets
 
     def _try_decode(self):
+        """The packet at the head, or None while it is unfinished; raises MalformedInput."""
         if self._buf.find(b"}", self._scan_from) < 0:
             self._scan_from = len(self._buf)
             return None
-        try:
-            obj, used = decode_first_object(self._buf)
-        except json.JSONDecodeError:
+        decoded = self._head.decode(self._buf)
+        if decoded is None:
             self._scan_from = len(self._buf)
             return None
-        del self._buf[:used]
+        del self._buf[:decoded.used]
         self._scan_from = 0
-        return obj
+        if decoded.repaired:
+            self.text_repaired += 1
+        return decoded.value
+
+    def _drop_broken(self) -> None:
+        """Drop the malformed packet at the head: up to the next token, or all of it."""
+        following = self._buf.find(PACKET_START, 1)
+        if following < 0:
+            self._drop_all_but_token_prefix()
+        else:
+            self._drop(following)
+        self.packets_dropped += 1
 
     def _declared_length(self):
         match = _LEN_VALUE.match(self._buf)
@@ -125,6 +148,7 @@ class StatusStreamDecoder:
         del self._buf[:n]
         self.bytes_dropped += n
         self._scan_from = 0
+        self._head.reset()
 
     def _drop_all_but_token_prefix(self) -> None:
         # Keep a tail that may be the beginning of a token split across reads.
@@ -175,13 +199,16 @@ def data_reply_fields(text: bytes, compressed_size: int) -> Dict[str, Any]:
     ``compressed_size`` bytes). Raises :class:`~.errors.ProtocolError` when it is not one JSON
     object."""
     try:
-        obj, _ = decode_first_object(text)
-    except ValueError as exc:
-        raise ProtocolError(f"the data_request reply ({compressed_size} bytes) is not a "
-                            f"zlib-compressed JSON status packet: {exc}") from None
-    if not isinstance(obj, dict):
-        raise ProtocolError("the data_request reply is not a JSON object")
-    return obj
+        decoded = HeadDecoder().decode(text)
+    except MalformedInput as exc:
+        raise MalformedInput(f"the data_request reply ({compressed_size} bytes) is not a "
+                             f"zlib-compressed JSON status packet: {exc}") from None
+    if decoded is None:
+        raise MalformedInput(f"the data_request reply ({compressed_size} bytes) ends before "
+                             "its JSON object does")
+    if not isinstance(decoded.value, dict):
+        raise MalformedInput("the data_request reply is not a JSON object")
+    return decoded.value
 
 
 # ---- the status record -----------------------------------------------------------------------
@@ -201,7 +228,10 @@ class StatusPacket:
 
     Positions whose field was missing are NaN, never zero: a made-up pose must not look real.
     ``missing`` names the fields that were absent or malformed and got their default (an
-    absent ``errcode`` reads 0, an unreadable one -1).
+    absent ``errcode`` reads 0, an unreadable one -1); ``malformed`` those of them that were
+    present but unreadable (wrong type, wrong length, not finite). Fields only some controllers
+    send (``instVel``, ``monitor_data``, ``homed``, ``torqsensor``, ``motion_line``) are not
+    noted when absent.
     IO lists are as on the wire: element ``i`` is the signal the SDK's API calls ``i``
     (docs/protocol.md, "IO").
     """
@@ -212,6 +242,12 @@ class StatusPacket:
     """commanded joints, rad (6,) — from ``joint_position`` (deg)"""
     tcp_pose: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
     """TCP [x, y, z mm, rx, ry, rz rad] — from ``actual_position`` (mm, RPY deg)"""
+    joint_velocity: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
+    """joint speeds, rad/s (6,) — from the top-level ``instVel``, read in deg/s like every
+    joint quantity of the wire (its unit is not documented); NaN when absent"""
+    joint_torque: np.ndarray = field(default_factory=lambda: _frozen_array(_NAN6))
+    """joint torques, N·m (6,) — element [9] of each joint row ``monitor_data[5][j]``; NaN when
+    absent"""
     powered: bool = False
     enabled: bool = False
     emergency_stop: bool = False
@@ -228,10 +264,14 @@ class StatusPacket:
     errcode: int = 0
     """controller error code, 0 = no error (wire: hex string "0x0")"""
     errmsg: str = ""
+    sensor_errcode: int = 0
+    """the torque sensor's error code, ``torqsensor[1][1]`` (0 = none or no sensor)"""
     rapidrate: float = 1.0
     current_tool_id: int = 0
     current_user_id: int = 0
     motion_line: int = 0
+    homed: Tuple[int, ...] = ()
+    """``homed`` as sent (9 entries on a real controller; the SDK and JAKA call it obsolete)"""
     din: Tuple[float, ...] = ()
     dout: Tuple[float, ...] = ()
     ain: Tuple[float, ...] = ()
@@ -240,6 +280,7 @@ class StatusPacket:
     tio_dout: Tuple[float, ...] = ()
     tio_ain: Tuple[float, ...] = ()
     missing: Tuple[str, ...] = ()
+    malformed: Tuple[str, ...] = ()
 
     @property
     def has_error(self) -> bool:
@@ -253,34 +294,99 @@ def parse_errcode(value: Any) -> int:
         raise ValueError("errcode is a bool")
     if isinstance(value, (int, float)):
         return int(value)
-    text = str(value).strip()
+    if not isinstance(value, str):
+        raise ValueError(f"errcode is a {type(value).__name__}")
+    text = value.strip()
     try:
         return int(text, 0)
     except ValueError:
         return int(text, 16)
 
 
+#: What a field reader may raise on a value of the wrong type or size: the field is malformed.
+_UNREADABLE = (TypeError, ValueError, ArithmeticError, IndexError, KeyError, ProtocolError)
+
+
+def _finite(x: float) -> float:
+    if not math.isfinite(x):
+        raise ValueError(f"{x} is not finite")
+    return x
+
+
+def _number(raw) -> float:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+        raise TypeError(f"not a number: {type(raw).__name__}")
+    return _finite(float(raw))
+
+
+def _integer(raw) -> int:
+    """An int, or a float or bool (as the SDK's ``asInt`` reads them, truncated)."""
+    if not isinstance(raw, (int, float)):
+        raise TypeError(f"not a number: {type(raw).__name__}")
+    return int(raw)
+
+
+def _numbers(raw) -> Tuple[float, ...]:
+    if not isinstance(raw, list):
+        raise TypeError(f"not a list: {type(raw).__name__}")
+    return tuple(_number(v) for v in raw)
+
+
+def _six(raw) -> np.ndarray:
+    values = _numbers(raw)
+    if len(values) != 6:
+        raise ValueError(f"expected 6 numbers, got {len(values)}")
+    return np.asarray(values)
+
+
+def _joint_torques(raw) -> np.ndarray:
+    """``monitor_data`` → the six joint torques: [9] of each row of ``monitor_data[5]``."""
+    if not isinstance(raw, list) or len(raw) < 6 or not isinstance(raw[5], list):
+        raise TypeError("monitor_data is not [5 numbers, [6 joint rows]]")
+    rows = raw[5]
+    if len(rows) != 6 or not all(isinstance(r, list) and len(r) >= 10 for r in rows):
+        raise ValueError("monitor_data[5] is not 6 rows of at least 10 numbers")
+    return np.asarray([_number(r[9]) for r in rows])
+
+
+def _sensor_errcode(raw) -> int:
+    """``torqsensor`` → ``torqsensor[1][1]``, the sensor's error code."""
+    if not isinstance(raw, list) or len(raw) < 2 or not isinstance(raw[1], list):
+        raise TypeError("torqsensor is not [[config], [status, errcode, ...]]")
+    return _integer(raw[1][1])
+
+
+def _text(raw) -> str:
+    if not isinstance(raw, str):
+        raise TypeError(f"not a string: {type(raw).__name__}")
+    return clean_text(raw)
+
+
 def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     """A decoded status packet (or ``get_data`` reply fields) → :class:`StatusPacket`.
 
     Never raises for a missing or malformed field: it takes the default and lists the field in
-    ``missing``. Raises :class:`~.errors.ProtocolError` only if ``packet`` is not a mapping."""
+    ``missing`` (and in ``malformed`` when it was there but unreadable). Raises
+    :class:`~.errors.ProtocolError` only if ``packet`` is not a mapping."""
     if not isinstance(packet, Mapping):
         raise ProtocolError(f"a status packet must be a JSON object; got {type(packet).__name__}")
     missing: List[str] = []
+    malformed: List[str] = []
     values: Dict[str, Any] = {}
 
-    def take(attr: str, key: str, convert) -> None:
+    def take(attr: str, key: str, convert, optional: bool = False) -> None:
         if key not in packet:
-            missing.append(key)
+            if not optional:
+                missing.append(key)
             return
         try:
             values[attr] = convert(packet[key])
-        except (TypeError, ValueError, ProtocolError):
+        except _UNREADABLE:
             missing.append(key)
+            malformed.append(key)
 
     def joints(raw) -> np.ndarray:
-        return _frozen_array(_six(units.joints_from_wire(raw)))
+        return _frozen_array(units.deg_to_rad(_six(raw)))
 
     def pose(raw) -> np.ndarray:
         return _frozen_array(units.pose_from_wire(_six(raw)))
@@ -288,12 +394,12 @@ def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     def flag(key):
         return lambda raw: as_flag(raw, key)
 
-    def io(raw) -> Tuple[float, ...]:
-        return tuple(float(v) for v in raw)
-
     take("joint_position", S.JOINT_ACTUAL_POSITION, joints)
     take("joint_command", S.JOINT_POSITION, joints)
     take("tcp_pose", S.ACTUAL_POSITION, pose)
+    take("joint_velocity", S.INST_VEL, joints, optional=True)
+    take("joint_torque", S.MONITOR_DATA, lambda raw: _frozen_array(_joint_torques(raw)),
+         optional=True)
     for attr, key in (("powered", S.POWERED_ON), ("enabled", S.ENABLED),
                       ("emergency_stop", S.EMERGENCY_STOP),
                       ("protective_stop", S.PROTECTIVE_STOP), ("on_soft_limit", S.ON_SOFT_LIMIT),
@@ -302,21 +408,15 @@ def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     for attr, key in (("task_state", S.TASK_STATE), ("task_mode", S.TASK_MODE),
                       ("interp_state", S.INTERP_STATE), ("current_tool_id", S.CURRENT_TOOL_ID),
                       ("current_user_id", S.CURRENT_USER_ID)):
-        take(attr, key, int)
+        take(attr, key, _integer)
     take("errcode", S.ERRCODE, parse_errcode)
-    if S.ERRCODE in packet and S.ERRCODE in missing:
+    if S.ERRCODE in malformed:
         values["errcode"] = -1   # unreadable is not "no error": keep the robot in error
-    take("errmsg", S.ERRMSG, clean_text)
-    take("rapidrate", S.RAPIDRATE, float)
+    take("errmsg", S.ERRMSG, _text)
+    take("rapidrate", S.RAPIDRATE, _number)
     for key in (S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN):
-        take(key, key, io)
-    if S.MOTION_LINE in packet:
-        take("motion_line", S.MOTION_LINE, int)
-    return StatusPacket(**values, missing=tuple(missing))
-
-
-def _six(values) -> np.ndarray:
-    v = np.asarray(values, dtype=float)
-    if v.shape != (6,):
-        raise ValueError(f"expected 6 numbers, got shape {v.shape}")
-    return v
+        take(key, key, _numbers)
+    take("motion_line", S.MOTION_LINE, _integer, optional=True)
+    take("homed", S.HOMED, lambda raw: tuple(_integer(v) for v in _numbers(raw)), optional=True)
+    take("sensor_errcode", S.TORQSENSOR, _sensor_errcode, optional=True)
+    return StatusPacket(**values, missing=tuple(missing), malformed=tuple(malformed))

@@ -12,16 +12,24 @@ a reader cannot split on newlines: it parses one value and learns where it ended
 offset back to a byte offset, which differs from it as soon as a non-ASCII character (a Chinese
 ``errmsg``) precedes the end.
 
+Readers of the controller's output use :class:`HeadDecoder`, which is strict where it must be
+and says which of three things the head of its buffer is: a whole value, the beginning of one
+(wait for more bytes), or bytes that can never become one (:class:`~.errors.MalformedInput`:
+drop them). No input makes it raise anything else — Python's own parser raises
+``RecursionError`` on deep nesting and a plain ``ValueError`` on an over-long integer, neither of
+which a reader catching ``JSONDecodeError`` survives.
+
 It also reads the loosely typed values the controller sends (flags as bools, numbers or words).
 """
 from __future__ import annotations
 
 import json
-from typing import Any, Optional, Tuple
+import re
+from typing import Any, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from .errors import ProtocolError
+from .errors import MalformedInput, ProtocolError
 
 _DECODER = json.JSONDecoder()
 # surrogateescape maps an invalid byte to one lone surrogate and back, so the byte length of a
@@ -62,6 +70,132 @@ def decode_first_object(buf: bytes) -> Tuple[Any, int]:
     return obj, len(text[:end].encode("utf-8", _ERRORS))
 
 
+#: Deepest bracket nesting a reader accepts. A real reply or status packet nests 4 deep
+#: (``torqsensor``); anything near this is not a controller talking.
+MAX_NESTING = 64
+
+
+def _no_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not JSON")
+
+
+# NaN and Infinity are Python's extension, not JSON: a controller cannot mean them.
+_STRICT = json.JSONDecoder(parse_constant=_no_constant)
+_STRUCTURE = re.compile(rb'[][{}"]')
+_IN_STRING = re.compile(rb'["\\]')
+_QUOTE, _BACKSLASH = ord('"'), ord("\\")
+_OPENING = b"{["
+_CLOSING_OF = {ord("{"): b"}", ord("["): b"]"}
+_OPENING_OF = {ord("}"): ord("{"), ord("]"): ord("[")}
+
+
+class Decoded(NamedTuple):
+    """A value taken from the head of a buffer."""
+    value: Any
+    used: int
+    """bytes it occupied"""
+    repaired: bool
+    """a string in it held invalid UTF-8, kept as U+FFFD by :func:`clean_text`"""
+
+
+class HeadDecoder:
+    """Decodes the JSON object or array at the head of a growing byte buffer.
+
+    :meth:`decode` answers the value once all of it has arrived, None while it may still be
+    completed, and raises :class:`~.errors.MalformedInput` once it cannot be: it is not JSON
+    (``NaN``/``Infinity`` literals included, and integers longer than Python converts), or it
+    nests deeper than ``max_depth``. Whether an unparsable head is unfinished or broken is told
+    by counting brackets outside strings (no parsing), resumed where the last count stopped —
+    so bytes arriving one at a time cost no more than all at once. Numbers too large for a
+    float decode as ``inf``: JSON allows them, and the field readers refuse what is not finite.
+
+    Invalid UTF-8 inside a string is kept (as lone surrogates that :func:`clean_text` turns
+    into U+FFFD) and reported as ``repaired``: a controller writing its messages in another
+    encoding must not lose its whole reply or status stream to one word.
+
+    One per buffer; call :meth:`reset` whenever bytes leave the head of the buffer other than
+    through a decoded value.
+    """
+
+    def __init__(self, max_depth: int = MAX_NESTING):
+        self.max_depth = int(max_depth)
+        self.reset()
+
+    def reset(self) -> None:
+        self._pos = 0          # where the bracket count stopped
+        self._open = b""       # the brackets open there, innermost last
+        self._in_string = False
+
+    def decode(self, buf) -> Optional[Decoded]:
+        data = bytes(buf)
+        try:
+            text, checked = data.decode("utf-8"), True
+        except UnicodeDecodeError:
+            text, checked = data.decode("utf-8", _ERRORS), False
+        try:
+            value, end = _STRICT.raw_decode(text)
+        except RecursionError:
+            self.reset()
+            raise MalformedInput("nested deeper than the JSON parser follows") from None
+        except ValueError as exc:   # JSONDecodeError, or an integer too long to convert
+            if self._head_end(data) is None:
+                return None
+            self.reset()
+            raise MalformedInput(f"not valid JSON ({exc})") from None
+        self.reset()
+        if text.isascii():
+            return Decoded(value, end, False)
+        head = text[:end]
+        if checked:
+            return Decoded(value, len(head.encode("utf-8")), False)
+        try:   # the invalid bytes may all lie beyond the head
+            return Decoded(value, len(head.encode("utf-8")), False)
+        except UnicodeEncodeError:
+            return Decoded(value, len(head.encode("utf-8", _ERRORS)), True)
+
+    def _head_end(self, data: bytes) -> Optional[int]:
+        """Where the bracketed value at ``data[0]`` ends, or None while it is open. Raises
+        :class:`MalformedInput` when the head is not a bracket, a bracket closes another kind,
+        or the brackets nest too deep."""
+        if not data or data[0] not in _OPENING:
+            raise MalformedInput(f"does not begin with '{{' or '[': {data[:40]!r}")
+        pos, opened, in_string = self._pos, self._open, self._in_string
+        try:
+            while True:
+                if in_string:
+                    m = _IN_STRING.search(data, pos)
+                    if m is None:
+                        return None
+                    if data[m.start()] == _BACKSLASH:
+                        if m.start() + 1 >= len(data):
+                            pos = m.start()    # the escaped byte has not arrived
+                            return None
+                        pos = m.start() + 2
+                        continue
+                    pos, in_string = m.end(), False
+                    continue
+                m = _STRUCTURE.search(data, pos)
+                if m is None:
+                    pos = len(data)
+                    return None
+                pos, c = m.end(), data[m.start()]
+                if c == _QUOTE:
+                    in_string = True
+                elif c in _OPENING:
+                    opened += _CLOSING_OF[c]
+                    if len(opened) > self.max_depth:
+                        raise MalformedInput(f"nested more than {self.max_depth} deep")
+                elif opened[-1] != c:
+                    raise MalformedInput(f"{chr(c)!r} at byte {pos - 1} closes "
+                                         f"{chr(_OPENING_OF[opened[-1]])!r}")
+                else:
+                    opened = opened[:-1]
+                    if not opened:
+                        return pos
+        finally:
+            self._pos, self._open, self._in_string = pos, opened, in_string
+
+
 def clean_text(value: Any) -> str:
     """A wire string as text that can always be re-encoded: bytes that were not UTF-8 (kept as
     lone surrogates by the decoder) become U+FFFD. ``None`` becomes ``""``."""
@@ -89,8 +223,9 @@ def float_vector(value: Any, n: int) -> Optional[np.ndarray]:
 
 def as_flag(value: Any, what: str) -> bool:
     """A wire flag → bool. Accepts bools, numbers and the strings clients report
-    (``"1"``, ``"powered_on"``, ``"robot_enabled"``, and their opposites)."""
-    if isinstance(value, (bool, int, float)):
+    (``"1"``, ``"powered_on"``, ``"robot_enabled"``, and their opposites); not NaN or
+    infinity."""
+    if isinstance(value, (bool, int)) or (isinstance(value, float) and np.isfinite(value)):
         return bool(value)
     if isinstance(value, str):
         text = value.strip().lower()
