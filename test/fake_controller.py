@@ -11,6 +11,16 @@ and the arm jumps to its target when it ends (a fake has no kinematics: ``moveL`
 the TCP, joint moves the joints). ``get_motion_state`` and the packets' ``inpos`` show the queue;
 ``wait_complete`` answers when it is empty; ``stop_program`` empties it.
 
+What is set reads back, from the reply and the status packet: drag mode (``torque_control_enable``
+→ ``get_drag_status``, ``drag_status``), servo mode (``servo_move`` → ``is_in_servomove``), the
+frame tables (``set_*_offsets`` → the row of that id in ``get_*_offsets``, which start as the
+transcript's tables), the active tool and user frame (``set_*_id`` → ``get_curr_*_id``,
+``current_*_id``), IO, payloads, the speed ratio. The recorded refusals of fw 1.5.14 are played
+where they were recorded: ``servo_j`` outside servo mode answers the transcript's ``-1``,
+``servo_move`` while moves are queued is acknowledged and servo mode is not entered.
+:meth:`FakeController.on_pendant` changes frames as an operator at the teach pendant would, and
+``raw_replies`` makes the next reply to a command any bytes at all.
+
 Ports: command (10001 role), status stream (10000 role, optional), data_request (10004 role,
 optional), all on 127.0.0.1 with free port numbers. ``layout="compact"`` answers without spaces
 (an older firmware's layout), to prove readers do not depend on the spaces.
@@ -76,8 +86,15 @@ class FakeController:
         self.packet = json.loads(load_status_packet())
         self.joints = list(self.packet["joint_actual_position"])   # deg
         self.tcp = list(self.packet["actual_position"])            # mm, RPY deg
-        self.powered, self.enabled, self.servo = True, True, False
+        self.powered, self.enabled, self.servo, self.drag = True, True, False, False
         self.io: Dict[Tuple[str, int, int], float] = {}             # (kind, type, wire index)
+        self.offsets = {kind: copy.deepcopy(self.replies[f"get_{kind}_offsets"][f"{kind}_offsets"])
+                        for kind in ("tool", "user")}               # row = id: mm, RPY deg
+        self.active = {"tool": self.packet["current_tool_id"],
+                       "user": self.packet["current_user_id"]}
+        self.settings = {"get_payload": {}, "get_tool_payload": {}, "get_rapid_rate": {},
+                         "get_tio_vout_param": {}}                  # what a get answers
+        self.raw_replies: Dict[str, bytes] = {}                     # next reply, any bytes
         self.queue: List[Dict[str, Any]] = []                       # moves, the first runs
         self.requests: List[Dict[str, Any]] = []                    # every request decoded
         self.lock = threading.RLock()
@@ -127,11 +144,21 @@ class FakeController:
             if self.queue:
                 self.queue[0]["ends"] = move["ends"] + self.move_time
 
+    def on_pendant(self, kind: str, frame_id: int, offset=None) -> None:
+        """An operator at the teach pendant stores ``offset`` (mm, RPY deg) as ``kind``
+        ("tool" or "user") ``frame_id`` and makes it active."""
+        with self.lock:
+            if offset is not None:
+                self.offsets[kind][frame_id] = [float(v) for v in offset]
+            self.active[kind] = frame_id
+
     def answer(self, req: Dict[str, Any]) -> Dict[str, Any]:
         name = req.get("cmdName", "")
         with self.lock:
             self._advance()
             if name not in self.replies:
+                if name in self.refusals:   # recorded only as a non-success
+                    return copy.deepcopy(self.refusals[name])
                 return {"errorCode": "1", "errorMsg": f"unknown command {name}", "cmdName": name}
             reply = copy.deepcopy(self.replies[name])
             refusal = self._act(name, req, reply)
@@ -170,9 +197,35 @@ class FakeController:
             reply.update(enable="robot_enabled" if self.enabled else "robot_disabled",
                          power="powered_on" if self.powered else "powered_off")
         elif name == "servo_move":
-            self.servo = bool(req.get("relFlag"))
+            # recorded on fw 1.5.14: acknowledged while moves are queued, but not entered
+            self.servo = bool(req.get("relFlag")) and not self.queue
         elif name == "is_in_servomove":
             reply["in_servomove"] = self.servo
+        elif name in ("servo_j", "servo_p") and not self.servo:
+            return copy.deepcopy(self.refusals["servo_j"])
+        elif name == "torque_control_enable":
+            self.drag = bool(req["enable_flag"])
+        elif name == "get_drag_status":
+            reply["status"] = self.drag
+        elif name in ("set_tool_offsets", "set_user_offsets"):
+            kind = name[4:8]
+            offset = req["tooloffset" if kind == "tool" else "userffset"]
+            self.offsets[kind][int(req["id"])] = [float(v) for v in offset]
+        elif name in ("get_tool_offsets", "get_user_offsets"):
+            kind = name[4:8]
+            reply[f"{kind}_offsets"] = copy.deepcopy(self.offsets[kind])
+        elif name in ("set_tool_id", "set_user_id"):
+            kind = name[4:8]
+            self.active[kind] = int(req["tool_id" if kind == "tool" else "user_frame_id"])
+        elif name in ("get_curr_tool_id", "get_curr_user_id"):
+            reply["id"] = self.active[name[9:13]]
+        elif name in ("set_payload", "set_tool_payload", "set_tio_vout_param"):
+            self.settings[name.replace("set_", "get_")] = {
+                k: v for k, v in req.items() if k != "cmdName"}
+        elif name == "rapid_rate":
+            self.settings["get_rapid_rate"] = {"value": float(req["rate_value"])}
+        elif name in self.settings:
+            reply.update(copy.deepcopy(self.settings[name]))
         elif name.startswith("set_") and name.endswith("_output"):
             kind = name[4:-7]   # digital / analog
             self.io[(kind + "_output", int(req["type"]), int(req["index"]))] = float(req["value"])
@@ -189,6 +242,8 @@ class FakeController:
             p["actual_position"] = p["position"] = list(self.tcp)
             p["inpos"] = not self.queue
             p["powered_on"], p["enabled"] = int(self.powered), self.enabled
+            p["drag_status"] = self.drag
+            p["current_tool_id"], p["current_user_id"] = self.active["tool"], self.active["user"]
             for (kind, io_type, index), value in self.io.items():
                 field = {"digital_output": "dout", "analog_output": "aout"}.get(kind)
                 if field and io_type == 0:
@@ -255,9 +310,12 @@ class FakeController:
                         if not self.queue:
                             break
                     time.sleep(0.005)
-            reply = self.answer(req)
+            with self.lock:
+                raw = self.raw_replies.pop(req.get("cmdName"), None)
+            data = raw if raw is not None else json.dumps(self.answer(req),
+                                                          separators=self.separators).encode()
             try:
-                conn.sendall(json.dumps(reply, separators=self.separators).encode())
+                conn.sendall(data)
             except OSError:
                 return
 
@@ -275,6 +333,18 @@ class FakeController:
                     conn.sendall(zlib.compress(encode_packet(self.status_fields())))
                 except OSError:
                     return
+
+
+def start_backend(fake: "FakeController", model="zu5", source: str = "stream"):
+    """A ControllerBackend connected to ``fake`` (status from ``source``), started."""
+    from jaka_driver.controller import ControllerBackend
+    from jaka_driver.models import load_model
+    backend = ControllerBackend(load_model(model), "127.0.0.1", fake.command_port,
+                                fake.status_port, status_source=source,
+                                data_port=fake.data_port, call_timeout=2.0, stall_timeout=2.0)
+    backend.start()
+    assert backend.link.connected, backend.link.down_message()
+    return backend
 
 
 def _closed_port() -> int:

@@ -4,8 +4,8 @@ keep.
 A tool is a pose relative to the flange, a user frame a pose relative to the robot base, both
 4x4 in metres. Id 0 is the flange / the base itself and cannot be stored. An id never stored
 reads as the identity; whoever keeps the table decides whether that deserves a word: the
-controller backend warns once (JAKA's protocol can store and activate frames but not read their
-offsets back — docs/protocol.md — so an id set on the teach pendant is unknown to the driver).
+controller backend fills it from the controller's own tables (read back by id,
+``controller/frames_by_id.py``) and warns once about an id they do not hold.
 """
 from __future__ import annotations
 

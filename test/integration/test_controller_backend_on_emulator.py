@@ -1,6 +1,6 @@
 """The controller backend does what docs/interface.md says, against the emulator over real TCP:
-moves arrive, blocking moves block and can be stopped, settings reach the controller, and what
-the protocol cannot do is answered as a failure."""
+moves arrive, blocking moves block and can be stopped, settings reach the controller and read
+back, drag mode goes on and off."""
 from __future__ import annotations
 
 import threading
@@ -239,31 +239,33 @@ def test_io_set_and_get(emu, backend):
     assert backend.set_io("digital", 0, 5, 1.0).ok
     assert backend.set_io("analog", 0, 0, 3.25).ok
     assert backend.set_io("digital", 1, 1, 1.0).ok
+    assert backend.set_io("digital", 2, 3, 1.0).ok   # extension IO: read back like the rest
     emu.controller.set_input("digital", 0, 7, 1.0)
     emu.controller.set_input("analog", 0, 1, -1.5)
-    time.sleep(0.05)   # outputs and analog inputs are read from the status stream
     assert backend.get_io("digital", 1, 0, 5).value == 1.0
     assert backend.get_io("digital", 1, 1, 1).value == 1.0
     assert backend.get_io("analog", 1, 0, 0).value == 3.25
     assert backend.get_io("digital", 0, 0, 7).value == 1.0
     assert backend.get_io("analog", 0, 0, 1).value == -1.5
-    extension = backend.get_io("digital", 1, 2, 0)
-    assert extension.code == Code.WRONG_MODE and "TCP protocol" in extension.message
+    assert backend.get_io("digital", 1, 2, 3).value == 1.0
     rejected = backend.set_io("digital", 0, 999, 1.0)
     # the controller names the wire index, one more than the driver's 0-based index 999
     assert rejected.code == Code.CONTROLLER_REJECTED and "index 1000" in rejected.message
-    for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1)):
+    for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1),
+                                   ("digital", 2, 3)):
         backend.set_io(signal, io_type, index, 0.0)
     emu.controller.set_input("digital", 0, 7, 0.0)
     emu.controller.set_input("analog", 0, 1, 0.0)
 
 
-def test_drag_mode_is_a_clear_failure(backend):
+def test_drag_mode_goes_on_and_off(emu, backend):
     result = backend.set_drag_mode(True)
-    assert result.code == Code.WRONG_MODE
-    assert "teach pendant" in result.message and "TCP protocol" in result.message
-    assert not backend.state().drag_mode
-    assert backend.set_drag_mode(False).ok   # already off: true, and says so
+    assert result.ok, result.message
+    assert emu.twin.drag_mode and wait_until(lambda: backend.state().drag_mode, 1.0)
+    assert backend.state().motion_state == MotionState.RUNNING   # hand guiding: not at rest
+    assert backend.set_drag_mode(False).ok
+    assert not emu.twin.drag_mode and wait_until(lambda: not backend.state().drag_mode, 1.0)
+    assert backend.set_drag_mode(False).message == "drag mode already off"
 
 
 def test_trajectory_is_streamed_with_servo_j(emu, backend):

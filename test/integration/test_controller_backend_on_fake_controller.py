@@ -12,26 +12,14 @@ import threading
 import numpy as np
 import pytest
 
-from fake_controller import FakeController, load_status_packet, load_transcript
+from fake_controller import FakeController, load_status_packet, load_transcript, start_backend
 from move_helpers import run_move
 from ros_harness import wait_until
 
-from jaka_driver.controller import ControllerBackend
-from jaka_driver.models import load_model
 from jaka_driver.results import Code
 from jaka_driver.transforms import pose_to_matrix, rpy_to_matrix
 
-MODEL = load_model("zu5")
 START_DEG = json.loads(load_status_packet())["joint_actual_position"]
-
-
-def start_backend(fake: FakeController, source: str = "stream") -> ControllerBackend:
-    backend = ControllerBackend(MODEL, "127.0.0.1", fake.command_port, fake.status_port,
-                                status_source=source, data_port=fake.data_port,
-                                call_timeout=2.0, stall_timeout=2.0)
-    backend.start()
-    assert backend.link.connected, backend.link.down_message()
-    return backend
 
 
 @pytest.fixture
@@ -68,7 +56,7 @@ def test_the_fixtures_are_in_the_controllers_layout():
 @pytest.mark.parametrize("source", ["stream", "request", "both"])
 def test_state_comes_from_port_10000_port_10004_or_both(source):
     with FakeController(stream=source != "request", data_port=source != "stream") as fake:
-        backend = start_backend(fake, source)
+        backend = start_backend(fake, source=source)
         try:
             st = backend.state()
             np.testing.assert_allclose(st.joint_position, np.radians(START_DEG), atol=1e-9)

@@ -1,21 +1,26 @@
 """The ``controller`` backend: a real JAKA controller (or ``jaka_emulator``) over the TCP
 protocol, behind the same :class:`~jaka_driver.backend.Backend` contract as the twin.
 
-Mapping (docs/protocol.md): joint_move → ``joint_move``, linear_move → ``moveL``, jog → ``jog``,
-servo → ``servo_move`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
-``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id``, payload →
-``set_tool_id`` + ``set_payload``, collision → ``set_clsn_sensitivity``, IO → the set/get
-commands and the status stream, clear_error → ``clear_error``, FK/IK →
-``kine_forward``/``kine_inverse``, trajectories → a ``servo_j`` stream (:mod:`.servo_stream`).
-Units are converted by the protocol library; this module speaks SI (rad, m, 4x4 poses of the
-active tool in the active user frame) like every backend.
+Mapping (docs/protocol.md): joint_move → ``joint_move``, linear_move → ``moveL`` with
+``ori_vel``/``ori_acc`` (the driver's orientation limits, :func:`~jaka_driver.motion.
+linear_path.orientation_limits`), jog → ``jog``, servo → ``servo_move`` confirmed by
+``is_in_servomove`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
+``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id`` confirmed by
+``get_curr_tool_id``/``get_curr_user_id``, payload → ``set_tool_id`` + ``set_payload``, drag →
+``torque_control_enable`` confirmed by ``get_drag_status``, collision →
+``set_clsn_sensitivity``, IO → the set commands confirmed by the get commands, clear_error →
+``clear_error``, FK/IK → ``kine_forward``/``kine_inverse``, trajectories → a ``servo_j`` stream
+(:mod:`.servo_stream`). A setting is confirmed as JAKA's SDK confirms it: its get read back
+every 100 ms for up to 1 s (:meth:`.commander.Commander.settled`). Units are converted by the
+protocol library; this module speaks SI (rad, m, 4x4 poses of the active tool in the active
+user frame) like every backend.
 
 A move ends when the status packets say so or, between packets, when ``get_motion_state``
 polled every :data:`MOTION_STATE_POLL` s says so (:mod:`.move_watch`); state comes from the status
 packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
 :mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
-reconnect policy are :mod:`.connection`. What the protocol cannot do (entering drag mode,
-reading extension outputs) is answered -9 with the reason.
+reconnect policy are :mod:`.connection`; frames by id are :mod:`.frames_by_id`; the arm's
+identity and kinematic parameters, read at every connection, are :mod:`.arm_identity`.
 
 The controller queues moves: one sent while another runs is acknowledged and runs after it
 (docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
@@ -32,16 +37,19 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
-from ..frames import TOOL, USER_FRAME, FrameTable
+from ..frames import TOOL, USER_FRAME
 from ..models import RobotModel
+from ..motion.linear_path import line_duration, orientation_limits
 from ..motion.profiles import TrapezoidProfile
 from ..protocol import commands, errors
-from ..protocol.fields import CoordMap, JogMode
+from ..protocol.fields import CoordMap, Field, JogMode
 from ..results import Code, CommandRefused, Result
 from ..robot_state import RobotState
-from ..transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix, rotation_angle_between
+from ..transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
+from .arm_identity import ArmIdentity
 from .commander import Commander, answers
 from .connection import ControllerLink
+from .frames_by_id import TABLE_SIZE, ControllerFrames
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView
@@ -53,18 +61,15 @@ JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
 MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
 MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
-LINEAR_ROTATION_SPEED = 0.2   # rad/s, a deliberately slow guess of moveL's orientation speed
-DRAG_UNSUPPORTED = ("drag mode cannot be entered over JAKA's TCP protocol (it has no command "
-                    "for it); use the teach pendant or the button on the arm")
-#: (signal, path, io_type) → the status field that carries it; no command reads these.
-STATUS_IO = {("digital", 1, 0): "dout", ("analog", 0, 0): "ain",
-             ("digital", 1, 1): "tio_dout", ("analog", 0, 1): "tio_ain"}
-
-
-def _warn_unknown_frame(kind: str, frame_id: int) -> None:
-    log.warning("%s %d is active but was set outside this driver: the protocol cannot read its "
-                "offset, so the identity is assumed in conversions; set it again with set_%s",
-                kind, frame_id, "toolframe" if kind == TOOL else "userframe")
+#: The highest frame id a controller stores (its tables hold ids 0-10; JAKA's SDK refuses 11).
+MAX_FRAME_ID = TABLE_SIZE - 1
+#: An analog output reads back as set within this (the wire carries 6 decimals).
+ANALOG_READBACK_TOLERANCE = 1e-3
+#: The get command of each (signal, path): path 0 input, 1 output.
+IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands.get_digital_output,
+            ("analog", 0): commands.get_analog_input, ("analog", 1): commands.get_analog_output}
+#: errorCode of a recorded refusal: servo_j outside servo mode (fw 1.5.14 answers "-1").
+SERVO_MODE_OFF_CODE = "-1"
 
 
 class ControllerBackend(Backend):
@@ -93,7 +98,8 @@ class ControllerBackend(Backend):
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
         self.send = Commander(self.link, power_timeout)
-        self.frame_table = FrameTable(on_unknown=_warn_unknown_frame)
+        self.frames_by_id = ControllerFrames(self.send.read)
+        self.identity = ArmIdentity(model)
         self._lock = threading.RLock()
         self._send_lock = threading.Lock()   # orders sending a move against stop_move
         self._watch: Optional[MoveWatch] = None
@@ -103,7 +109,6 @@ class ControllerBackend(Backend):
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
         self._motion_state_known = True   # until the controller says it has no such command
-        self.version = ""
 
     # ---- life cycle -------------------------------------------------------------------
     def start(self) -> None:
@@ -120,7 +125,13 @@ class ControllerBackend(Backend):
     def shutdown(self) -> None:
         self._abort_motion(Result.failure(Code.MOTION_STOPPED,
                                           "stopped: the driver is shutting down"))
+        self.frames_by_id.stop()
         self.link.stop()
+
+    @property
+    def version(self) -> str:
+        """The controller's version string (``get_version``), "" until read."""
+        return self.identity.version
 
     def state(self) -> RobotState:
         return self.view.state(self.link.connected, self._servo_mode)
@@ -134,6 +145,13 @@ class ControllerBackend(Backend):
                      "reconnects": self.link.reconnects})
         if not self.link.connected:
             info["link"] = self.link.down_message()
+        info.update(self.identity.describe())
+        info.update(self.frames_by_id.describe())
+        latest = self.view.latest
+        if latest is not None:
+            info["homed"] = list(latest.homed)
+            if latest.malformed:
+                info["malformed status fields"] = list(latest.malformed)
         info.update(self.link.counters())
         return info
 
@@ -142,23 +160,19 @@ class ControllerBackend(Backend):
         self.view.feed(status, received)
         if status.emergency_stop or status.protective_stop or not status.enabled:
             self._servo_mode = False   # the controller leaves servo mode on any of these
+        self.frames_by_id.on_active(status.current_tool_id, status.current_user_id)
         watch = self._watch
         if watch is not None:
             watch.on_status(status, received)
 
     def _on_up(self, first: bool) -> None:
+        """At every connection (supervisor thread): servo mode, identity, kinematic parameters
+        and frames as the controller has them now; power and enable at the first only."""
         self.view.reset()
-        try:
-            self._servo_mode = commands.reply_flag(
-                self.link.call(commands.is_in_servomove()), "in_servomove")
-        except (errors.JakaProtocolError, ValueError) as exc:
-            log.debug("is_in_servomove unavailable (%s); assuming servo mode is off", exc)
-            self._servo_mode = False
+        self._servo_mode = self._read_servo_mode()
+        self.identity.read(self.send.read)
+        self.frames_by_id.read_all()
         if first:
-            try:
-                self.version = commands.reply_version(self.link.call(commands.get_version()))
-            except errors.JakaProtocolError as exc:
-                log.debug("get_version unavailable: %s", exc)
             try:
                 self._bring_up()
             finally:
@@ -309,20 +323,22 @@ class ControllerBackend(Backend):
 
     @answers
     def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
+        """``moveL`` at ``speed`` m/s and ``accel`` m/s², its orientation at the driver's own
+        limits for that speed (``ori_vel``/``ori_acc``, the twin's, so a controller never turns
+        the tool at its own defaults); the estimate is the twin's time law of the same line."""
         pose = matrix_to_pose_mm_rpy(target)
-        speed_mm, accel_mm = speed * 1000.0, accel * 1000.0
+        angular_speed, angular_accel = orientation_limits(speed, accel)
         latest = self.link.latest
         estimate = UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
-            here = pose_mm_rpy_to_matrix(latest[0].tcp_pose)
-            distance = float(np.linalg.norm(pose[:3] - latest[0].tcp_pose[:3]))
-            angle = float(rotation_angle_between(here[:3, :3], target[:3, :3]))
-            estimate = (TrapezoidProfile(distance, speed_mm, accel_mm).min_duration
-                        + angle / LINEAR_ROTATION_SPEED)
+            estimate = line_duration(pose_mm_rpy_to_matrix(latest[0].tcp_pose), target, speed,
+                                     accel)
         note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
                                            "configuration itself")
         watch = MoveWatch("linear_move", tcp_at(pose), note=note)
-        return self._start_move(commands.moveL(pose, speed_mm, accel_mm), watch, estimate)
+        request = commands.moveL(pose, speed * 1000.0, accel * 1000.0,
+                                 ori_vel_rad_s=angular_speed, ori_acc_rad_s2=angular_accel)
+        return self._start_move(request, watch, estimate)
 
     # ---- trajectories ---------------------------------------------------------------------------
     @answers
@@ -333,8 +349,8 @@ class ControllerBackend(Backend):
                 raise CommandRefused(Code.BUSY, "a trajectory is already running")
         entered = False
         if not self._servo_mode:
-            self.send.accepted(commands.servo_move(True))
-            self._servo_mode = entered = True
+            self._set_servo_mode(True)
+            entered = True
         streamer = TrajectoryStreamer(trajectory, self.link.call,
                                       self._leave_servo if entered else None,
                                       step_num=self.trajectory_step_num)
@@ -355,14 +371,9 @@ class ControllerBackend(Backend):
             self._servo_mode = False
             return
         try:
-            reply = self.link.call(commands.servo_move(False))
-        except errors.JakaProtocolError as exc:
-            log.warning("leaving servo mode after a trajectory failed: %s", exc)
-            return
-        if reply.ok:
-            self._servo_mode = False
-        else:
-            log.warning("leaving servo mode after a trajectory was refused: %s", reply.error_msg)
+            self._set_servo_mode(False)
+        except CommandRefused as refusal:
+            log.warning("leaving servo mode after a trajectory failed: %s", refusal.message)
 
     # ---- jog ------------------------------------------------------------------------------------
     @answers
@@ -394,19 +405,51 @@ class ControllerBackend(Backend):
     # ---- servo ----------------------------------------------------------------------------------
     @answers
     def servo_enable(self, on: bool) -> Result:
-        self.send.accepted(commands.servo_move(bool(on)))
-        self._servo_mode = bool(on)
+        self._set_servo_mode(bool(on))
         return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    def _set_servo_mode(self, on: bool) -> None:
+        """``servo_move``, believed only once ``is_in_servomove`` says so: fw 1.5.14 acknowledges
+        it while queued moves run and stays out of servo mode (refused with 2 then)."""
+        try:
+            self.send.settled(commands.servo_move(on), commands.is_in_servomove(),
+                              _in_servomove, lambda now: now == on,
+                              f"servo mode {'on' if on else 'off'}")
+        except CommandRefused:
+            self._servo_mode = self._read_servo_mode()
+            raise
+        self._servo_mode = on
+
+    def _read_servo_mode(self) -> bool:
+        """What ``is_in_servomove`` says; off when it says nothing."""
+        try:
+            return self.send.read(commands.is_in_servomove(), _in_servomove)
+        except CommandRefused as refusal:
+            log.debug("is_in_servomove unavailable (%s); taking servo mode as off",
+                      refusal.message)
+            return False
 
     @answers
     def servo_j(self, q_target) -> Result:
-        self.send.accepted(commands.servo_j(np.asarray(q_target, float)))
+        self._servo_target(commands.servo_j(np.asarray(q_target, float)))
         return Result.success("servo_j target sent")
 
     @answers
     def servo_p(self, target) -> Result:
-        self.send.accepted(commands.servo_p(matrix_to_pose_mm_rpy(target)))
+        self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
         return Result.success("servo_p target sent")
+
+    def _servo_target(self, request) -> None:
+        reply = self.send.call(request)
+        if reply.ok:
+            return
+        if reply.error_code == SERVO_MODE_OFF_CODE:
+            # the recorded answer outside servo mode: the controller left it by itself
+            self._servo_mode = False
+            raise CommandRefused(Code.SERVO_MODE_OFF, f"servo mode is off on the controller "
+                                 f"({request[Field.CMD_NAME]}: {reply.error_msg})")
+        raise CommandRefused(Code.CONTROLLER_REJECTED, f"controller rejected "
+                             f"{request[Field.CMD_NAME]}: {reply.error_msg or reply.error_code}")
 
     @answers
     def stop_move(self) -> Result:
@@ -423,49 +466,74 @@ class ControllerBackend(Backend):
         latest = self.view.latest
         ids = (latest.current_tool_id, latest.current_user_id) if latest is not None \
             else self._ids
-        return self.frame_table.active(*ids)
+        return self.frames_by_id.table.active(*ids)
 
     @answers
     def set_tool_frame(self, tool_id, pose) -> Result:
-        tool_id = int(tool_id)
-        self._set_frame(TOOL, tool_id, pose, commands.set_tool_offsets, commands.set_tool_id)
+        tool_id = _frame_id("tool_num", tool_id)
+        self._set_frame(TOOL, tool_id, pose, commands.set_tool_offsets, commands.set_tool_id,
+                        commands.get_curr_tool_id())
         self._ids = (tool_id, self._ids[1])
         return Result.success(f"tool {tool_id} set and active")
 
     @answers
     def set_user_frame(self, user_id, pose) -> Result:
-        user_id = int(user_id)
+        user_id = _frame_id("user_num", user_id)
         self._set_frame(USER_FRAME, user_id, pose, commands.set_user_offsets,
-                        commands.set_user_id)
+                        commands.set_user_id, commands.get_curr_user_id())
         self._ids = (self._ids[0], user_id)
         return Result.success(f"user frame {user_id} set and active")
 
-    def _set_frame(self, kind: str, frame_id: int, pose, store, activate) -> None:
-        """Store the offset (not for id 0, the flange / base itself), then activate the id."""
+    def _set_frame(self, kind: str, frame_id: int, pose, store, activate, current) -> None:
+        """Store the offset (not for id 0, the flange / base itself), then activate the id and
+        read the active id back as JAKA's SDK does."""
         if frame_id:
             name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
             self.send.accepted(store(frame_id, matrix_to_pose_mm_rpy(pose), name))
-            self.frame_table.store(kind, frame_id, pose)
-        self.send.accepted(activate(frame_id))
+            self.frames_by_id.keep(kind, frame_id, pose)
+        else:
+            self.frames_by_id.activating(kind, 0)
+        self.send.settled(activate(frame_id), current, commands.reply_id,
+                          lambda active: active == frame_id, f"{kind} {frame_id} active")
 
     @answers
     def set_payload(self, tool_id, mass, centroid) -> Result:
+        tool_id = _frame_id("tool_num", tool_id)
         c_mm = np.asarray(centroid, float) * 1000.0
-        self.send.accepted(commands.set_tool_id(int(tool_id)))
-        self._ids = (int(tool_id), self._ids[1])
+        self.frames_by_id.activating(TOOL, tool_id)
+        self.send.settled(commands.set_tool_id(tool_id), commands.get_curr_tool_id(),
+                          commands.reply_id, lambda active: active == tool_id,
+                          f"tool {tool_id} active")
+        self._ids = (tool_id, self._ids[1])
         self.send.accepted(commands.set_payload(float(mass), c_mm))
         return Result.success(f"payload {mass:g} kg at ({c_mm[0]:.1f}, {c_mm[1]:.1f}, "
                               f"{c_mm[2]:.1f}) mm; tool {tool_id} active")
 
     @answers
     def set_drag_mode(self, on: bool) -> Result:
+        """``torque_control_enable``, confirmed by ``get_drag_status`` as JAKA's SDK confirms
+        it; refused in servo mode (-9) and while the arm moves (-10), as on the twin."""
+        on = bool(on)
         self.send.require_link()
-        if bool(on) == self.state().drag_mode:
+        if on == self.state().drag_mode:
             return Result.success(f"drag mode already {'on' if on else 'off'}")
         if on:
-            return Result.failure(Code.WRONG_MODE, DRAG_UNSUPPORTED)
-        return Result.failure(Code.WRONG_MODE, "drag mode was entered on the controller and "
-                              "cannot be left over JAKA's TCP protocol; use the teach pendant")
+            if self._servo_mode:
+                return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
+            if self._moving():
+                return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
+        self.send.settled(commands.torque_control_enable(on), commands.get_drag_status(),
+                          _drag_status, lambda now: now == on,
+                          f"drag mode {'on' if on else 'off'}")
+        return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def _moving(self) -> bool:
+        """A move, trajectory or jog of this driver runs, or the status stream shows motion."""
+        with self._lock:
+            watch, jog = self._watch, self._jog
+        latest = self.view.latest
+        return ((watch is not None and not watch.completion.done) or jog is not None
+                or (latest is not None and not latest.inpos))
 
     @answers
     def set_collision_level(self, level) -> Result:
@@ -476,37 +544,23 @@ class ControllerBackend(Backend):
 
     @answers
     def set_io(self, signal, io_type, index, value) -> Result:
+        """Set an output and read it back as JAKA's SDK does (every 100 ms, up to 1 s)."""
         if signal == "digital":
-            self.send.accepted(commands.set_digital_output(io_type, index, value))
+            want = 1.0 if value else 0.0
+            request = commands.set_digital_output(io_type, index, value)
         else:
-            self.send.accepted(commands.set_analog_output(io_type, index, value))
+            want = float(value)
+            request = commands.set_analog_output(io_type, index, value)
+        self.send.settled(request, IO_READS[(signal, 1)](io_type, index), commands.reply_value,
+                          lambda now: abs(now - want) <= ANALOG_READBACK_TOLERANCE,
+                          f"{signal} output {index} of type {io_type}")
         return Result.success(f"{signal} output {index} of type {io_type} = {value:g}")
 
     @answers
     def get_io(self, signal, path, io_type, index) -> Result:
         what = f"{signal} {'output' if path else 'input'} {index} of type {io_type}"
-        if signal == "digital" and path == 0:
-            value = self.send.read(commands.get_digital_input(io_type, index),
-                                   commands.reply_value)
-        elif signal == "analog" and path == 1:
-            value = self.send.read(commands.get_analog_output(io_type, index),
-                                   commands.reply_value)
-        else:
-            value = self._status_io(STATUS_IO.get((signal, path, io_type)), index, what)
+        value = self.send.read(IO_READS[(signal, path)](io_type, index), commands.reply_value)
         return Result.success(f"{what} = {value:g}", value)
-
-    def _status_io(self, name: Optional[str], index: int, what: str) -> float:
-        self.send.require_link()
-        if name is None:
-            raise CommandRefused(Code.WRONG_MODE, f"{what} cannot be read over JAKA's TCP "
-                                 "protocol (no command, and the status stream carries only "
-                                 "cabinet and tool IO)")
-        status = self.view.latest
-        values = getattr(status, name, ()) if status is not None else ()
-        if not 0 <= index < len(values):
-            raise CommandRefused(Code.COMMUNICATION_ERROR, f"{what}: the status stream's "
-                                 f"'{name}' has {len(values)} entries")
-        return float(values[index])
 
     @answers
     def clear_error(self) -> Result:
@@ -531,3 +585,23 @@ class ControllerBackend(Backend):
                                  f"{reply.error_msg or reply.error_code}")
         q = self.send.parse(reply, commands.reply_kine_inverse)
         return Result.success("controller's inverse kinematics nearest ref_joint", q)
+
+
+def _in_servomove(reply) -> bool:
+    return commands.reply_flag(reply, Field.IN_SERVOMOVE)
+
+
+def _drag_status(reply) -> bool:
+    return commands.reply_flag(reply, Field.STATUS)
+
+
+def _frame_id(field: str, frame_id) -> int:
+    """A tool or user frame id a controller stores: 0 (the flange / base) to
+    :data:`MAX_FRAME_ID`. The driver's contract numbers tools up to 11 (JAKA's document);
+    a controller's tables hold ids 0-10 and JAKA's SDK refuses 11, so 11 is refused here."""
+    frame_id = int(frame_id)
+    if not 0 <= frame_id <= MAX_FRAME_ID:
+        raise CommandRefused(Code.INVALID_PARAMETER, f"{field} is {frame_id}: a JAKA controller "
+                             f"stores frames 1-{MAX_FRAME_ID} (its tables hold ids "
+                             f"0-{MAX_FRAME_ID}); choose one of those")
+    return frame_id

@@ -8,7 +8,9 @@ can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the co
 * no reply within the call timeout, or a reply that is not a valid one → -3 (the link then
   reconnects, since without request ids a late reply could not be matched);
 * a value the protocol cannot encode → -2;
-* ``errorCode`` other than ``"0"`` → 2, with the controller's ``errorMsg``.
+* ``errorCode`` other than ``"0"`` → 2, with the controller's ``errorMsg``;
+* a setting the controller acknowledged but does not report within :data:`SETTLE_TIMEOUT`
+  (:meth:`Commander.settled`) → 2: it did not do it.
 
 :func:`answers` turns such a refusal back into the method's :class:`~jaka_driver.results.Result`,
 so backend methods never raise.
@@ -26,6 +28,11 @@ from ..results import Code, CommandRefused, Result
 from .connection import ControllerLink
 
 T = TypeVar("T")
+
+#: JAKA's SDK confirms a setting by reading it back every 100 ms for up to 1 s (and fails the
+#: call otherwise); :meth:`Commander.settled` does the same.
+SETTLE_POLL = 0.1       # s
+SETTLE_TIMEOUT = 1.0    # s
 
 
 def answers(method: Callable) -> Callable:
@@ -87,6 +94,28 @@ class Commander:
             return accessor(reply)
         except errors.ProtocolError as exc:
             raise CommandRefused(Code.COMMUNICATION_ERROR, str(exc)) from None
+
+    def settled(self, request: Mapping[str, Any], readback: Mapping[str, Any],
+                accessor: Callable[[Reply], T], done: Callable[[T], bool], what: str) -> T:
+        """Send the setting ``request``, then read ``readback`` through ``accessor`` at once and
+        every :data:`SETTLE_POLL` s until ``done(value)``, at most :data:`SETTLE_TIMEOUT` s —
+        as JAKA's SDK confirms drag mode, servo mode, tool and user ids and IO. Returns the value
+        read; a controller that acknowledges but never reports the setting is refused with 2
+        (it did not do it: fw 1.5.14 acknowledges servo_move while moves are queued and stays
+        out of servo mode)."""
+        self.accepted(request)
+        deadline = time.monotonic() + SETTLE_TIMEOUT
+        while True:
+            value = self.read(readback, accessor)
+            if done(value):
+                return value
+            if time.monotonic() >= deadline:
+                raise CommandRefused(
+                    Code.CONTROLLER_REJECTED,
+                    f"{what}: the controller acknowledged {request.get('cmdName')} but "
+                    f"{readback.get('cmdName')} still reads {value!r} after "
+                    f"{SETTLE_TIMEOUT:g} s")
+            time.sleep(SETTLE_POLL)
 
     def confirmed(self, request: Mapping[str, Any], arrived: Callable[[StatusPacket], bool],
                   what: str) -> None:

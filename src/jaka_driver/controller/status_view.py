@@ -1,14 +1,21 @@
 """From the controller's status stream to the driver's :class:`RobotState`.
 
-The stream carries positions but no velocities, efforts or servo-mode flag (docs/protocol.md,
-"Status packet"), so this view derives what it can and says what it cannot:
+What a packet carries is taken from it (docs/protocol.md, "Status packet"); the rest is derived:
 
-* joint velocity, rad/s: finite difference of consecutive packets on their receipt times. Packets
-  that arrive in the same TCP read share one receipt time; the difference is therefore taken
-  against the newest packet at least :data:`MIN_DT` older, which averages over such bursts
-  instead of dividing by zero;
-* joint effort: zeros (the stream has none);
+* joint velocity, rad/s: the packet's ``instVel`` (deg/s on the wire). A controller that does
+  not send it gets the finite difference of consecutive packets on their receipt times; packets
+  that arrive in the same TCP read share one receipt time, so the difference is taken against
+  the newest packet at least :data:`MIN_DT` older, which averages over such bursts instead of
+  dividing by zero;
+* joint effort, N·m: the joint torques of ``monitor_data``; zeros from a controller without it;
+* joints and TCP: a packet whose positions are missing or unreadable keeps the last ones read
+  (a made-up zero pose would look real);
+* ``error_code``: the packet's ``errcode``; when that is 0, the torque sensor's error code
+  (``torqsensor``), as JAKA's SDK reports it. The SDK also folds the soft limit, protective
+  stop and emergency stop into its error code; here they stay flags of their own (a soft limit
+  is not an error the arm must be cleared of: it is jogged out of);
 * ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
+* servo mode: not in the stream; the backend's, from ``is_in_servomove``;
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -46,6 +53,7 @@ class StatusView:
         self._received = 0.0
         self._velocity = np.zeros(6)
         self._ref: Optional[tuple[float, np.ndarray]] = None   # (received, q) for the difference
+        self._q = np.zeros(6)       # the last readable joints, rad
         self._tcp = np.eye(4)
         self._serial = 0
         self._cache: Optional[tuple[tuple, RobotState]] = None
@@ -60,11 +68,14 @@ class StatusView:
         q = status.joint_position
         with self._lock:
             if np.all(np.isfinite(q)):
+                self._q = q
                 if self._ref is None:
                     self._ref = (received, q)
                 elif received - self._ref[0] >= MIN_DT:
                     self._velocity = (q - self._ref[1]) / (received - self._ref[0])
                     self._ref = (received, q)
+            if np.all(np.isfinite(status.joint_velocity)):
+                self._velocity = status.joint_velocity
             if np.all(np.isfinite(status.tcp_pose)):
                 self._tcp = pose_mm_rpy_to_matrix(status.tcp_pose)
             self._status, self._received = status, received
@@ -77,25 +88,29 @@ class StatusView:
     def state(self, connected: bool, servo_mode: bool) -> RobotState:
         with self._lock:
             status, received, serial = self._status, self._received, self._serial
-            velocity, tcp = self._velocity, self._tcp
+            velocity, tcp, q = self._velocity, self._tcp, self._q
             key = (serial, connected, servo_mode)
             if connected and self._cache is not None and self._cache[0] == key:
                 return self._cache[1]
         if status is None:
             return RobotState(stamp=time.time(), connected=False,
                               error_message="no status received from the controller yet")
-        q = np.where(np.isfinite(status.joint_position), status.joint_position, 0.0)
         if not connected:
             return RobotState(stamp=time.time(), joint_position=q, tcp_pose=tcp,
                               tool_id=status.current_tool_id, user_id=status.current_user_id,
                               connected=False, error_message="connection to the controller lost")
+        effort = status.joint_torque if np.all(np.isfinite(status.joint_torque)) \
+            else np.zeros(6)
         st = RobotState(
-            stamp=received, joint_position=q, joint_velocity=velocity, tcp_pose=tcp,
-            tool_id=status.current_tool_id, user_id=status.current_user_id, connected=True,
-            powered=status.powered, enabled=status.enabled, servo_mode=servo_mode,
-            drag_mode=status.drag_status, emergency_stop=status.emergency_stop,
-            protective_stop=status.protective_stop, collision=is_collision(status),
-            moving=not status.inpos, error_code=status.errcode, error_message=status.errmsg)
+            stamp=received, joint_position=q, joint_velocity=velocity, joint_effort=effort,
+            tcp_pose=tcp, tool_id=status.current_tool_id, user_id=status.current_user_id,
+            connected=True, powered=status.powered, enabled=status.enabled,
+            servo_mode=servo_mode, drag_mode=status.drag_status,
+            emergency_stop=status.emergency_stop, protective_stop=status.protective_stop,
+            collision=is_collision(status), moving=not status.inpos,
+            error_code=status.errcode or status.sensor_errcode,
+            error_message=status.errmsg if status.errcode or not status.sensor_errcode
+            else f"torque sensor error {status.sensor_errcode}")
         with self._lock:
             self._cache = (key, st)
         return st

@@ -38,6 +38,15 @@ _LIMIT_TOL = 1e-9                   # rad
 IK = Callable[[np.ndarray, np.ndarray], Optional[np.ndarray]]
 
 
+def orientation_limits(speed: float, accel: float) -> tuple[float, float]:
+    """The default orientation limits of a line at ``speed`` m/s and ``accel`` m/s²: (angular
+    speed rad/s, angular acceleration rad/s²). Every backend moves a line's orientation at
+    these — the twin in :func:`plan_linear_move`, a controller through ``moveL``'s ``ori_vel``
+    and ``ori_acc``."""
+    return (min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED),
+            min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL))
+
+
 class PlanningError(CommandRefused):
     """A linear move cannot be planned. ``code`` is -4 (:attr:`Code.IK_FAILED`: unreachable,
     singular, or a joint limit on the path) or -2 (:attr:`Code.INVALID_PARAMETER`); the message
@@ -100,9 +109,10 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
     speed = _positive("speed", speed, "m/s")
     accel = _positive("accel", accel, "m/s²")
     cycle = _positive("cycle", cycle, "s")
-    angular_speed = min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED) if angular_speed is None \
+    default_speed, default_accel = orientation_limits(speed, accel)
+    angular_speed = default_speed if angular_speed is None \
         else _positive("angular_speed", angular_speed, "rad/s")
-    angular_accel = min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL) if angular_accel is None \
+    angular_accel = default_accel if angular_accel is None \
         else _positive("angular_accel", angular_accel, "rad/s²")
     T_start, T_goal = _pose("T_start", T_start), _pose("T_goal", T_goal)
     q_start = np.asarray(q_start, dtype=float)
@@ -154,8 +164,7 @@ def line_duration(T_start, T_goal, speed: float, accel: float) -> float:
     speed = _positive("speed", speed, "m/s")
     accel = _positive("accel", accel, "m/s²")
     law = _path_law(_pose("T_start", T_start), _pose("T_goal", T_goal), speed, accel,
-                    min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED),
-                    min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL))
+                    *orientation_limits(speed, accel))
     return 0.0 if law is None else law.duration
 
 
