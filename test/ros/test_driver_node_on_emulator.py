@@ -1,6 +1,6 @@
 """The real node with ``_backend:=controller`` against the emulator subprocess: joint_move
 through ROS reaches its target, the state topics come from the controller's status stream,
-and what the TCP protocol cannot do is answered as a failure."""
+and drag mode goes on and off through ROS (torque_control_enable on the wire)."""
 from __future__ import annotations
 
 import time
@@ -60,6 +60,11 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         states.close()
 
 
-def test_drag_mode_is_refused_with_the_reason(call):
-    reply = call("drag_mode", SetBool, data=True)
-    assert not reply.success and "teach pendant" in reply.message
+def test_drag_mode_goes_on_and_off_through_ros(call, emulator):
+    reply = call("drag_move", SetBool, data=True)
+    assert reply.success, reply.message
+    refused = call("joint_move", Move, pose=START, mvvelo=1.0, mvacc=3.0)
+    assert refused.ret == -9 and "drag mode" in refused.message
+    reply = call("drag_mode", SetBool, data=False)
+    assert reply.success, reply.message
+    assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1

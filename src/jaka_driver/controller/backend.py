@@ -32,7 +32,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -43,6 +43,7 @@ from ..motion.linear_path import line_duration, orientation_limits
 from ..motion.profiles import TrapezoidProfile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, Field, JogMode
+from ..protocol.status_stream import StatusPacket
 from ..results import Code, CommandRefused, Result
 from ..robot_state import RobotState
 from ..transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
@@ -70,6 +71,8 @@ IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands
             ("analog", 0): commands.get_analog_input, ("analog", 1): commands.get_analog_output}
 #: errorCode of a recorded refusal: servo_j outside servo mode (fw 1.5.14 answers "-1").
 SERVO_MODE_OFF_CODE = "-1"
+#: s a confirmed setting waits for a status packet that shows it (a few packet periods)
+PACKET_CATCH_UP = 0.2
 
 
 class ControllerBackend(Backend):
@@ -495,6 +498,8 @@ class ControllerBackend(Backend):
             self.frames_by_id.activating(kind, 0)
         self.send.settled(activate(frame_id), current, commands.reply_id,
                           lambda active: active == frame_id, f"{kind} {frame_id} active")
+        self._await_packet(lambda status: (status.current_tool_id if kind == TOOL
+                                           else status.current_user_id) == frame_id)
 
     @answers
     def set_payload(self, tool_id, mass, centroid) -> Result:
@@ -504,6 +509,7 @@ class ControllerBackend(Backend):
         self.send.settled(commands.set_tool_id(tool_id), commands.get_curr_tool_id(),
                           commands.reply_id, lambda active: active == tool_id,
                           f"tool {tool_id} active")
+        self._await_packet(lambda status: status.current_tool_id == tool_id)
         self._ids = (tool_id, self._ids[1])
         self.send.accepted(commands.set_payload(float(mass), c_mm))
         return Result.success(f"payload {mass:g} kg at ({c_mm[0]:.1f}, {c_mm[1]:.1f}, "
@@ -525,7 +531,20 @@ class ControllerBackend(Backend):
         self.send.settled(commands.torque_control_enable(on), commands.get_drag_status(),
                           _drag_status, lambda now: now == on,
                           f"drag mode {'on' if on else 'off'}")
+        self._await_packet(lambda status: status.drag_status == on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def _await_packet(self, shows: Callable[[StatusPacket], bool]) -> None:
+        """After a confirmed setting the status packets carry: wait (at most
+        :data:`PACKET_CATCH_UP` s) for one that shows it, so that ``state()`` agrees with the
+        answer the moment it is given (the next request's state checks read it)."""
+        deadline = time.monotonic() + PACKET_CATCH_UP
+        while time.monotonic() < deadline:
+            latest = self.link.latest
+            if latest is not None and shows(latest[0]):
+                return
+            time.sleep(0.002)
+        log.debug("the status stream did not show the setting within %.2f s", PACKET_CATCH_UP)
 
     def _moving(self) -> bool:
         """A move, trajectory or jog of this driver runs, or the status stream shows motion."""
