@@ -1,6 +1,6 @@
 """What the controller says the arm is, read at every connection: the identity strings of
 ``get_version`` and the arm's own kinematic parameters of ``get_dh_param`` (docs/protocol.md,
-"Identity and kinematic parameters").
+"Identity" and "Kinematic parameters").
 
 The parameters are logged beside the model's own chain (``kinematics.controller_dh``), with a
 warning when the two differ by more than a calibration explains
