@@ -21,6 +21,8 @@ where they were recorded: ``servo_j`` outside servo mode answers the transcript'
 :meth:`FakeController.on_pendant` changes frames as an operator at the teach pendant would, and
 ``raw_replies`` makes the next reply to a command any bytes at all.
 
+Tests take the fixtures ``fake`` and ``backend`` (a ControllerBackend connected to it) from here.
+
 Ports: command (10001 role), status stream (10000 role, optional), data_request (10004 role,
 optional), all on 127.0.0.1 with free port numbers. ``layout="compact"`` answers without spaces
 (an older firmware's layout), to prove readers do not depend on the spaces.
@@ -35,6 +37,8 @@ import time
 import zlib
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
+
+import pytest
 
 DATA = Path(__file__).parent / "data"
 PERIOD = 0.008   # s between two status packets
@@ -333,6 +337,21 @@ class FakeController:
                     conn.sendall(zlib.compress(encode_packet(self.status_fields())))
                 except OSError:
                     return
+
+
+@pytest.fixture
+def fake():
+    """A FakeController (moves take 0.3 s), closed after the test."""
+    with FakeController(move_time=0.3) as controller:
+        yield controller
+
+
+@pytest.fixture
+def backend(fake):
+    """A ControllerBackend on ``fake``, shut down after the test."""
+    b = start_backend(fake)
+    yield b
+    b.shutdown()
 
 
 def start_backend(fake: "FakeController", model="zu5", source: str = "stream"):

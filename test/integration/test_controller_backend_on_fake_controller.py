@@ -12,6 +12,7 @@ import threading
 import numpy as np
 import pytest
 
+from fake_controller import backend, fake  # noqa: F401 - fixtures
 from fake_controller import FakeController, load_status_packet, load_transcript, start_backend
 from move_helpers import run_move
 from ros_harness import wait_until
@@ -20,19 +21,6 @@ from jaka_driver.results import Code
 from jaka_driver.transforms import pose_to_matrix, rpy_to_matrix
 
 START_DEG = json.loads(load_status_packet())["joint_actual_position"]
-
-
-@pytest.fixture
-def fake():
-    with FakeController(move_time=0.3) as controller:
-        yield controller
-
-
-@pytest.fixture
-def backend(fake):
-    b = start_backend(fake)
-    yield b
-    b.shutdown()
 
 
 def _without_strings(text: str) -> str:

@@ -16,6 +16,7 @@ import math
 import numpy as np
 import pytest
 
+from fake_controller import backend, fake  # noqa: F401 - fixtures
 from fake_controller import FakeController, load_status_packet, load_transcript, start_backend
 from move_helpers import run_move
 from ros_harness import wait_until
@@ -38,19 +39,6 @@ def transcript_reply(name):
 def wire_pose(row):
     """A frame table row (mm, RPY deg) as a 4x4 in metres."""
     return pose_mm_rpy_to_matrix([*row[:3], *np.radians(row[3:])])
-
-
-@pytest.fixture
-def fake():
-    with FakeController(move_time=0.3) as controller:
-        yield controller
-
-
-@pytest.fixture
-def backend(fake):
-    b = start_backend(fake)
-    yield b
-    b.shutdown()
 
 
 # ---- frames by id ------------------------------------------------------------------------------
@@ -103,7 +91,7 @@ def test_a_table_of_another_shape_leaves_the_frames_unknown_not_wrong(caplog):
             backend.shutdown()
 
 
-# ---- identity and kinematic parameters ------------------------------------------------------------
+# ---- identity and kinematic parameters -----------------------------------------------------------
 
 def test_the_arms_kinematic_parameters_and_identity_are_read_at_connection(fake, backend):
     info = backend.describe()
@@ -138,7 +126,7 @@ def test_another_arms_parameters_are_warned_about_and_shown(caplog):
     assert any("of model zu12" in m for m in messages)
 
 
-# ---- moveL ------------------------------------------------------------------------------------------
+# ---- moveL ---------------------------------------------------------------------------------------
 
 def test_move_l_carries_the_drivers_orientation_limits_and_the_twins_time_law(fake, backend):
     here = backend.state().tcp_pose
@@ -163,7 +151,7 @@ def test_a_fast_move_l_turns_at_the_drivers_cap_not_the_controllers_default(fake
     assert sent["ori_vel"] < math.degrees(3.14) + 1 and sent["ori_acc"] < math.degrees(12.56)
 
 
-# ---- the packet: velocity, effort, errors -----------------------------------------------------------
+# ---- the packet: velocity, effort, errors --------------------------------------------------------
 
 def test_velocity_and_effort_come_from_the_packet(fake, backend):
     torques = [row[9] for row in PACKET["monitor_data"][5]]
@@ -196,7 +184,7 @@ def test_an_unreadable_packet_position_keeps_the_last_joints_not_zeros(fake, bac
     assert backend.describe()[f"status port {fake.status_port} fields dropped"] > 0
 
 
-# ---- malformed replies ------------------------------------------------------------------------------
+# ---- malformed replies ---------------------------------------------------------------------------
 
 def test_a_malformed_reply_closes_the_command_connection_and_the_link_comes_back(fake, backend):
     fake.raw_replies["get_digital_input"] = (b'{"errorCode": "0", "errorMsg": "", "cmdName": '

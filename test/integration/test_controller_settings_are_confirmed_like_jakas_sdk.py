@@ -13,24 +13,11 @@ import threading
 import numpy as np
 import pytest
 
-from fake_controller import FakeController, start_backend
+from fake_controller import backend, fake  # noqa: F401 - fixtures
 from ros_harness import wait_until
 
 from jaka_driver.results import Code
 from jaka_driver.transforms import pose_to_matrix
-
-
-@pytest.fixture
-def fake():
-    with FakeController(move_time=0.3) as controller:
-        yield controller
-
-
-@pytest.fixture
-def backend(fake):
-    b = start_backend(fake)
-    yield b
-    b.shutdown()
 
 
 def names_after(fake, count):

@@ -290,6 +290,6 @@ def test_the_orientation_limits_follow_the_lines_speed_up_to_the_twins_caps(sess
         assert driver.linear_move([*LINE_TARGET_MM[:2], 300.0 + speed / 100, *rotvec(RPY)],
                                   speed, accel).ok
         sent = fake.received("moveL")[-1]
-        # a point 0.1 m from the rotation axis moves at the line's speed, up to π rad/s, 2π rad/s²
+        # a point 0.1 m from the axis moves at the line's speed (π rad/s, 2π rad/s² at most)
         assert sent["ori_vel"] == pytest.approx(min(speed / 100.0, math.pi) * 180 / math.pi)
         assert sent["ori_acc"] == pytest.approx(min(accel / 100.0, 2 * math.pi) * 180 / math.pi)

@@ -4,12 +4,10 @@ port-10000 status receiver and the port-10004 status poller each survive every k
 int, a megabyte without a closing brace, fields of the wrong type, a zlib bomb — with a counted
 drop, never a dead thread: a reply that cannot be parsed closes its connection (the next
 connect works), a packet that cannot be parsed is skipped and the stream read on."""
-import json
 import math
-import socket
-import threading
 import time
 import zlib
+from contextlib import contextmanager
 
 import numpy as np
 import pytest
@@ -18,56 +16,10 @@ from jaka_driver.protocol import (CommandClient, ProtocolError, StatusPoller, St
                                   commands, encode_status)
 from jaka_driver.protocol.client import MAX_REPLY_BYTES
 from jaka_driver.protocol.errors import MalformedInput
+from malformed_inputs import DEEP, STATUS_KEYS_READ
+from scripted_server import ScriptedServer, requests_of
 
-DEEP = 100_000
 OK_VERSION = b'{"errorCode": "0", "errorMsg": "", "cmdName": "get_version", "version": "1.5.14"}'
-
-
-class Server:
-    """Serves every accepted connection with ``serve(conn, stop)`` in a thread; all of them are
-    closed and joined by :meth:`close`."""
-
-    def __init__(self, serve):
-        self.serve = serve
-        self.stop = threading.Event()
-        self.listener = socket.create_server(("127.0.0.1", 0))
-        self.listener.settimeout(0.05)
-        self.port = self.listener.getsockname()[1]
-        self.connections, self.threads = [], []
-        self.thread = threading.Thread(target=self._accept, daemon=True)
-        self.thread.start()
-
-    def _accept(self):
-        while not self.stop.is_set():
-            try:
-                conn, _ = self.listener.accept()
-            except socket.timeout:
-                continue
-            except OSError:
-                return
-            self.connections.append(conn)
-            t = threading.Thread(target=self._run, args=(conn,), daemon=True)
-            self.threads.append(t)
-            t.start()
-
-    def _run(self, conn):
-        try:
-            self.serve(conn, self.stop)
-        except OSError:
-            pass
-
-    def close(self):
-        self.stop.set()
-        self.thread.join(2)
-        self.listener.close()
-        for conn in self.connections:
-            try:
-                conn.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            conn.close()
-        for t in self.threads:
-            t.join(2)
 
 
 @pytest.fixture
@@ -75,7 +27,7 @@ def serve():
     servers = []
 
     def start(handler):
-        servers.append(Server(handler))
+        servers.append(ScriptedServer(handler))
         return servers[-1]
     yield start
     for server in servers:
@@ -91,35 +43,13 @@ def wait_for(predicate, timeout=2.0):
     return predicate()
 
 
-def requests(conn, stop):
-    """Each compact JSON request on ``conn`` (the client sends whole objects, no delimiter)."""
-    conn.settimeout(0.05)
-    buf = b""
-    decoder = json.JSONDecoder()
-    while not stop.is_set():
-        while buf:
-            try:
-                obj, end = decoder.raw_decode(buf.decode())
-            except ValueError:
-                break
-            buf = buf[end:]
-            yield obj
-        try:
-            chunk = conn.recv(65536)
-        except socket.timeout:
-            continue
-        if not chunk:
-            return
-        buf += chunk
-
-
 def answering(first_reply: bytes):
     """A command port whose first reply (over all connections) is ``first_reply``; every later
     request gets a good get_version reply."""
     sent = []
 
-    def serve(conn, stop):
-        for _ in requests(conn, stop):
+    def serve(conn, server):
+        for _ in requests_of(conn, server):
             conn.sendall(OK_VERSION if sent else first_reply)
             sent.append(1)
     return serve
@@ -231,78 +161,62 @@ class Collector:
         return [round(math.degrees(s.joint_position[0])) for s in self.statuses]
 
 
+@contextmanager
+def receiving(serve, *chunks):
+    """A StatusReceiver reading a server that streams ``chunks``: (collector, receiver)."""
+    server = serve(streaming(*chunks))
+    col = Collector()
+    rx = StatusReceiver("127.0.0.1", server.port, on_status=col.on_status,
+                        on_connection_lost=col.on_lost)
+    rx.start()
+    try:
+        yield col, rx
+    finally:
+        rx.stop()
+
+
 def streaming(*chunks):
-    def serve(conn, stop):
+    def serve(conn, server):
         for chunk in chunks:
             conn.sendall(chunk)
             time.sleep(0.01)
-        stop.wait()
+        server.stopping.wait()
     return serve
 
 
 @pytest.mark.parametrize("packet", [m[1] for m in MALFORMED_PACKETS],
                          ids=[m[0] for m in MALFORMED_PACKETS])
 def test_a_malformed_status_packet_is_a_counted_drop_and_the_stream_reads_on(serve, packet):
-    server = serve(streaming(good(1), packet, good(2), good(3)))
-    col = Collector()
-    rx = StatusReceiver("127.0.0.1", server.port, on_status=col.on_status,
-                        on_connection_lost=col.on_lost)
-    rx.start()
-    try:
+    with receiving(serve, good(1), packet, good(2), good(3)) as (col, rx):
         assert wait_for(lambda: len(col.statuses) == 3, 5.0), col.firsts()
         assert col.firsts() == [1, 2, 3] and rx.decoder.packets_dropped == 1
         assert rx.running and col.lost == []
-    finally:
-        rx.stop()
 
 
 def test_a_number_too_large_for_a_float_is_a_dropped_field_not_an_infinite_joint(serve):
-    server = serve(streaming(good(1), packet_with(b"[1e999, 0, 0, 0, 0, 0]"), good(2)))
-    col = Collector()
-    rx = StatusReceiver("127.0.0.1", server.port, on_status=col.on_status)
-    rx.start()
-    try:
+    with receiving(serve, good(1), packet_with(b"[1e999, 0, 0, 0, 0, 0]"), good(2)) as (col, rx):
         assert wait_for(lambda: len(col.statuses) == 3)
         assert np.all(np.isnan(col.statuses[1].joint_position))
         assert col.statuses[1].malformed == ("joint_actual_position",)
         assert rx.decoder.fields_dropped == 1 and rx.decoder.packets_dropped == 0
-    finally:
-        rx.stop()
 
 
 def test_every_field_of_the_wrong_type_is_counted_and_the_packet_still_arrives(serve):
-    keys = ["joint_actual_position", "joint_position", "actual_position", "instVel",
-            "monitor_data", "powered_on", "enabled", "emergency_stop", "protective_stop",
-            "on_soft_limit", "inpos", "paused", "drag_status", "task_state", "task_mode",
-            "interp_state", "current_tool_id", "current_user_id", "errcode", "errmsg",
-            "rapidrate", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "tio_ain",
-            "motion_line", "homed", "torqsensor"]
+    keys = STATUS_KEYS_READ
     wrong = encode_status({key: {"not": ["what", "the", "controller", "sends"]} for key in keys})
-    server = serve(streaming(wrong, good(2)))
-    col = Collector()
-    rx = StatusReceiver("127.0.0.1", server.port, on_status=col.on_status)
-    rx.start()
-    try:
+    with receiving(serve, wrong, good(2)) as (col, rx):
         assert wait_for(lambda: len(col.statuses) == 2)
         assert set(col.statuses[0].malformed) == set(keys)
         assert rx.decoder.fields_dropped == len(keys) and col.statuses[0].errcode == -1
-    finally:
-        rx.stop()
 
 
 def test_invalid_utf8_in_a_status_string_is_repaired_and_counted(serve):
     packet = encode_status({"joint_actual_position": [5, 0, 0, 0, 0, 0], "errcode": "0x1",
                             "errmsg": "ERRMSG"}).replace(b"ERRMSG", b"\xc5\xf6\xd7\xb2")
-    server = serve(streaming(packet, good(2)))
-    col = Collector()
-    rx = StatusReceiver("127.0.0.1", server.port, on_status=col.on_status)
-    rx.start()
-    try:
+    with receiving(serve, packet, good(2)) as (col, rx):
         assert wait_for(lambda: len(col.statuses) == 2)
         assert "\ufffd" in col.statuses[0].errmsg   # GBK bytes: not UTF-8
         assert rx.decoder.text_repaired == 1 and rx.decoder.packets_dropped == 0
-    finally:
-        rx.stop()
 
 
 # ---- port 10004: the data_request poller -------------------------------------------------------
@@ -311,8 +225,8 @@ def data_port(*replies):
     """Answers the n-th data_request with ``replies[n]`` (the last one repeats)."""
     count = []
 
-    def serve(conn, stop):
-        for req in requests(conn, stop):
+    def serve(conn, server):
+        for req in requests_of(conn, server):
             assert req == {"cmdName": "data_request"}
             conn.sendall(replies[min(len(count), len(replies) - 1)])
             count.append(1)

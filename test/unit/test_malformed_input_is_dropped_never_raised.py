@@ -16,10 +16,10 @@ from hypothesis import strategies as st
 from jaka_driver.protocol import StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.errors import MalformedInput
 from jaka_driver.protocol.wire import MAX_NESTING, HeadDecoder
+from malformed_inputs import DEEP, STATUS_KEYS_READ as READ_KEYS
 
 FIXTURE = json.loads((Path(__file__).parents[1] / "data" / "status_packet.json").read_text())
 
-DEEP = 100_000
 # (name, bytes at the head of a buffer): each can never become a valid value
 MALFORMED = [
     ("nested-100000-deep", b'{"x": ' + b"[" * DEEP + b"]" * DEEP + b"}"),
@@ -124,12 +124,6 @@ def test_no_bytes_make_the_stream_decoder_raise(noise, where):
 
 # ---- parse_status: wrong types in every key it reads --------------------------------------------
 
-READ_KEYS = ["joint_actual_position", "joint_position", "actual_position", "instVel",
-             "monitor_data", "powered_on", "enabled", "emergency_stop", "protective_stop",
-             "on_soft_limit", "inpos", "paused", "drag_status", "task_state", "task_mode",
-             "interp_state", "current_tool_id", "current_user_id", "errcode", "errmsg",
-             "rapidrate", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "tio_ain",
-             "motion_line", "homed", "torqsensor"]
 WRONG = {"object": {"a": 1}, "text": "text", "null": None, "nested": [[1, 2]],
          "infinity": math.inf, "nan-list": [math.nan] * 6, "huge-int": 10 ** 400,
          "deep": json.loads("[" * 60 + "]" * 60)}
