@@ -171,14 +171,15 @@ class ControllerBackend(Backend):
     def _on_up(self, first: bool) -> None:
         """At every connection (supervisor thread): servo mode, identity, kinematic parameters
         and frames as the controller has them now; power and enable at the first only."""
-        self.view.reset()
-        self._servo_mode = self._read_servo_mode()
-        self.identity.read(self.send.read)
-        self.frames_by_id.read_all()
-        if first:
-            try:
+        try:
+            self.view.reset()
+            self._servo_mode = self._read_servo_mode()
+            self.identity.read(self.send.read)
+            self.frames_by_id.read_all()
+            if first:
                 self._bring_up()
-            finally:
+        finally:
+            if first:
                 self._brought_up.set()
 
     def _on_down(self, reason: str) -> None:
