@@ -19,10 +19,10 @@ import zlib
 import pytest
 
 from fake_controller import load_status_packet, load_transcript
+from raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import PROFILES
-from jaka_driver.protocol.wire import decode_first_object
 
 #: replies whose values are the session's own settings read back (or a controller's fixed
 #: answer with nothing configured): compared by value
@@ -46,17 +46,6 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
 def emu():
     with Emulator("zu5", command_port=0, status_port=0) as emulator:
         yield emulator
-
-
-def _read_object(sock: socket.socket) -> str:
-    buf = b""
-    while True:
-        buf += sock.recv(65536)
-        try:
-            _, used = decode_first_object(buf)
-            return buf[:used].decode()
-        except ValueError:
-            continue
 
 
 def controller_text(value) -> str:
@@ -115,10 +104,10 @@ def test_the_fixture_replies_are_in_the_layout_they_describe():
 
 
 def test_every_transcript_exchange_is_answered_with_its_keys_types_layout_and_read_backs(emu):
-    with socket.create_connection((emu.host, emu.command_port), timeout=30) as sock:
+    with RawClient(emu.command_port, timeout=30) as client:
         for request, reply_text, note in load_transcript():
-            sock.sendall(request.encode())
-            got_text = _read_object(sock)
+            client.send(request.encode())
+            got_text = client.read_text()
             expected, got = json.loads(reply_text), json.loads(got_text)
             name = json.loads(request)["cmdName"]
             where = f"{name} ({note})"
@@ -138,8 +127,8 @@ def test_every_transcript_exchange_is_answered_with_its_keys_types_layout_and_re
 
 
 def _status_packet(port: int) -> str:
-    with socket.create_connection(("127.0.0.1", port), timeout=5) as sock:
-        return _read_object(sock)
+    with RawClient(port, timeout=5) as client:
+        return client.read_text()
 
 
 def _data_request(port: int) -> bytes:
@@ -184,9 +173,8 @@ def test_status_packets_on_10000_and_10004_have_every_key_in_order_type_and_size
 
 def test_get_data_answers_the_packet_after_the_three_reply_keys(emu):
     fixture = json.loads(load_status_packet())
-    with socket.create_connection((emu.host, emu.command_port), timeout=5) as sock:
-        sock.sendall(b'{"cmdName":"get_data"}')
-        reply = json.loads(_read_object(sock))
+    with RawClient(emu.command_port, timeout=5) as client:
+        reply = client.call("get_data")
     assert list(reply)[:3] == ["errorCode", "errorMsg", "cmdName"] and reply["errorCode"] == "0"
     _same_shape(fixture, {k: v for k, v in reply.items() if k not in list(reply)[:3]},
                 "get_data")

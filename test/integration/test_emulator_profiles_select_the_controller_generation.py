@@ -4,7 +4,6 @@ default being the recorded Zu 5s on fw 1.5.14; --start and --period override a p
 --help lists every profile with what it sets."""
 from __future__ import annotations
 
-import json
 import socket
 import subprocess
 import sys
@@ -12,23 +11,13 @@ import time
 
 import pytest
 
+from raw_client import call_once
+
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE, PROFILES, START_WORDS
 
 ROBOT_STATE = {"off": ("powered_off", "robot_disabled"), "on": ("powered_on", "robot_disabled"),
                "enabled": ("powered_on", "robot_enabled")}
-
-
-def _call(port: int, name: str) -> dict:
-    with socket.create_connection(("127.0.0.1", port), timeout=5) as sock:
-        sock.sendall(json.dumps({"cmdName": name}).encode())
-        buf = b""
-        while True:
-            buf += sock.recv(65536)
-            try:
-                return json.loads(buf)
-            except ValueError:
-                continue
 
 
 def _packets_per_second(port: int, seconds: float = 1.0) -> float:
@@ -54,15 +43,15 @@ def test_help_lists_every_profile_and_what_it_sets():
 def test_each_profile_starts_pushes_and_answers_as_it_says(name):
     profile = PROFILES[name]
     with Emulator("zu5", command_port=0, status_port=0, profile=name) as emu:
-        state = _call(emu.command_port, "get_robot_state")
+        state = call_once(emu.command_port, "get_robot_state")
         assert (state["power"], state["enable"]) == ROBOT_STATE[profile.start]
-        assert _call(emu.command_port, "get_version")["version"] == profile.version
-        estop = _call(emu.command_port, "emergency_stop_status")
+        assert call_once(emu.command_port, "get_version")["version"] == profile.version
+        estop = call_once(emu.command_port, "emergency_stop_status")
         if profile.estop_status_fails:
             assert estop == {"errorCode": "1", "errorMsg": "Exception:function call failed"}
         else:
             assert estop["errorCode"] == "0" and estop["emergency_stop"] == 0
-        packet = _call(emu.command_port, "get_data")
+        packet = call_once(emu.command_port, "get_data")
         assert len(packet["din"]) == profile.io_sizes[("digital", 0, 0)]
         assert len(packet["ain"]) == profile.io_sizes[("analog", 0, 0)]
         rate = _packets_per_second(emu.status_port)
@@ -71,7 +60,7 @@ def test_each_profile_starts_pushes_and_answers_as_it_says(name):
 
 def test_start_and_period_override_the_profile():
     with Emulator("zu5", command_port=0, status_port=0, start="on", period=0.05) as emu:
-        state = _call(emu.command_port, "get_robot_state")
+        state = call_once(emu.command_port, "get_robot_state")
         assert (state["power"], state["enable"]) == ("powered_on", "robot_disabled")
         assert 15 < _packets_per_second(emu.status_port) < 23
 

@@ -10,6 +10,8 @@ import time
 import numpy as np
 import pytest
 
+from raw_client import RawClient
+
 from jaka_driver.emulator import Emulator
 
 HOME_DEG = [0.0, 90.0, -90.0, 90.0, 90.0, 0.0]
@@ -17,49 +19,6 @@ REQUIRED_STATUS_FIELDS = (
     "len", "joint_actual_position", "actual_position", "task_state", "enabled", "powered_on",
     "inpos", "emergency_stop", "protective_stop", "errcode", "errmsg", "current_tool_id",
     "current_user_id", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "drag_status")
-
-
-class RawClient:
-    """A bare JSON-over-TCP client: send an object, read the next object."""
-
-    def __init__(self, port: int):
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=3.0)
-        self.buf = ""
-        self.decoder = json.JSONDecoder()
-
-    def send(self, data: bytes) -> None:
-        self.sock.sendall(data)
-
-    def read(self, timeout: float = 3.0) -> dict:
-        deadline = time.monotonic() + timeout
-        while True:
-            text = self.buf.lstrip()
-            if text:
-                try:
-                    obj, end = self.decoder.raw_decode(text)
-                    self.buf = text[end:]
-                    return obj
-                except ValueError:
-                    pass
-            self.sock.settimeout(max(0.01, deadline - time.monotonic()))
-            chunk = self.sock.recv(65536)
-            if not chunk:
-                raise ConnectionError("closed by the emulator")
-            self.buf += chunk.decode()
-
-    def call(self, name: str, **fields) -> dict:
-        self.send(json.dumps({"cmdName": name, **fields}).encode())
-        return self.read()
-
-    def closed_by_peer(self, timeout: float = 2.0) -> bool:
-        self.sock.settimeout(timeout)
-        try:
-            return self.sock.recv(1) == b""
-        except OSError:
-            return True
-
-    def close(self) -> None:
-        self.sock.close()
 
 
 def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:

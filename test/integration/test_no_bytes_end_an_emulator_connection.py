@@ -12,10 +12,10 @@ import time
 
 import pytest
 
+from raw_client import RawClient
 from ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
-from jaka_driver.protocol.wire import decode_first_object
 
 VALID = b'{"cmdName":"get_program_state"}'
 
@@ -39,27 +39,7 @@ MALFORMED = [
 ]
 
 
-class Connection:
-    def __init__(self, port: int):
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=10.0)
-        self.buf = b""
-
-    def read(self, timeout: float = 5.0) -> dict:
-        deadline = time.monotonic() + timeout
-        while True:
-            text = self.buf.lstrip()
-            if text:
-                try:
-                    obj, used = decode_first_object(text)
-                    self.buf = text[used:]
-                    return obj
-                except ValueError:
-                    pass
-            self.sock.settimeout(max(0.01, deadline - time.monotonic()))
-            chunk = self.sock.recv(65536)
-            assert chunk, "the emulator closed the connection"
-            self.buf += chunk
-
+class Connection(RawClient):
     def replies_until_quiet(self, quiet: float) -> list:
         out = []
         while True:
@@ -69,12 +49,9 @@ class Connection:
                 return out
 
     def answers_a_valid_request(self) -> bool:
-        self.sock.sendall(VALID)
+        self.send(VALID)
         reply = self.read()
         return reply["errorCode"] == "0" and reply["programState"] == "idle"
-
-    def close(self) -> None:
-        self.sock.close()
 
 
 @pytest.fixture(scope="module")
@@ -95,7 +72,7 @@ def test_malformed_request_gets_an_error_reply_and_the_connection_goes_on(port, 
     bystander = Connection(port)
     try:
         t0 = time.monotonic()
-        c.sock.sendall(data)
+        c.send(data)
         reply = c.read()
         assert time.monotonic() - t0 < 3.0
         assert reply["errorCode"] == "1" and phrase in reply["errorMsg"], (what, reply)
@@ -111,7 +88,7 @@ def test_a_megabyte_without_a_closing_brace_is_answered_at_once(port):
     c = Connection(port)
     try:
         t0 = time.monotonic()
-        c.sock.sendall(b'{"cmdName": "get_version", "x": "' + b"a" * (1 << 20) + b"  ")
+        c.send(b'{"cmdName": "get_version", "x": "' + b"a" * (1 << 20) + b"  ")
         reply = c.read()
         # at the limit, not after the idle time (1 s) of an incomplete request
         assert reply["errorCode"] == "1" and "longer than" in reply["errorMsg"]
@@ -126,7 +103,7 @@ def test_binary_garbage_gets_error_replies_and_the_connection_goes_on(port):
     c = Connection(port)
     try:
         for _ in range(5):
-            c.sock.sendall(bytes(rng.randrange(256) for _ in range(20_000)))
+            c.send(bytes(rng.randrange(256) for _ in range(20_000)))
         # an opened '{' in the garbage may hold the rest until the idle time (1 s) drops it
         replies = c.replies_until_quiet(1.6)
         assert replies and all(r["errorCode"] == "1" for r in replies), replies[:3]
@@ -139,7 +116,7 @@ def test_a_deep_but_complete_request_within_the_limit_is_answered(port):
     c = Connection(port)
     try:
         nested = json.dumps({"cmdName": "get_program_state", "x": [[[[[[[[1]]]]]]]]})
-        c.sock.sendall(nested.encode())
+        c.send(nested.encode())
         assert c.read()["programState"] == "idle"
     finally:
         c.close()

@@ -12,6 +12,7 @@ the controller): the profile gives their default, ``--start`` and ``--period`` o
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping, Tuple
@@ -74,43 +75,37 @@ class ControllerProfile:
                 f"emergency_stop_status {estop}")
 
 
-_PROFILES = (
-    ControllerProfile(
-        name="zu5s-1.5.14",
-        summary="the Zu 5s recorded on controller firmware 1.5.14 (the default)",
-        version="1.5.14_13_X64",
-        # the recorded packet: no extension module (extio num 0)
-        io_sizes=_io_sizes(cabinet_digital=135, cabinet_analog=64, tool_analog_in=2,
-                           extension=False),
-        din_status_count=64,
-        # "about 30 ms per packet with default settings", measured by the author of a client
-        # tested on that arm; 8 ms is the servo cycle, not the push period
-        period=0.030,
-        start="off",             # as two of the three recorded sessions found it
-        estop_status_fails=True),
-    ControllerProfile(
-        name="tcp-doc",
-        summary="the controller of JAKA's TCP protocol document, as the public clients written "
-                "from it expect it (their packet example, a packet every servo cycle)",
-        version="1.7.2_16_X64",  # the version JAKA's ROS 2 driver recommends, recorded format
-        io_sizes=_io_sizes(cabinet_digital=144, cabinet_analog=66, tool_analog_in=1,
-                           extension=True),
-        din_status_count=64,
-        period=SERVO_CYCLE,
-        start="enabled",
-        estop_status_fails=False),
-    ControllerProfile(
-        name="large-io",
-        summary="the largest status packet on record (a newer controller with 200 cabinet "
-                "digital IO and 128 analog each way); otherwise tcp-doc",
-        version="1.7.2_16_X64",
-        io_sizes=_io_sizes(cabinet_digital=200, cabinet_analog=128, tool_analog_in=1,
-                           extension=True),
-        din_status_count=64,
-        period=SERVO_CYCLE,
-        start="enabled",
-        estop_status_fails=False),
-)
+_RECORDED = ControllerProfile(
+    name="zu5s-1.5.14",
+    summary="the Zu 5s recorded on controller firmware 1.5.14 (the default)",
+    version="1.5.14_13_X64",
+    # the recorded packet: no extension module (extio num 0)
+    io_sizes=_io_sizes(cabinet_digital=135, cabinet_analog=64, tool_analog_in=2,
+                       extension=False),
+    din_status_count=64,
+    # "about 30 ms per packet with default settings", measured by the author of a client
+    # tested on that arm; 8 ms is the servo cycle, not the push period
+    period=0.030,
+    start="off",             # as two of the three recorded sessions found it
+    estop_status_fails=True)
+_TCP_DOC = ControllerProfile(
+    name="tcp-doc",
+    summary="the controller of JAKA's TCP protocol document, as the public clients written "
+            "from it expect it (their packet example, a packet every servo cycle)",
+    version="1.7.2_16_X64",  # the version JAKA's ROS 2 driver recommends, recorded format
+    io_sizes=_io_sizes(cabinet_digital=144, cabinet_analog=66, tool_analog_in=1,
+                       extension=True),
+    din_status_count=64,
+    period=SERVO_CYCLE,
+    start="enabled",
+    estop_status_fails=False)
+_LARGE_IO = dataclasses.replace(
+    _TCP_DOC, name="large-io",
+    summary="the largest status packet on record (a newer controller with 200 cabinet digital "
+            "IO and 128 analog each way); otherwise tcp-doc",
+    io_sizes=_io_sizes(cabinet_digital=200, cabinet_analog=128, tool_analog_in=1,
+                       extension=True))
+_PROFILES = (_RECORDED, _TCP_DOC, _LARGE_IO)
 
 #: name → profile, in the order --help lists them.
 PROFILES: Mapping[str, ControllerProfile] = MappingProxyType({p.name: p for p in _PROFILES})
