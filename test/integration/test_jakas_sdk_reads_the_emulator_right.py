@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, JakaSdk
+from ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.kinematics.controller_dh import DHParameters, dh_of_model, flange_pose
@@ -67,6 +68,8 @@ def test_get_robot_status_reads_io_with_the_count_in_element_0(emu, sdk):
 
 
 def test_get_robot_status_reads_joints_tcp_monitor_data_and_instvel(emu, sdk):
+    # the drives hold the arm against gravity once the twin has run a few cycles
+    assert wait_until(lambda: abs(emu.twin.state().joint_effort[1]) > 5.0, 5.0)
     _, st = sdk.get_robot_status()
     twin = emu.twin.state()
     assert np.allclose(st.joint_position, emu.controller.commanded_joints(), atol=1e-6)
