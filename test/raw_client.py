@@ -41,8 +41,8 @@ class RawClient:
     def read(self, timeout: float = 0.0) -> dict:
         return json.loads(self.read_text(timeout))
 
-    def call(self, name: str, **fields) -> dict:
-        self.send(json.dumps({"cmdName": name, **fields}).encode())
+    def call(self, command: str, **fields) -> dict:
+        self.send(json.dumps({"cmdName": command, **fields}).encode())
         return self.read()
 
     def closed_by_peer(self, timeout: float = 2.0) -> bool:
@@ -62,7 +62,7 @@ class RawClient:
         self.close()
 
 
-def call_once(port: int, name: str, **fields) -> dict:
+def call_once(port: int, command: str, **fields) -> dict:
     """One request on a fresh connection."""
     with RawClient(port) as client:
-        return client.call(name, **fields)
+        return client.call(command, **fields)

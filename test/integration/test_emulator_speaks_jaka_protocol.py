@@ -290,3 +290,63 @@ def test_drop_connections_closes_every_client_and_keeps_listening(emu, client):
     finally:
         again.close()
 
+
+
+def test_io_types_3_to_6_show_in_their_status_arrays(emu, client):
+    arrays = {3: "relay_io", 4: "mb_slave_dout", 5: "pn_dev_dout", 6: "eip_adpt_dout"}
+    try:
+        for io_type, key in arrays.items():
+            assert client.call("set_digital_output", type=io_type, index=2,
+                               value=1)["errorCode"] == "0"
+        assert client.call("set_analog_output", type=5, index=64, value=1.5)["errorCode"] == "0"
+        assert client.call("emulator_set_input", signal="digital", type=4, index=1,
+                           value=1)["errorCode"] == "0"
+        packet = client.call("get_data")
+        for io_type, key in arrays.items():   # 1-based on the wire, 0-based in the arrays
+            assert packet[key][1] == 1 and sum(packet[key]) == 1, key
+        assert packet["pn_dev_aout"][63] == 1.5 and packet["mb_slave_din"][0] == 1
+        assert len(packet["relay_io"]) == 4
+        relay_in = client.call("get_digital_input", type=3, index=1)
+        assert relay_in["errorCode"] == "1" and "no digital inputs" in relay_in["errorMsg"]
+        fifth = client.call("set_digital_output", type=3, index=5, value=1)
+        assert fifth["errorCode"] == "1" and "has 4" in fifth["errorMsg"]
+    finally:
+        for io_type in arrays:
+            client.call("set_digital_output", type=io_type, index=2, value=0)
+        client.call("set_analog_output", type=5, index=64, value=0.0)
+        client.call("emulator_set_input", signal="digital", type=4, index=1, value=0)
+
+
+def test_servo_filters_are_checked_by_type_and_refused_in_servo_mode(emu, client):
+    ok = [{"filter_type": 0}, {"filter_type": 1, "lpf_cf": 0.5},
+          {"filter_type": 2, "nlf_max_vr": 90.0, "nlf_max_ar": 500.0, "nlf_max_jr": 5000.0},
+          {"filter_type": 3, "mmf_max_buf": 20, "mmf_kp": 0.2, "mmf_kv": 0.1, "mmf_ka": 0.0},
+          {"filter_type": 4, "nlf_max_vp": 500.0, "nlf_max_ap": 2000.0, "nlf_max_jp": 9000.0,
+           "nlf_max_vr": 90.0, "nlf_max_ar": 500.0, "nlf_max_jr": 5000.0},
+          {"filter_type": 5, "mmf_max_buf": 15, "mmf_kp": 0.03}]
+    for fields in ok:
+        assert client.call("set_servo_move_filter", **fields)["errorCode"] == "0", fields
+        assert emu.controller.servo_filter[0] == fields["filter_type"]
+    for fields, named in (({"filter_type": 1}, "lpf_cf"),
+                          ({"filter_type": 1, "lpf_cf": 0}, "lpf_cf"),
+                          ({"filter_type": 5, "mmf_max_buf": 1.5, "mmf_kp": 0.1}, "mmf_max_buf"),
+                          ({"filter_type": 6}, "filter_type")):
+        reply = client.call("set_servo_move_filter", **fields)
+        assert reply["errorCode"] == "1" and named in reply["errorMsg"], (fields, reply)
+    assert emu.controller.servo_filter == (5, {"mmf_max_buf": 15, "mmf_kp": 0.03})
+    assert client.call("servo_move", relFlag=1)["errorCode"] == "0"
+    try:
+        refused = client.call("set_servo_move_filter", filter_type=0)
+        assert refused["errorCode"] == "2" and "servo mode" in refused["errorMsg"]
+    finally:
+        client.call("servo_move", relFlag=0)
+
+
+def test_frames_have_slots_0_to_10_and_servo_p_outside_servo_mode_is_refused_as_recorded(client):
+    eleven = client.call("set_tool_offsets", id=11, name="x", tooloffset=[0, 0, 10, 0, 0, 0])
+    assert eleven["errorCode"] == "1" and "[1, 10]" in eleven["errorMsg"]
+    assert client.call("set_tool_id", tool_id=11)["errorCode"] == "1"
+    assert len(client.call("get_tool_offsets")["tool_offsets"]) == 11
+    servo_p = client.call("servo_p", catPosition=[0] * 6, relFlag=1, stepNum=1)
+    assert (servo_p["errorCode"], servo_p["errorMsg"]) == (
+        "-1", "servop command can only be excuted in servo move mode")

@@ -209,7 +209,7 @@ class ArmCommands:
             raise Rejected(f"kine_inverse: {result.message}")
         return Answer({Field.JOINT_POSITION: units.joints_to_wire(result.value)})
 
-    # ---- drag mode, mounting ----------------------------------------------------------------------
+    # ---- drag mode, mounting -------------------------------------------------------------------
     def _torque_control_enable(self, req) -> Answer:
         on = flag(req, Field.ENABLE_FLAG)
         result = self.c.twin.set_drag_mode(on)

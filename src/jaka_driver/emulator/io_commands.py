@@ -13,7 +13,7 @@ from ..protocol.fields import Cmd, Field, IOType
 from .replies import Answer
 from .status_packet import extio, io_values, zeros_of
 from .twin_controller import ERROR_REQUEST, Rejected, TwinController
-from .wire_fields import flag, integer, number, shown_name
+from .wire_fields import flag, integer, number, shown, shown_name
 
 SIGNALS = ("digital", "analog")
 INPUT, OUTPUT = 0, 1
@@ -67,7 +67,7 @@ class IoCommands:
         signal = signal.strip().lower() if isinstance(signal, str) else signal
         if signal not in SIGNALS:
             raise Rejected(f"emulator_set_input: 'signal' must be 'digital' or 'analog'; got "
-                           f"{signal!r}", ERROR_REQUEST)
+                           f"{shown(signal)}", ERROR_REQUEST)
         io_type, index = self._address(req, signal, INPUT)
         value = number(req, Field.VALUE)
         if signal == "digital":

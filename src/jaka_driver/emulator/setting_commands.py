@@ -12,7 +12,7 @@ from ..kinematics.controller_dh import dh_of_model
 from ..protocol.fields import Cmd, Field
 from .replies import Answer, done
 from .status_packet import wire_pose
-from .twin_controller import FRAME_IDS, MAX_CLSN_LEVEL, TwinController
+from .twin_controller import ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected, TwinController
 from .wire_fields import integer, number, pose, vector
 
 #: set_servo_move_filter: filter_type → its parameters (JAKA's SDK sends them unconverted: Hz,
@@ -106,14 +106,14 @@ class SettingCommands:
         return Answer()
 
     def _set_tio_vout(self, req) -> Answer:
-        """Either key may be left out: it keeps its value."""
-        current = dict(zip((k for k, _ in _TIO_VOUT_KEYS), self.c.tio_vout))
-        values = []
-        for key, other in _TIO_VOUT_KEYS:
-            spelt = key if key in req or other not in req else other
-            values.append(integer(req, spelt, 0, 1, default=current[key]))
+        """Either value may be left out: it keeps its value."""
         if not any(k in req for pair in _TIO_VOUT_KEYS for k in pair):
-            integer(req, Field.TIO_VOUT_ENA, 0, 1)       # refuses: neither key was sent
+            raise Rejected(f"set_tio_vout_param: missing field {Field.TIO_VOUT_ENA!r} or "
+                           f"{Field.TIO_VOUT_VOL!r}", ERROR_REQUEST)
+        values = []
+        for (key, other), current in zip(_TIO_VOUT_KEYS, self.c.tio_vout):
+            spelt = key if key in req else other
+            values.append(integer(req, spelt, 0, 1) if spelt in req else current)
         self.c.tio_vout = tuple(values)
         return Answer()
 

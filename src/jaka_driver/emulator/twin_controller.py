@@ -216,7 +216,8 @@ class TwinController:
         i = outside_limits(m, q, tolerance=1e-9)   # the wire's degrees round-trip to ~1e-12
         if i is not None:
             # "call joint_move failed" is a real controller's text (recorded); the rest says why
-            raise Rejected(f"call {what} failed: joint {i + 1} target {np.degrees(q[i]):.3f} deg is outside "
+            raise Rejected(f"call {what} failed: joint {i + 1} target "
+                           f"{np.degrees(q[i]):.3f} deg is outside "
                            f"[{np.degrees(m.lower[i]):.1f}, {np.degrees(m.upper[i]):.1f}] deg",
                            ERROR_REFUSED)   # a controller answers "2" (call ... failed)
 
