@@ -60,9 +60,10 @@ def _listen(host: str, port: int) -> socket.socket:
 
 
 class EmulatorServer:
-    """Serves ``handlers`` on ``command_port`` and the packets of ``status_source()`` (a dict
-    of status fields) on ``status_port``. Port 0 picks a free port; the bound ports are in
-    :attr:`command_port` and :attr:`status_port` after :meth:`start`."""
+    """Serves ``handlers`` on ``command_port``, the packets of ``status_source()`` (a dict of
+    status fields) every ``period`` s on ``status_port``, and one zlib packet per
+    ``data_request`` on ``data_port``. Port 0 picks a free port; the bound ports are in
+    :attr:`command_port`, :attr:`status_port` and :attr:`data_port` after :meth:`start`."""
 
     def __init__(self, handlers: CommandHandlers, status_source: Callable[[], Dict],
                  host: str = "127.0.0.1", command_port: int = 10001, status_port: int = 10000,
