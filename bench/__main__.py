@@ -125,7 +125,11 @@ def _emulator(run: Run) -> None:
     from . import node_suite, ros_session
     with ExitStack() as stack:
         run.log("emulator: starting")
-        emulator = EmulatorProcess("zu5", log_path=str(OUT / "emulator.log.tmp"))
+        # As the rows were measured before the emulator had controller profiles: a packet
+        # every servo cycle and the arm on (the default profile pushes every 30 ms, as the
+        # recorded Zu 5s, and starts powered off).
+        emulator = EmulatorProcess("zu5", log_path=str(OUT / "emulator.log.tmp"),
+                                   period=0.008, start="enabled")
         stack.callback(emulator.stop)
         emulator.start()
         driver = ros_session.start_driver(stack, "bench_controller", backend="controller",

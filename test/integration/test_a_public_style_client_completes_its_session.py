@@ -1,6 +1,7 @@
 """Client compatibility: a small client written the way public JAKA clients are (it searches the
 reply text for ``"errorCode": "`` and reads replies by fixed key, sends compact JSON with the
-SDK's extra keys) runs a whole session against the emulator as a subprocess, every step ok."""
+SDK's extra keys) runs a whole session against the emulator as a subprocess in its default
+profile (the recorded Zu 5s: it starts powered off), every step ok."""
 from __future__ import annotations
 
 import json
@@ -49,7 +50,10 @@ def emulator():
 def test_a_whole_session_completes(emulator):
     c = PublicStyleClient(emulator.host, emulator.command_port)
     try:
-        assert "emulator" in c.send("get_version", sdk_version="2.1.14")["errorMsg"]
+        # it starts as the recorded Zu 5s did: powered off, disabled
+        state = c.send("get_robot_state")
+        assert (state["power"], state["enable"]) == ("powered_off", "robot_disabled")
+        assert "emulator" in c.send("get_version", sdk_version="2.1.14")["robot_name"]
         c.send("power_on")
         c.send("enable_robot")
         state = c.send("get_robot_state")
@@ -91,7 +95,9 @@ def test_a_whole_session_completes(emulator):
         c.send("set_tool_id", tool_id=1)
         c.send("set_user_offsets", userffset=[300, 0, 50, 0, 0, 0], id=1, name="u")
         c.send("set_user_id", user_frame_id=1)
-        assert c.send("get_user_offsets")["user_offsets"][0] == pytest.approx(300.0)
+        # frames read back by id: row 1 is user frame 1 (row 0 the base itself)
+        users = c.send("get_user_offsets")["user_offsets"]
+        assert len(users) == 11 and users[1][:3] == pytest.approx([300.0, 0.0, 50.0])
         c.send("set_tool_id", tool_id=0)
         c.send("set_user_id", user_frame_id=0)
         c.send("set_payload", mass=1.50, centroid=[0, 0, 50])

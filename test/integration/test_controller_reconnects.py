@@ -156,6 +156,10 @@ def test_controller_process_killed_and_restarted():
         counts = raw_call(ports["command_port"], "emulator_stats")["commands"]
         assert not {"joint_move", "moveL", "jog", "servo_j", "servo_p"} & set(counts), counts
         np.testing.assert_allclose(backend.state().joint_position, q0, atol=1e-5)
+        # A rebooted controller comes up powered off (the emulator's default profile, as the
+        # recorded Zu 5s did): power and enable are the user's, as after any reboot.
+        assert not backend.state().powered
+        assert backend.set_power(True).ok and backend.set_enabled(True).ok
         target = HOME + np.array([0.1, 0, 0, 0, 0, 0])
         result = run_move(backend.start_joint_move(target, 1.0, 4.0))
         assert result.ok, result.message

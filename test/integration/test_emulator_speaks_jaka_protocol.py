@@ -10,6 +10,8 @@ import time
 import numpy as np
 import pytest
 
+from raw_client import RawClient
+
 from jaka_driver.emulator import Emulator
 
 HOME_DEG = [0.0, 90.0, -90.0, 90.0, 90.0, 0.0]
@@ -17,49 +19,6 @@ REQUIRED_STATUS_FIELDS = (
     "len", "joint_actual_position", "actual_position", "task_state", "enabled", "powered_on",
     "inpos", "emergency_stop", "protective_stop", "errcode", "errmsg", "current_tool_id",
     "current_user_id", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "drag_status")
-
-
-class RawClient:
-    """A bare JSON-over-TCP client: send an object, read the next object."""
-
-    def __init__(self, port: int):
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=3.0)
-        self.buf = ""
-        self.decoder = json.JSONDecoder()
-
-    def send(self, data: bytes) -> None:
-        self.sock.sendall(data)
-
-    def read(self, timeout: float = 3.0) -> dict:
-        deadline = time.monotonic() + timeout
-        while True:
-            text = self.buf.lstrip()
-            if text:
-                try:
-                    obj, end = self.decoder.raw_decode(text)
-                    self.buf = text[end:]
-                    return obj
-                except ValueError:
-                    pass
-            self.sock.settimeout(max(0.01, deadline - time.monotonic()))
-            chunk = self.sock.recv(65536)
-            if not chunk:
-                raise ConnectionError("closed by the emulator")
-            self.buf += chunk.decode()
-
-    def call(self, name: str, **fields) -> dict:
-        self.send(json.dumps({"cmdName": name, **fields}).encode())
-        return self.read()
-
-    def closed_by_peer(self, timeout: float = 2.0) -> bool:
-        self.sock.settimeout(timeout)
-        try:
-            return self.sock.recv(1) == b""
-        except OSError:
-            return True
-
-    def close(self) -> None:
-        self.sock.close()
 
 
 def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
@@ -88,7 +47,8 @@ def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
 
 @pytest.fixture(scope="module")
 def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+    # the default profile (the recorded Zu 5s, fw 1.5.14), found powered on and enabled
+    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
         yield emulator
 
 
@@ -102,15 +62,18 @@ def client(emu):
 def test_queries_answer_in_wire_units(client):
     version = client.call("get_version")
     assert (version["cmdName"], version["errorCode"]) == ("get_version", "0")
-    # a real-looking version (clients parse it); the emulator says what it is in errorMsg
-    assert version["version"] == "1.5.14_13_X64" and "emulator" in version["errorMsg"]
+    # a real-looking version (clients parse it); the emulator says what it is in robot_name
+    assert version["version"] == "1.5.14_13_X64" and "emulator" in version["robot_name"]
+    assert version["errorMsg"] == ""
     state = client.call("get_robot_state")
     assert (state["power"], state["enable"]) == ("powered_on", "robot_enabled")
     joints = client.call("get_joint_pos")["joint_pos"]
     np.testing.assert_allclose(joints, HOME_DEG, atol=0.05)   # degrees, not radians
     tcp = client.call("get_tcp_pos")["tcp_pos"]
     assert len(tcp) == 6 and 50 < np.linalg.norm(tcp[:3]) < 2000   # millimetres
-    assert client.call("emergency_stop_status")["emergency_stop"] == 0
+    # what fw 1.5.14 answered in every recorded run
+    assert client.call("emergency_stop_status") == {"errorCode": "1",
+                                                    "errorMsg": "Exception:function call failed"}
     assert client.call("protective_stop_status")["protective_stop"] == 0
     assert client.call("is_in_servomove")["in_servomove"] == 0
     data = client.call("get_data")
@@ -175,9 +138,10 @@ def test_several_clients_at_once(emu):
     assert not errors
 
 
-def test_status_stream_at_125_hz_with_the_fields(emu):
+def test_status_stream_at_the_profiles_period_with_the_fields(emu):
+    assert emu.period == 0.030       # the recorded Zu 5s: about 30 ms per packet
     packets = read_status(emu.status_port, 1.0)
-    assert 110 <= len(packets) <= 130, len(packets)
+    assert 25 <= len(packets) <= 36, len(packets)
     for packet, size in packets[:5]:
         assert set(REQUIRED_STATUS_FIELDS) <= set(packet)
         assert packet["len"] == size                    # len is the packet's own byte count
@@ -326,3 +290,63 @@ def test_drop_connections_closes_every_client_and_keeps_listening(emu, client):
     finally:
         again.close()
 
+
+
+def test_io_types_3_to_6_show_in_their_status_arrays(emu, client):
+    arrays = {3: "relay_io", 4: "mb_slave_dout", 5: "pn_dev_dout", 6: "eip_adpt_dout"}
+    try:
+        for io_type, key in arrays.items():
+            assert client.call("set_digital_output", type=io_type, index=2,
+                               value=1)["errorCode"] == "0"
+        assert client.call("set_analog_output", type=5, index=64, value=1.5)["errorCode"] == "0"
+        assert client.call("emulator_set_input", signal="digital", type=4, index=1,
+                           value=1)["errorCode"] == "0"
+        packet = client.call("get_data")
+        for io_type, key in arrays.items():   # 1-based on the wire, 0-based in the arrays
+            assert packet[key][1] == 1 and sum(packet[key]) == 1, key
+        assert packet["pn_dev_aout"][63] == 1.5 and packet["mb_slave_din"][0] == 1
+        assert len(packet["relay_io"]) == 4
+        relay_in = client.call("get_digital_input", type=3, index=1)
+        assert relay_in["errorCode"] == "1" and "no digital inputs" in relay_in["errorMsg"]
+        fifth = client.call("set_digital_output", type=3, index=5, value=1)
+        assert fifth["errorCode"] == "1" and "has 4" in fifth["errorMsg"]
+    finally:
+        for io_type in arrays:
+            client.call("set_digital_output", type=io_type, index=2, value=0)
+        client.call("set_analog_output", type=5, index=64, value=0.0)
+        client.call("emulator_set_input", signal="digital", type=4, index=1, value=0)
+
+
+def test_servo_filters_are_checked_by_type_and_refused_in_servo_mode(emu, client):
+    ok = [{"filter_type": 0}, {"filter_type": 1, "lpf_cf": 0.5},
+          {"filter_type": 2, "nlf_max_vr": 90.0, "nlf_max_ar": 500.0, "nlf_max_jr": 5000.0},
+          {"filter_type": 3, "mmf_max_buf": 20, "mmf_kp": 0.2, "mmf_kv": 0.1, "mmf_ka": 0.0},
+          {"filter_type": 4, "nlf_max_vp": 500.0, "nlf_max_ap": 2000.0, "nlf_max_jp": 9000.0,
+           "nlf_max_vr": 90.0, "nlf_max_ar": 500.0, "nlf_max_jr": 5000.0},
+          {"filter_type": 5, "mmf_max_buf": 15, "mmf_kp": 0.03}]
+    for fields in ok:
+        assert client.call("set_servo_move_filter", **fields)["errorCode"] == "0", fields
+        assert emu.controller.servo_filter[0] == fields["filter_type"]
+    for fields, named in (({"filter_type": 1}, "lpf_cf"),
+                          ({"filter_type": 1, "lpf_cf": 0}, "lpf_cf"),
+                          ({"filter_type": 5, "mmf_max_buf": 1.5, "mmf_kp": 0.1}, "mmf_max_buf"),
+                          ({"filter_type": 6}, "filter_type")):
+        reply = client.call("set_servo_move_filter", **fields)
+        assert reply["errorCode"] == "1" and named in reply["errorMsg"], (fields, reply)
+    assert emu.controller.servo_filter == (5, {"mmf_max_buf": 15, "mmf_kp": 0.03})
+    assert client.call("servo_move", relFlag=1)["errorCode"] == "0"
+    try:
+        refused = client.call("set_servo_move_filter", filter_type=0)
+        assert refused["errorCode"] == "2" and "servo mode" in refused["errorMsg"]
+    finally:
+        client.call("servo_move", relFlag=0)
+
+
+def test_frames_have_slots_0_to_10_and_servo_p_outside_servo_mode_is_refused_as_recorded(client):
+    eleven = client.call("set_tool_offsets", id=11, name="x", tooloffset=[0, 0, 10, 0, 0, 0])
+    assert eleven["errorCode"] == "1" and "[1, 10]" in eleven["errorMsg"]
+    assert client.call("set_tool_id", tool_id=11)["errorCode"] == "1"
+    assert len(client.call("get_tool_offsets")["tool_offsets"]) == 11
+    servo_p = client.call("servo_p", catPosition=[0] * 6, relFlag=1, stepNum=1)
+    assert (servo_p["errorCode"], servo_p["errorMsg"]) == (
+        "-1", "servop command can only be excuted in servo move mode")

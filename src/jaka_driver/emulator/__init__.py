@@ -3,10 +3,16 @@ driver. Lets the controller backend, and any third-party JAKA TCP client, be tes
 without hardware. No ROS needed.
 
 * :mod:`.app` — :class:`Emulator`, everything assembled.
-* :mod:`.server` — the two ports (commands 10001, status 10000).
-* :mod:`.framing` — splitting the command stream into requests.
-* :mod:`.handlers` — one handler per ``cmdName``; :data:`EMULATOR_COMMANDS` (fault injection).
-* :mod:`.twin_controller` — controller behaviour on the twin, SI units.
+* :mod:`.profiles` — the controller generations (``--profile``).
+* :mod:`.server` — the three ports (commands 10001, status 10000, data_request 10004);
+  :mod:`.framing` splits a request port's stream, :mod:`.status_push` feeds the status
+  subscribers.
+* :mod:`.handlers` — dispatch by ``cmdName``; :data:`EMULATOR_COMMANDS` (fault injection). The
+  handlers by subject: :mod:`.arm_commands`, :mod:`.setting_commands`, :mod:`.io_commands`,
+  :mod:`.program_commands`, :mod:`.sensor_commands`; :mod:`.wire_fields` reads request fields,
+  :mod:`.replies` writes replies.
+* :mod:`.twin_controller` — controller behaviour on the twin, SI units;
+  :mod:`.torque_sensor` — the torque sensor's stored settings.
 * :mod:`.status_packet` — the status packet's fields.
 * :mod:`.process` — :class:`EmulatorProcess`, the emulator as a subprocess (tests).
 * ``python -m jaka_driver.emulator`` / ``rosrun jaka_driver jaka_emulator`` — :mod:`.__main__`.

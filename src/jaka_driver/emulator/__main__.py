@@ -1,5 +1,6 @@
-"""``python -m jaka_driver.emulator --model zu5 [--host 127.0.0.1] [--command-port 10001]
-[--status-port 10000]`` — also ``rosrun jaka_driver jaka_emulator ...``.
+"""``python -m jaka_driver.emulator --model zu5 [--profile zu5s-1.5.14] [--host 127.0.0.1]
+[--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]``
+— also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line ``jaka_emulator ready: model zu5, host 127.0.0.1, command port P, status port Q``
 on stdout once both ports accept connections (port 0 picks free ports; the line says which),
@@ -16,24 +17,35 @@ import threading
 from .. import latency_hint
 from ..models import MODEL_NAMES
 from .handlers import EMULATOR_COMMANDS
+from .profiles import DEFAULT_PROFILE, PROFILES, START_STATES
 
 READY = "jaka_emulator ready:"
 
 
 def _parser() -> argparse.ArgumentParser:
     extra = "\n".join(f"  {name}: {what}" for name, what in EMULATOR_COMMANDS.items())
+    profiles = "\n".join(f"  {p.name}: {p.summary}.\n    {p.describe()}"
+                         for p in PROFILES.values())
     parser = argparse.ArgumentParser(
         prog="jaka_emulator", formatter_class=argparse.RawDescriptionHelpFormatter,
         description="A JAKA controller emulated on the MuJoCo twin, over JAKA's TCP protocol.",
-        epilog=f"emulator-only commands (JSON on the command port):\n{extra}")
+        epilog=f"controller profiles (--profile):\n{profiles}\n\n"
+               f"emulator-only commands (JSON on the command port):\n{extra}")
     parser.add_argument("--model", default="zu5", choices=MODEL_NAMES, help="arm model")
+    parser.add_argument("--profile", default=DEFAULT_PROFILE, choices=list(PROFILES),
+                        help=f"controller generation (default {DEFAULT_PROFILE}; see below)")
+    parser.add_argument("--start", default=None, choices=START_STATES,
+                        help="start state: off (powered off, disabled), on (powered, disabled), "
+                             "enabled; default the profile's")
     parser.add_argument("--host", default="127.0.0.1",
                         help="address to bind (default 127.0.0.1; 0.0.0.0 for every interface)")
     parser.add_argument("--command-port", type=int, default=10001, help="0 = any free port")
     parser.add_argument("--status-port", type=int, default=10000, help="0 = any free port")
     parser.add_argument("--data-port", type=int, default=10004,
                         help="data_request port (zlib status replies); 0 = any free port")
-    parser.add_argument("--period", type=float, default=0.008, help="status period, s")
+    parser.add_argument("--period", type=float, default=None,
+                        help="s between two status packets on the status port; default the "
+                             "profile's")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
@@ -53,14 +65,19 @@ def main(argv=None) -> int:
         signal.signal(sig, lambda *_: done.set())
     try:
         emulator = Emulator(args.model, args.host, args.command_port, args.status_port,
-                            data_port=args.data_port, period=args.period, scene=args.scene, io_loopback=args.io_loopback)
+                            data_port=args.data_port, profile=args.profile, period=args.period,
+                            start=args.start, scene=args.scene, io_loopback=args.io_loopback)
         emulator.start()
+    except ValueError as exc:
+        print(f"jaka_emulator: {exc}", file=sys.stderr)
+        return 2
     except OSError as exc:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
     print(f"{READY} model {args.model}, host {emulator.host}, command port "
           f"{emulator.command_port}, status port {emulator.status_port}, data port "
-          f"{emulator.data_port}", flush=True)
+          f"{emulator.data_port}; profile {emulator.profile.name}, started "
+          f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms", flush=True)
     try:
         while not done.wait(0.5):
             pass

@@ -7,6 +7,10 @@ Use it in-process (tests, notebooks)::
     with Emulator("zu5", command_port=0, status_port=0) as emu:   # 0: free ports
         print(emu.command_port, emu.status_port)
 
+    # another controller generation, its push period and start state overridden
+    Emulator("zu5", command_port=0, status_port=0, profile="tcp-doc", period=0.008,
+             start="enabled")
+
 or as a program: ``python -m jaka_driver.emulator --model zu5`` (:mod:`.__main__`).
 """
 from __future__ import annotations
@@ -18,8 +22,9 @@ from typing import Optional, Union
 from ..models import RobotModel, load_model
 from ..sim.backend import SimBackend
 from .handlers import CommandHandlers
-from .server import STATUS_PERIOD, EmulatorServer
-from .status_packet import CONTROLLER_IO_SIZES, status_fields
+from .profiles import DEFAULT_PROFILE, START_STATES, ControllerProfile, profile_named
+from .server import EmulatorServer
+from .status_packet import status_fields
 from .twin_controller import TwinController
 
 log = logging.getLogger(__name__)
@@ -27,18 +32,29 @@ log = logging.getLogger(__name__)
 
 class Emulator:
     """A JAKA controller emulated on the twin of ``model`` (a name such as ``"zu5"`` or a
-    :class:`~jaka_driver.models.RobotModel`), serving ``host`` on the two ports."""
+    :class:`~jaka_driver.models.RobotModel`), serving ``host`` on the three ports.
+
+    ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default the
+    recorded Zu 5s on fw 1.5.14); ``period`` (s between status packets) and ``start``
+    (:data:`~.profiles.START_STATES`) override the profile's."""
 
     def __init__(self, model: Union[str, RobotModel] = "zu5", host: str = "127.0.0.1",
                  command_port: int = 10001, status_port: int = 10000, *,
-                 data_port: Optional[int] = None,
-                 period: float = STATUS_PERIOD, scene: Optional[str] = None,
-                 io_loopback: bool = False):
+                 data_port: Optional[int] = None, profile: Union[str, ControllerProfile] =
+                 DEFAULT_PROFILE, period: Optional[float] = None, start: Optional[str] = None,
+                 scene: Optional[str] = None, io_loopback: bool = False):
+        self.profile = profile_named(profile) if isinstance(profile, str) else profile
+        self.start_state = self.profile.start if start is None else start
+        if self.start_state not in START_STATES:
+            raise ValueError(f"start must be one of {START_STATES}; got {start!r}")
+        period = self.profile.period if period is None else float(period)
+        if not 0.001 <= period <= 1.0:
+            raise ValueError(f"period must be in [0.001, 1] s; got {period!r}")
         self.model = load_model(model) if isinstance(model, str) else model
-        # The twin gets the IO of a real controller cabinet, as the packets show it.
-        self.model = dataclasses.replace(self.model, io_sizes=CONTROLLER_IO_SIZES)
+        # The twin gets the IO of the profile's controller cabinet, as its packets show it.
+        self.model = dataclasses.replace(self.model, io_sizes=self.profile.io_sizes)
         self.twin = SimBackend(self.model, scene=scene, io_loopback=io_loopback)
-        self.controller = TwinController(self.twin)
+        self.controller = TwinController(self.twin, self.profile)
         if data_port is None:   # free ports for tests stay free ports: no fixed 10004 then
             data_port = 0 if command_port == 0 else 10004
         self.handlers = CommandHandlers(self.controller)
@@ -61,16 +77,23 @@ class Emulator:
     def data_port(self) -> int:
         return self.server.data_port
 
+    @property
+    def period(self) -> float:
+        """s between two status packets on the status port."""
+        return self.server.period
+
     def start(self) -> "Emulator":
         self.twin.start()
+        self.controller.apply_start(self.start_state)
         try:
             self.server.start()
         except OSError:
             self.twin.shutdown()
             raise
-        log.info("%s on %s: commands %d, status %d, data_request %d; get_version answers %s",
-                 self.controller.identity, self.host, self.command_port, self.status_port,
-                 self.data_port, self.controller.version)
+        log.info("%s on %s: commands %d, status %d, data_request %d; profile %s (%s); "
+                 "started %s, a packet every %g ms", self.controller.identity, self.host,
+                 self.command_port, self.status_port, self.data_port, self.profile.name,
+                 self.profile.describe(), self.start_state, self.period * 1000)
         return self
 
     def stop(self) -> None:

@@ -31,7 +31,14 @@ class EmulatorProcess:
 
     def __init__(self, model: str = "zu5", host: str = "127.0.0.1", command_port: int = 0,
                  status_port: int = 0, log_path: Optional[str] = None, *extra_args: str,
-                 data_port: int = 0):
+                 data_port: int = 0, profile: Optional[str] = None,
+                 period: Optional[float] = None, start: Optional[str] = None):
+        """``profile``, ``period`` and ``start`` are the emulator's ``--profile``, ``--period``
+        and ``--start`` (None: the emulator's defaults)."""
+        options = {"--profile": profile, "--period": period, "--start": start}
+        extra_args = tuple(extra_args) + tuple(
+            arg for name, value in options.items() if value is not None
+            for arg in (name, str(value)))
         self.model = model
         self.host = host
         self.command_port = command_port

@@ -10,9 +10,12 @@
   served meanwhile), at most :data:`WAIT_COMPLETE_LIMIT` s.
 * Data port: each ``{"cmdName":"data_request"}`` is answered with one status packet,
   zlib-compressed, as JAKA's SDK reads status.
-* Status port: any number of clients; one thread encodes a packet every ``period`` s (8 ms,
-  the controller cycle) and sends it to all of them. A client that cannot take a packet within
-  :data:`SEND_TIMEOUT` s is dropped, so one stuck reader cannot stall the others.
+* Status port: any number of clients; one thread encodes a packet every ``period`` s (the
+  profile's push period) and hands it to all of them without ever waiting for one: a reader
+  that stops reading is skipped, then dropped, and costs the others nothing
+  (:mod:`.status_push`).
+* No bytes end a connection thread: whatever arrives gets an error reply (:mod:`.framing`,
+  and anything a handler or the reply's encoding raises is answered too).
 
 :meth:`EmulatorServer.drop_clients` closes every client connection while the listening sockets
 stay open — what a controller reboot or a network glitch looks like to a client that
@@ -27,16 +30,16 @@ import time
 from typing import Callable, Dict, List
 
 from ..constants import SERVO_CYCLE
-from ..protocol.fields import DATA_REQUEST_MAX_BYTES
+from ..protocol.fields import DATA_REQUEST_MAX_BYTES, ERROR_CODE_FAILED, Cmd, Field
 from ..protocol.status_stream import encode_data_reply, encode_status
-from ..protocol.wire import encode_json_spaced
 from .framing import RequestSplitter
 from .handlers import CommandHandlers
+from .replies import encode_reply, error_reply
+from .status_push import StatusSubscribers, close_socket
 
 log = logging.getLogger(__name__)
 
-STATUS_PERIOD = SERVO_CYCLE     # s, the controller publishes once per cycle
-SEND_TIMEOUT = 0.5       # s a status client may block a send before it is dropped
+STATUS_PERIOD = SERVO_CYCLE     # s, the default of an EmulatorServer built directly
 IDLE_TIMEOUT = 1.0       # s an incomplete request may wait for its remaining bytes
 WAIT_COMPLETE_LIMIT = 600.0   # s a wait_complete waits for the motion queue
 _POLL = 0.1              # s, how often blocked threads look at the stop flag
@@ -56,18 +59,11 @@ def _listen(host: str, port: int) -> socket.socket:
     return sock
 
 
-def _close(sock: socket.socket) -> None:
-    try:
-        sock.shutdown(socket.SHUT_RDWR)   # wakes a thread blocked in recv on it
-    except OSError:
-        pass
-    sock.close()
-
-
 class EmulatorServer:
-    """Serves ``handlers`` on ``command_port`` and the packets of ``status_source()`` (a dict
-    of status fields) on ``status_port``. Port 0 picks a free port; the bound ports are in
-    :attr:`command_port` and :attr:`status_port` after :meth:`start`."""
+    """Serves ``handlers`` on ``command_port``, the packets of ``status_source()`` (a dict of
+    status fields) every ``period`` s on ``status_port``, and one zlib packet per
+    ``data_request`` on ``data_port``. Port 0 picks a free port; the bound ports are in
+    :attr:`command_port`, :attr:`status_port` and :attr:`data_port` after :meth:`start`."""
 
     def __init__(self, handlers: CommandHandlers, status_source: Callable[[], Dict],
                  host: str = "127.0.0.1", command_port: int = 10001, status_port: int = 10000,
@@ -79,14 +75,14 @@ class EmulatorServer:
         self.status_port = int(status_port)
         self.data_port = int(data_port)
         self.period = float(period)
-        self._lock = threading.Lock()          # guards the client lists
+        self._lock = threading.Lock()          # guards the client table
         self._exec_lock = threading.Lock()     # one command at a time
         self._command_clients: Dict[socket.socket, threading.Thread] = {}
-        self._status_clients: List[socket.socket] = []
+        #: the status port's subscribers (their counters: :meth:`StatusSubscribers.stats`)
+        self.subscribers = StatusSubscribers()
         self._listeners: List[socket.socket] = []
         self._threads: List[threading.Thread] = []
         self._quit = threading.Event()
-        self.packets_sent = 0
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -138,17 +134,18 @@ class EmulatorServer:
     def drop_clients(self) -> None:
         """Close every client connection on both ports; the ports keep listening."""
         with self._lock:
-            clients = list(self._command_clients) + self._status_clients
-            self._status_clients = []
+            clients = list(self._command_clients)
         for sock in clients:
-            _close(sock)
-        if clients:
-            log.warning("emulator: dropped %d client connection(s)", len(clients))
+            close_socket(sock)
+        count = len(clients) + self.subscribers.close_all()
+        if count:
+            log.warning("emulator: dropped %d client connection(s)", count)
 
     @property
     def client_count(self) -> Dict[str, int]:
         with self._lock:
-            return {"command": len(self._command_clients), "status": len(self._status_clients)}
+            requesting = len(self._command_clients)
+        return {"command": requesting, "status": len(self.subscribers)}
 
     # ---- accepting ----------------------------------------------------------------------------
     def _accept(self, listener: socket.socket, serve: Callable[[socket.socket], None]) -> None:
@@ -185,7 +182,7 @@ class EmulatorServer:
         self._client_loop(conn, self._answer_data)
 
     def _answer_data(self, conn: socket.socket, request) -> bool:
-        if not (isinstance(request, dict) and request.get("cmdName") == "data_request"):
+        if not (isinstance(request, dict) and request.get(Field.CMD_NAME) == Cmd.DATA_REQUEST):
             return self._answer(conn, request)
         reply = encode_data_reply(self.status_source())
         if len(reply) > DATA_REQUEST_MAX_BYTES:
@@ -198,9 +195,7 @@ class EmulatorServer:
         return True
 
     def _add_status_client(self, conn: socket.socket) -> None:
-        conn.settimeout(SEND_TIMEOUT)
-        with self._lock:
-            self._status_clients.append(conn)
+        self.subscribers.add(conn)
 
     # ---- command connections ---------------------------------------------------------------
     def _command_loop(self, conn: socket.socket) -> None:
@@ -228,20 +223,31 @@ class EmulatorServer:
                     break
         except OSError:
             pass   # closed by drop_clients/stop, or reset by the client: this connection ends
+        except Exception:  # noqa: BLE001 - a bug must cost this connection, never the server
+            log.exception("emulator: a client connection failed")
         finally:
             with self._lock:
                 self._command_clients.pop(conn, None)
-            _close(conn)
+            close_socket(conn)
 
     def _answer(self, conn: socket.socket, request) -> bool:
         """Execute one request and send its reply; False when the connection is to end."""
         if request is None:
             return True
-        self.handlers.wait_before(request, WAIT_COMPLETE_LIMIT)
-        with self._exec_lock:
-            reply, then = self.handlers.handle(request)
         try:
-            conn.sendall(encode_json_spaced(reply))
+            self.handlers.wait_before(request, WAIT_COMPLETE_LIMIT)
+            with self._exec_lock:
+                reply, then = self.handlers.handle(request)
+            text = encode_reply(reply)
+        except Exception as exc:  # noqa: BLE001 - every request gets a reply
+            log.exception("emulator: answering a request failed")
+            name = request.get(Field.CMD_NAME) if isinstance(request, dict) else ""
+            reply = error_reply(name, f"the emulator failed to answer: {exc!r}"[:300],
+                                ERROR_CODE_FAILED)
+            then = None
+            text = encode_reply(reply)
+        try:
+            conn.sendall(text)
         except OSError:
             return False
         if then == "drop_all":
@@ -253,30 +259,14 @@ class EmulatorServer:
     def _broadcast(self) -> None:
         deadline = time.monotonic()
         while not self._quit.is_set():
-            with self._lock:
-                clients = list(self._status_clients)
-            if clients:
+            if len(self.subscribers):
                 try:
-                    packet = encode_status(self.status_source())
+                    self.subscribers.push(encode_status(self.status_source()))
                 except Exception:  # noqa: BLE001 - the stream must survive a bad sample
                     log.exception("emulator: building the status packet failed")
-                    packet = None
-                if packet is not None:
-                    for sock in clients:
-                        self._send_status(sock, packet)
             deadline += self.period
             delay = deadline - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
             elif delay < -self.period:
                 deadline = time.monotonic()   # fell behind (stall): resynchronise, no burst
-
-    def _send_status(self, sock: socket.socket, packet: bytes) -> None:
-        try:
-            sock.sendall(packet)
-            self.packets_sent += 1
-        except OSError:
-            with self._lock:
-                if sock in self._status_clients:
-                    self._status_clients.remove(sock)
-            _close(sock)

@@ -1,46 +1,70 @@
 """The emulator's status packet: the twin's state as the fields of a port-10000 packet (and of
 the port-10004 ``data_request`` reply and the ``get_data`` reply), in wire units — joints deg,
-TCP mm + RPY deg — with every key, type and array size of a real Zu 5s packet
-(docs/protocol.md, "Status packet").
+TCP mm + RPY deg — with every key, type and array size of a real Zu 5s packet, in its key order
+(docs/protocol.md, "Status packet"; array sizes from the profile).
 
-Field values the twin has no notion of are reported as an idle controller with nothing
-configured would (``paused`` false, ``on_soft_limit`` 0, ``task_mode`` 2 = auto, fieldbus arrays
-zeros). ``errcode`` is the emulator's own, written ``"0x…"`` as the SDK reads it: ``0xE001``
-collision, ``0xE002`` protective stop, ``0x0`` none.
+Filled from the twin where the twin has the quantity:
+
+* ``monitor_data`` = ``[scbMajor, scbMinor, cabinet temperature, average power, average
+  current, [6 joint rows of 11]]``; per joint row ``[0]`` current = torque / 10 N·m/A (the order
+  of a harmonic-drive joint; not a JAKA figure), ``[1]`` voltage = the 48 V DC bus while
+  powered, ``[2]`` temperature 0 (no thermal model), ``[9]`` torque (N·m, the twin's drive
+  torque), the rest 0; average power = Σ|torque · speed| (W, mechanical), average current =
+  that power / bus voltage; SCB version 0.0 and cabinet temperature 0 (no such parts);
+* top-level ``instVel`` = joint speeds (deg/s: the wire's joint unit; the unit of a real
+  controller's ``instVel`` is not on record);
+* ``curr_tcp_trans_vel`` = the TCP's speed (mm/s);
+* ``torqsensor`` = the torque sensor's settings (:mod:`.torque_sensor`) with no sensor running;
+* the IO arrays of every type (cabinet, tool, ``extio`` for the extension module, ``relay_io``,
+  ``mb_slave_*``, ``pn_dev_*``, ``eip_adpt_*``), as set.
+
+Keys the twin has nothing behind are reported as an idle controller with nothing configured
+would (``paused`` false, ``on_soft_limit`` 0, ``task_mode`` 2 = auto, ``funcdi`` unassigned).
+``errcode`` is the emulator's own, written ``"0x…"`` as the SDK reads it: ``0xE001`` collision,
+``0xE002`` protective stop, ``0x0`` none.
 """
 from __future__ import annotations
 
-from typing import Any, Dict
+from typing import Any, Dict, List, Tuple
 
 import numpy as np
 
 from ..protocol import units
-from ..protocol.fields import InterpState, StatusField as S, TaskState
+from ..protocol.fields import InterpState, IOType, StatusField as S, TaskState
 from ..transforms import matrix_to_pose_mm_rpy
 from .twin_controller import TwinController
 
 ERRCODE_COLLISION = 0xE001
 ERRCODE_PROTECTIVE_STOP = 0xE002
 TASK_MODE_AUTO = 2
-
-#: The IO of a real controller cabinet as the packet shows it (sizes of a Zu 5s packet: cabinet
-#: analog 64 each way, tool digital 8 each way; digital cabinet IO over 100 — 136 here).
-CONTROLLER_IO_SIZES = {("digital", 0, 0): 136, ("digital", 0, 1): 136, ("analog", 0, 0): 64,
-                       ("analog", 0, 1): 64, ("digital", 1, 0): 8, ("digital", 1, 1): 8,
-                       ("analog", 1, 0): 2, ("analog", 1, 1): 0, ("digital", 2, 0): 8,
-                       ("digital", 2, 1): 8, ("analog", 2, 0): 4, ("analog", 2, 1): 4}
+BUS_VOLTAGE = 48.0        # V, the arm's DC supply while powered
+TORQUE_PER_AMP = 10.0     # N·m per A at a joint's output (an order of magnitude, see above)
+JOINT_ROW = 11            # numbers per joint row of monitor_data, as a Zu 5s sends them
+_TORQUE = 9               # index of the torque in a joint row
 
 #: Keys the twin has nothing behind: what a controller with nothing configured sends.
 _IDLE = {
-    "monitor_data": lambda: {"instVel": [0.0] * 6},
-    "torqsensor": lambda: [[0, [0.0] * 6, 0], [0, [0.0] * 6]],
     "drag_near_limit": lambda: [0] * 6, "funcdi": lambda: [[-1, -1] for _ in range(15)],
     "motion_mode": lambda: 0, "point_key": lambda: 0, "netState": lambda: 1,
-    "relay_io": lambda: [0] * 4, "tio_key": lambda: [0, 0, 0], "tio_rs_signals": lambda: [],
-    "extio": lambda: {"num": 0, "status": []},
-    **{f"{bus}_{kind}": (lambda kind=kind: [0.0 if kind[0] == "a" else 0] * 64)
-       for bus in ("mb_slave", "pn_dev", "eip_adpt") for kind in ("din", "dout", "ain", "aout")},
+    "tio_key": lambda: [0, 0, 0], "tio_rs_signals": lambda: [],
 }
+
+#: packet key → the IO it shows (signal, type, path: 0 inputs, 1 outputs)
+IO_KEYS: Dict[str, Tuple[str, int, int]] = {
+    S.DIN: ("digital", IOType.CABINET, 0), S.DOUT: ("digital", IOType.CABINET, 1),
+    S.AIN: ("analog", IOType.CABINET, 0), S.AOUT: ("analog", IOType.CABINET, 1),
+    S.TIO_DIN: ("digital", IOType.TOOL, 0), S.TIO_DOUT: ("digital", IOType.TOOL, 1),
+    S.TIO_AIN: ("analog", IOType.TOOL, 0),
+}
+FIELDBUS_KEYS: Dict[str, Tuple[str, int, int]] = {S.RELAY_IO: ("digital", IOType.RELAY, 1)}
+for _prefix, _type in (("mb_slave", IOType.MODBUS_SLAVE), ("pn_dev", IOType.PROFINET_SLAVE),
+                       ("eip_adpt", IOType.EIP_SLAVE)):
+    FIELDBUS_KEYS.update({f"{_prefix}_din": ("digital", _type, 0),
+                          f"{_prefix}_dout": ("digital", _type, 1),
+                          f"{_prefix}_ain": ("analog", _type, 0),
+                          f"{_prefix}_aout": ("analog", _type, 1)})
+_EXTENSION = [("digital", IOType.EXTEND, 0), ("digital", IOType.EXTEND, 1),
+              ("analog", IOType.EXTEND, 0), ("analog", IOType.EXTEND, 1)]
 
 
 def zeros_of(key: str) -> Any:
@@ -48,20 +72,45 @@ def zeros_of(key: str) -> Any:
     return _IDLE[key]()
 
 
-#: status field → the twin's IO key (signal, type, path)
-IO_FIELDS = {S.DIN: ("digital", 0, 0), S.DOUT: ("digital", 0, 1), S.AIN: ("analog", 0, 0),
-             S.AOUT: ("analog", 0, 1), S.TIO_DIN: ("digital", 1, 0),
-             S.TIO_DOUT: ("digital", 1, 1), S.TIO_AIN: ("analog", 1, 0)}
-
-
 def wire_pose(pose: np.ndarray) -> list:
     """4x4 pose (m) → wire ``[x, y, z mm, rx, ry, rz deg]``."""
     return units.pose_to_wire(matrix_to_pose_mm_rpy(pose))
 
 
+def _io_list(values, key: Tuple[str, int, int]) -> list:
+    cast = int if key[0] == "digital" else float
+    return [] if values is None else [cast(v) for v in values]
+
+
+def io_values(controller: TwinController, key: Tuple[str, int, int]) -> list:
+    """One IO array as the packet writes it (digital ints, analog floats), index 0 first."""
+    return _io_list(controller.twin.io.snapshot().get(key), key)
+
+
+def extio(controller: TwinController, io: Dict | None = None) -> Dict[str, Any]:
+    """The extension module (IO type 2): ``{"num": 1, "status": [din, dout, ain, aout]}``, or
+    ``{"num": 0, "status": []}`` when the profile has none. JAKA's SDK reads it only if
+    ``num`` > 0, every value as an int."""
+    io = controller.twin.io.snapshot() if io is None else io
+    if not any(controller.io_count(*key) for key in _EXTENSION):
+        return {"num": 0, "status": []}
+    return {"num": 1, "status": [_io_list(io.get(key), key) for key in _EXTENSION]}
+
+
+def _monitor_data(powered: bool, torque: np.ndarray, speed: np.ndarray) -> list:
+    voltage = BUS_VOLTAGE if powered else 0.0
+    power = float(np.sum(np.abs(torque * speed)))
+    rows: List[list] = []
+    for tau in torque:
+        row = [0.0] * JOINT_ROW
+        row[0], row[1], row[_TORQUE] = float(tau) / TORQUE_PER_AMP, voltage, float(tau)
+        rows.append(row)
+    return [0, 0, 0.0, power, power / voltage if voltage else 0.0, rows]
+
+
 def status_fields(controller: TwinController) -> Dict[str, Any]:
-    """One packet's fields (without ``len``; :func:`~jaka_driver.protocol.encode_status`
-    adds it)."""
+    """One packet's fields, in a real packet's key order (without ``len``:
+    :func:`~jaka_driver.protocol.encode_status` puts it first)."""
     twin = controller.twin
     st = twin.state()
     inpos = controller.inpos
@@ -78,37 +127,48 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     else:
         task_state = TaskState.ENABLED
     io = twin.io.snapshot()
+    tool, _ = twin.frames()
+    tcp_speed = np.linalg.norm(twin.kin.jacobian(st.joint_position, tool)[:3]
+                               @ st.joint_velocity)
     fields: Dict[str, Any] = {
+        S.DRAG_STATUS: bool(st.drag_mode),
+        S.EXTIO: extio(controller, io),
+        S.ERRCODE: f"{errcode:#x}",
+        S.ERRMSG: st.error_message if errcode else "",
+        S.MONITOR_DATA: _monitor_data(st.powered, st.joint_effort, st.joint_velocity),
+        S.TORQSENSOR: controller.sensor.monitor(),
+        S.RAPIDRATE: float(controller.rapid_rate),
+        S.ENABLED: bool(st.enabled),
+        S.POWERED_ON: int(st.powered),
+        S.INPOS: bool(inpos),
+        S.PAUSED: False,
+        S.PROTECTIVE_STOP: int(st.protective_stop or st.collision),
+        S.EMERGENCY_STOP: int(st.emergency_stop),
+        S.ON_SOFT_LIMIT: 0,
+        S.TASK_STATE: int(task_state),
+        S.TASK_MODE: TASK_MODE_AUTO,
+        S.INTERP_STATE: int(InterpState.IDLE if inpos else InterpState.RUNNING),
+        "motion_mode": zeros_of("motion_mode"),
+        S.CURRENT_TOOL_ID: int(st.tool_id),
+        S.CURRENT_USER_ID: int(st.user_id),
         S.JOINT_ACTUAL_POSITION: units.joints_to_wire(st.joint_position),
         S.JOINT_POSITION: units.joints_to_wire(controller.commanded_joints()),
         S.ACTUAL_POSITION: wire_pose(st.tcp_pose),
         S.POSITION: wire_pose(controller.commanded_tcp()),
-        S.TASK_STATE: int(task_state),
-        S.TASK_MODE: TASK_MODE_AUTO,
-        S.INTERP_STATE: int(InterpState.IDLE if inpos else InterpState.RUNNING),
-        S.POWERED_ON: int(st.powered),
-        S.ENABLED: bool(st.enabled),
-        S.PAUSED: False,
-        "homed": [1] * 6,
-        "curr_tcp_trans_vel": 0.0,
-        S.MOTION_LINE: int(controller.motion_line),
-        "err_add_line": 0,
-        "executing_line": int(controller.motion_line),
-        S.INPOS: bool(inpos),
-        S.DRAG_STATUS: bool(st.drag_mode),
-        S.EMERGENCY_STOP: int(st.emergency_stop),
-        S.PROTECTIVE_STOP: int(st.protective_stop or st.collision),
-        S.ON_SOFT_LIMIT: 0,
-        S.ERRCODE: f"{errcode:#x}",
-        S.ERRMSG: st.error_message if errcode else "",
-        S.RAPIDRATE: float(controller.rapid_rate),
-        S.CURRENT_TOOL_ID: int(st.tool_id),
-        S.CURRENT_USER_ID: int(st.user_id),
+        "curr_tcp_trans_vel": float(tcp_speed * 1000.0),
     }
-    for name, key in IO_FIELDS.items():
-        values = io.get(key)
-        cast = int if key[0] == "digital" else float
-        fields[name] = [] if values is None else [cast(v) for v in values]
-    for key, idle in _IDLE.items():
-        fields[key] = idle()
+    for name, key in IO_KEYS.items():
+        fields[name] = _io_list(io.get(key), key)
+        if name == S.TIO_AIN:
+            fields["tio_key"] = zeros_of("tio_key")
+            fields["tio_rs_signals"] = zeros_of("tio_rs_signals")
+    fields[S.HOMED] = [1] * controller.profile.homed_count
+    for key in ("drag_near_limit", "funcdi", "point_key", "netState"):
+        fields[key] = zeros_of(key)
+    for name, key in FIELDBUS_KEYS.items():
+        fields[name] = _io_list(io.get(key), key)
+    fields[S.MOTION_LINE] = int(controller.motion_line)
+    fields[S.ERR_ADD_LINE] = 0
+    fields[S.EXECUTING_LINE] = int(controller.motion_line)
+    fields[S.INST_VEL] = np.degrees(st.joint_velocity).tolist()
     return fields

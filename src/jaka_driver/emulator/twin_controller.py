@@ -29,10 +29,12 @@ import numpy as np
 from ..completion import Completion
 from ..constants import SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
-from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED
+from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, IDENTITY_FIELDS
 from ..results import Code, Result
 from ..sim.backend import SimBackend
 from ..validation import fastest_step, outside_limits
+from .profiles import DEFAULT_PROFILE, ControllerProfile, profile_named
+from .torque_sensor import TorqueSensorSettings
 
 log = logging.getLogger(__name__)
 
@@ -40,8 +42,13 @@ log = logging.getLogger(__name__)
 #: missing or malformed field); "2": a valid command refused in the current state.
 ERROR_REQUEST = ERROR_CODE_EXCEPTION
 ERROR_REFUSED = ERROR_CODE_FAILED
+#: What fw 1.5.14 answers to servo_j outside servo mode (recorded, spelling included).
+ERROR_NOT_IN_SERVO_MODE = "-1"
+NOT_IN_SERVO_MODE = "{} command can only be excuted in servo move mode"
 
-FRAME_IDS = range(0, 16)          # tool and user frame slots of the controller
+#: Tool and user frame slots: the rows of get_tool_offsets / get_user_offsets (ids 0..10, as
+#: JAKA's SDK reads them; 0 is the flange / the base itself and cannot be set).
+FRAME_IDS = range(0, 11)
 MAX_CLSN_LEVEL = 5
 JOG_ROTATION_SPEED_MAX = np.pi    # rad/s
 QUEUE_SIZE = 64                   # moves the queue holds; one more is refused (queue_full)
@@ -63,12 +70,15 @@ class Rejected(Exception):
 class TwinController:
     """A JAKA controller whose arm is ``twin``."""
 
-    def __init__(self, twin: SimBackend, version: str = "1.5.14_13_X64"):
+    def __init__(self, twin: SimBackend, profile: Optional[ControllerProfile] = None):
+        """``profile``: the controller generation (default: the recorded Zu 5s, fw 1.5.14)."""
         self.twin = twin
         self.model = twin.model
-        #: what get_version answers: a real controller's form, so clients that parse it work
-        self.version = version
-        #: where a person reads it (get_version's errorMsg, the log): this is the emulator
+        self.profile = profile = profile or profile_named(DEFAULT_PROFILE)
+        #: what get_version answers: the profile's firmware in a real controller's form, so
+        #: clients that parse it work
+        self.version = profile.version
+        #: where a person reads it (get_version's robot_name, the log): this is the emulator
         self.identity = f"jaka_driver emulator ({twin.model.name} MuJoCo twin), not a controller"
         self.lock = threading.RLock()
         self._pending: Optional[Completion] = None    # the running move, until it ends
@@ -83,13 +93,28 @@ class TwinController:
         self._worker = threading.Thread(target=self._run_queue, daemon=True,
                                         name="emulator-motion-queue")
         self._worker.start()
-        self.tio_vout = (0, 0)                        # (enable, voltage code)
+        self.tio_vout = (0, 0)                        # (enable 0/1, voltage code 0 24 V, 1 12 V)
+        self.sensor = TorqueSensorSettings()
         self.frames = FrameTable()
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
         self.collision_level = twin.collision_level
         self.rapid_rate = 1.0
-        self.servo_filter = 0
+        self.servo_filter: Tuple[int, dict] = (0, {})   # (filter_type, its parameters)
+
+    def identity_fields(self) -> dict:
+        """get_version's seven identity strings (JAKA's SDK logs them at login; a number there
+        aborts its login). Version 0.0 stands for a part the twin does not have."""
+        values = (self.version, "jaka_driver-emulator", "none", f"emulator-{self.model.name}",
+                  self.identity, "0.0", "0.0")
+        return dict(zip(IDENTITY_FIELDS, values))
+
+    def apply_start(self, start: str) -> None:
+        """Put the arm in a start state of :data:`~.profiles.START_STATES` (the twin itself
+        starts powered on and enabled)."""
+        with self.lock:
+            self.twin.set_power(start != "off")
+            self.twin.set_enabled(start == "enabled")
 
     def close(self) -> None:
         self._quit.set()
@@ -190,7 +215,9 @@ class TwinController:
         m = self.model
         i = outside_limits(m, q, tolerance=1e-9)   # the wire's degrees round-trip to ~1e-12
         if i is not None:
-            raise Rejected(f"{what}: joint {i + 1} target {np.degrees(q[i]):.3f} deg is outside "
+            # "call joint_move failed" is a real controller's text (recorded); the rest says why
+            raise Rejected(f"call {what} failed: joint {i + 1} target "
+                           f"{np.degrees(q[i]):.3f} deg is outside "
                            f"[{np.degrees(m.lower[i]):.1f}, {np.degrees(m.upper[i]):.1f}] deg",
                            ERROR_REFUSED)   # a controller answers "2" (call ... failed)
 
@@ -294,6 +321,8 @@ class TwinController:
 
     # ---- servo mode -----------------------------------------------------------------------------
     def set_servo_mode(self, on: bool) -> None:
+        """Enter or leave servo mode. Entering while queued moves run is acknowledged and does
+        nothing, as fw 1.5.14 was recorded doing: ``is_in_servomove`` stays false."""
         with self.lock:
             if not on:
                 self.twin.servo_enable(False)
@@ -301,7 +330,10 @@ class TwinController:
             if self.twin.servo_mode:
                 return
             self.require_can_move("servo_move", servo_ok=True)
-            self.require_still("servo_move")
+            if self.moving or self.twin.motion_active:
+                log.info("emulator: servo_move enable while the arm moves: acknowledged, "
+                         "servo mode not entered (as recorded on fw 1.5.14)")
+                return
             result = self.twin.servo_enable(True)
             if not result.ok:
                 raise Rejected(f"servo_move: {result.message}")
@@ -313,8 +345,16 @@ class TwinController:
             raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
         return goal
 
+    def require_servo_mode(self, what: str) -> None:
+        """servo_j outside servo mode: the recorded errorCode "-1" and text (servo_p answered
+        likewise, by analogy: not recorded)."""
+        if not self.twin.servo_mode:
+            raise Rejected(NOT_IN_SERVO_MODE.format(what.replace("_", "")),
+                           ERROR_NOT_IN_SERVO_MODE)
+
     def servo_joints(self, q: np.ndarray, steps: int, what: str = "servo_j") -> None:
         with self.lock:
+            self.require_servo_mode(what)
             self.require_can_move(what, servo_ok=True)
             goal = self.servo_reference(what)
             self.check_limits(q, what)
@@ -330,6 +370,7 @@ class TwinController:
 
     def servo_pose(self, pose: np.ndarray, steps: int) -> None:
         with self.lock:
+            self.require_servo_mode("servo_p")
             seed = self.servo_reference("servo_p")
             solution = self.twin.inverse_kinematics(pose, seed)
             if not solution.ok:
@@ -367,19 +408,24 @@ class TwinController:
             self.twin.set_collision_level(level)
             self.collision_level = level
 
-    def set_servo_filter(self, filter_type: int) -> None:
+    def set_servo_filter(self, filter_type: int, params: dict) -> None:
+        """Store the servo filter (JAKA's manual: set outside servo mode). The twin follows
+        servo set-points through the stepNum ramp only; the filter is kept, not applied."""
         with self.lock:
             if self.twin.servo_mode:
                 raise Rejected("set_servo_move_filter: not allowed in servo mode")
-            self.servo_filter = filter_type
+            self.servo_filter = (filter_type, dict(params))
 
     def io_count(self, signal: str, io_type: int, path: int) -> int:
         return int(self.model.io_sizes.get((signal, io_type, path), 0))
 
     def check_io(self, signal: str, io_type: int, path: int, index: int, what: str) -> None:
         count = self.io_count(signal, io_type, path)
+        kind = "output" if path else "input"
+        if count == 0:
+            raise Rejected(f"{what}: IO type {io_type} has no {signal} {kind}s on this "
+                           "controller", ERROR_REQUEST)
         if not 0 <= index < count:
-            kind = "output" if path else "input"
             raise Rejected(f"{what}: {signal} {kind} index {index + 1} of type {io_type} does not "
                            f"exist (this type has {count}, numbered from 1)", ERROR_REQUEST)
 

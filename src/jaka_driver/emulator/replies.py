@@ -1,0 +1,111 @@
+"""A command reply: its content (what a handler answers, :class:`Answer`; the reply objects,
+:func:`success_reply` and :func:`error_reply`) and its text (:func:`encode_reply`).
+
+Every reply begins ``errorCode``, ``errorMsg``, ``cmdName`` in that order, a refusal too, as
+recorded on a real controller; ``errorCode`` is a string: "0" success, "1" a wrong request
+(unknown command, missing or malformed field, malformed JSON), "2" a command refused in the
+current state, and what a real controller was recorded answering where it answered otherwise
+(:class:`RecordedReply`).
+
+The text is the controller's (docs/protocol.md, "Framing and layout"): a space after every ``:``
+and ``,`` (public clients search the text for ``"errorCode": "``), keys in the order given,
+every non-integer number with 6 decimals (``482.000000``, as recorded on a Zu 5s with firmware
+1.5.14), integers and bools as they are.
+
+Status packets keep Python's shortest float form (:func:`~jaka_driver.protocol.encode_status`):
+the recorded packet and the fixture written from it carry plain numbers (``35.6``, ``1.0``), the
+6-decimal form is recorded for replies only, and a packet goes out up to 125 times a second.
+
+Strings are UTF-8; a lone surrogate (a ``\\ud800`` escape in a request, echoed in an error
+message) becomes ``?`` rather than making the reply unencodable.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Mapping, Optional
+
+import numpy as np
+
+from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_OK, Field
+
+
+@dataclass
+class Answer:
+    """What a handler answers on success: the reply's fields after the first three, and what
+    the connection does next: ``then`` is None, ``"close"`` (this connection) or
+    ``"drop_all"`` (every connection)."""
+
+    fields: Dict[str, Any] = field(default_factory=dict)
+    then: Optional[str] = None
+
+
+def done(_result: Any = None) -> Answer:
+    """The answer of a command whose success has no fields (its controller call's return value
+    is not part of the reply)."""
+    return Answer()
+
+
+class RecordedReply(Exception):
+    """Raised by a handler whose command a real controller was recorded answering with
+    ``reply`` exactly (keys included or left out as recorded)."""
+
+    def __init__(self, reply: Dict[str, Any]):
+        super().__init__(reply.get(Field.ERROR_MSG, ""))
+        self.reply = reply
+
+
+def success_reply(name: str, fields: Mapping[str, Any]) -> Dict[str, Any]:
+    reply: Dict[str, Any] = {Field.ERROR_CODE: ERROR_CODE_OK, Field.ERROR_MSG: "",
+                             Field.CMD_NAME: name}
+    reply.update(fields)
+    return reply
+
+
+def error_reply(name: Any, message: str, code: str = ERROR_CODE_EXCEPTION) -> Dict[str, Any]:
+    """A refusal in the recorded key order. ``name`` is echoed as ``cmdName`` when it is a
+    string (at most 80 characters of it), else ``""``."""
+    name = name[:80] if isinstance(name, str) else ""
+    return {Field.ERROR_CODE: code, Field.ERROR_MSG: message, Field.CMD_NAME: name}
+
+
+def encode_reply(reply: Mapping[str, Any]) -> bytes:
+    """``reply`` in the controller's text layout, UTF-8."""
+    parts: List[str] = []
+    _write(reply, parts)
+    return "".join(parts).encode("utf-8", "replace")
+
+
+def _write(value: Any, out: List[str]) -> None:
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
+    if value is None or isinstance(value, (bool, str)):
+        out.append(json.dumps(value, ensure_ascii=False))
+    elif isinstance(value, int):
+        out.append(str(value))
+    elif isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"{value!r} is not a JSON number")
+        text = f"{value:.6f}"
+        out.append("0.000000" if text == "-0.000000" else text)   # no sign on a zero
+    elif isinstance(value, Mapping):
+        out.append("{")
+        for i, (key, item) in enumerate(value.items()):
+            if i:
+                out.append(", ")
+            out.append(json.dumps(str(key), ensure_ascii=False))
+            out.append(": ")
+            _write(item, out)
+        out.append("}")
+    elif isinstance(value, (list, tuple)):
+        out.append("[")
+        for i, item in enumerate(value):
+            if i:
+                out.append(", ")
+            _write(item, out)
+        out.append("]")
+    else:
+        raise TypeError(f"{type(value).__name__} is not JSON serialisable")

@@ -1,0 +1,63 @@
+"""The end torque sensor's settings as the emulated controller keeps them: it has no sensor (the
+twin's arm carries none), but a controller keeps a sensor's configuration whether one is
+connected or not, and JAKA's SDK reads a setting back after it sets it
+(:mod:`.sensor_commands` answers the commands; docs/protocol.md, "Torque sensor").
+
+Units as on the wire: mass kg, centroid mm, forces N, torques N·m; the rest as the client sends
+them (their units are the SDK's, which it passes unconverted).
+"""
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from typing import Dict, List
+
+AXES = 6   # Fx, Fy, Fz, Mx, My, Mz: one row per axis in the admittance and tool-drive tables
+SOFT_LIMIT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+
+@dataclass
+class TorqueSensorSettings:
+    """Every stored value, with the value a controller with nothing configured reports. The
+    communication settings default to those of the recorded Zu 5s packet (commType 0,
+    192.168.2.100:8080), taken to be the factory values."""
+
+    lock: threading.Lock = field(default_factory=threading.Lock, repr=False, compare=False)
+    brand: int = 0
+    mode: int = 0                       # set_torque_sensor_mode: 0 off (1 needs a sensor)
+    comm_type: int = 0
+    ip_addr: str = "192.168.2.100"
+    port: int = 8080
+    payload_mass: float = 0.0           # kg, set_tool_payload: what hangs on the sensor
+    payload_centroid: List[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])   # mm
+    filter: float = 0.0                 # torqueSensorFilter
+    soft_limit: Dict[str, float] = field(
+        default_factory=lambda: {key: 0.0 for key in SOFT_LIMIT_KEYS})
+    #: per axis: [opt, ft_user, ft_rebound, ft_constant, ft_normal_track]
+    admittance: List[list] = field(
+        default_factory=lambda: [[0, 0.0, 0.0, 0.0, 0] for _ in range(AXES)])
+    #: per axis: [opt, rigidity, rebound]
+    tool_drive: List[list] = field(
+        default_factory=lambda: [[0, 0.0, 0.0] for _ in range(AXES)])
+    sensor_compensation: int = 0
+    compliance_type: int = 0
+    ft_frame: int = 0                   # 0 tool, 1 world
+    tool_drag_frame: int = 0            # 0 tool, 1 world
+    sensitivity_level: int = 0          # fusion drive sensitivity
+    range_level: int = 0                # motion limit warning range
+    speed_limit: float = 0.0            # compliant speed limit, as sent
+    angular_speed_limit: float = 0.0
+    ref_point: int = 0                  # torque reference point
+    threshold_percent: List[float] = field(default_factory=lambda: [0.0] * AXES)
+
+    def monitor(self) -> list:
+        """The status packet's ``torqsensor`` in the recorded layout
+        ``[[commType, [ip, port], [mass, [x, y, z]]], [status, errcode, [6], [6]]]``: status 0
+        and errcode 0 (no sensor running), zero forces. Whole millimetres go out as integers,
+        as the recorded packet writes the centroid."""
+        with self.lock:
+            centroid = [int(c) if float(c).is_integer() else float(c)
+                        for c in self.payload_centroid]
+            return [[self.comm_type, [self.ip_addr, self.port],
+                     [float(self.payload_mass), centroid]],
+                    [0, 0, [0.0] * AXES, [0.0] * AXES]]

@@ -1,0 +1,121 @@
+"""A status subscriber that opens port 10000 and never reads (such a client exists) costs the
+other subscribers nothing: while its buffers fill and it is skipped, a reader that does read
+gets every packet, none skipped, with no gap near the 0.5 s the emulator used to block on the
+stuck socket; and the stuck subscriber is dropped once it has taken nothing for the stall
+limit."""
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+
+from ros_harness import wait_until
+
+from jaka_driver.emulator import Emulator
+
+PERIOD = 0.008   # s: the servo cycle, the fastest a controller pushes
+
+
+class MeasuringReader(threading.Thread):
+    """Reads the status stream and notes when each packet completes."""
+
+    def __init__(self, port: int):
+        super().__init__(daemon=True)
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=0.2)
+        self.arrivals: list = []
+        self.stop = threading.Event()
+
+    def run(self) -> None:
+        decoder, text = json.JSONDecoder(), ""
+        while not self.stop.is_set():
+            try:
+                chunk = self.sock.recv(65536)
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+            if not chunk:
+                return
+            now = time.monotonic()
+            text += chunk.decode()
+            while True:
+                start = text.find('{"len":')
+                if start < 0:
+                    break
+                try:
+                    _, end = decoder.raw_decode(text, start)
+                except ValueError:
+                    break
+                self.arrivals.append(now)
+                text = text[end:]
+
+    def gaps(self, since: float) -> list:
+        times = [t for t in self.arrivals if t >= since]
+        return [b - a for a, b in zip(times, times[1:])]
+
+
+def _stuck_subscriber(port: int) -> socket.socket:
+    sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)   # fills within a few packets
+    sock.connect(("127.0.0.1", port))
+    return sock
+
+
+def test_a_reader_that_never_reads_is_skipped_then_dropped_and_delays_no_one():
+    with Emulator("zu5", command_port=0, status_port=0, period=PERIOD) as emu:
+        emu.server.subscribers.stall_limit = 1.5      # s; 5 by default
+        reader = MeasuringReader(emu.status_port)
+        reader.start()
+        stuck = _stuck_subscriber(emu.status_port)
+        try:
+            assert wait_until(lambda: len(emu.server.subscribers) == 2, 2.0)
+            t0 = time.monotonic()
+            # the stuck socket's buffers fill, it is skipped, and after 1.5 s dropped
+            assert wait_until(lambda: emu.server.subscribers.dropped == 1, 5.0)
+            t_dropped = time.monotonic()
+            time.sleep(0.3)
+            [measured] = emu.server.subscribers.stats()
+            assert measured.skipped == 0, "the reading subscriber missed a packet"
+            gaps = reader.gaps(t0)
+            window = time.monotonic() - t0
+            assert len(gaps) >= 0.8 * window / PERIOD, (len(gaps), window)
+            assert max(gaps) < 0.2, f"a {max(gaps) * 1000:.0f} ms gap for the reading subscriber"
+            assert 1.4 < t_dropped - t0 < 3.5
+            stuck.settimeout(2.0)
+            while stuck.recv(65536):      # what it was sent before the drop, then the end
+                pass
+        finally:
+            reader.stop.set()
+            reader.join(2.0)
+            reader.sock.close()
+            stuck.close()
+
+
+def test_a_slow_reader_is_skipped_but_stays_and_its_stream_stays_whole():
+    with Emulator("zu5", command_port=0, status_port=0, period=PERIOD) as emu:
+        slow = _stuck_subscriber(emu.status_port)
+        slow.settimeout(2.0)
+        try:
+            assert wait_until(lambda: len(emu.server.subscribers) == 1, 2.0)
+            time.sleep(0.5)                  # it takes nothing for a while: skipped
+            [stats] = emu.server.subscribers.stats()
+            assert stats.skipped > 0
+            # then it reads: whole packets, one after the other, never a torn one
+            decoder, text, packets = json.JSONDecoder(), "", 0
+            deadline = time.monotonic() + 1.0
+            while time.monotonic() < deadline:
+                text += slow.recv(65536).decode()
+            i = text.find('{"len":')
+            while True:
+                try:
+                    packet, end = decoder.raw_decode(text, i)
+                except ValueError:
+                    break
+                assert packet["len"] == len(text[i:end].encode())
+                packets += 1
+                i = end
+            assert packets > 50 and len(emu.server.subscribers) == 1
+            assert text[i:].startswith('{"len":') or not text[i:]
+        finally:
+            slow.close()
