@@ -1,6 +1,6 @@
 """The compiled fast path of the IK (``jaka_ik.c`` beside this file), through ctypes.
 
-:class:`jaka_driver.kinematics.Kinematics` enters it once for every IK request on a UR-type
+:class:`jaka_driver.kinematics.Kinematics` enters it once for every IK request on a Zu-structure
 chain: closed form of the nearest configuration + Newton steps, in one C call instead of
 dozens of Python → Pinocchio calls. It answers only successes; anything else (no closed-form
 solution, a singular spot, no convergence) goes to the Python path, which also explains
@@ -36,6 +36,7 @@ class _Chain(ctypes.Structure):
     """``jk_chain`` of jaka_ik.c, field for field (m, rad)."""
 
     _fields_ = [("R", (ctypes.c_double * 9) * 6), ("t", (ctypes.c_double * 3) * 6),
+                ("fix6", ctypes.c_double * 12), ("tip", ctypes.c_double * 12),
                 ("a2", ctypes.c_double), ("a3", ctypes.c_double), ("d4", ctypes.c_double),
                 ("d5", ctypes.c_double), ("d6", ctypes.c_double),
                 ("shoulder", ctypes.c_double * 3), ("lo", ctypes.c_double * 6),
@@ -149,14 +150,16 @@ def _copied_views(flange, seed):
     return _Pose.from_buffer(flange), _Joints.from_buffer(seed)
 
 
-def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],
-         shoulder: Sequence[float], lower: np.ndarray, upper: np.ndarray,
+def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], fix6: np.ndarray,
+         geometry, lower: np.ndarray, upper: np.ndarray,
          weight2: np.ndarray) -> Optional[NativeIk]:
     """The compiled IK of a 6-joint chain, or None when the library is not built.
 
-    ``placements``: (rotation 3x3, translation m) of each joint in its parent joint frame
-    (joint axes z); ``lengths``: (a2, a3, d4, d5, d6) m of the UR-type closed form;
-    ``shoulder``: joint-1 origin in the base (m); limits rad; ``weight2``: (1/max_velocity)².
+    ``placements``: (rotation 3x3, translation m) of each joint in its parent joint frame,
+    each joint turning about its frame's z; ``fix6``: the model's joint-6 frame in the last of
+    those frames (4x4) (see :func:`.chain.z_axis_placements`); ``geometry``: the ideal Zu chain
+    of the closed form (:class:`.closed_form.ZuGeometry`); limits rad; ``weight2``:
+    (1/max_velocity)².
     """
     if _LIB is None:
         return None
@@ -164,6 +167,9 @@ def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[
     for i, (rotation, translation) in enumerate(placements):
         chain.R[i][:] = np.asarray(rotation, float).reshape(9).tolist()
         chain.t[i][:] = np.asarray(translation, float).tolist()
+    chain.fix6[:] = np.asarray(fix6, float)[:3].reshape(12).tolist()
+    chain.tip[:] = np.asarray(geometry.tip, float)[:3].reshape(12).tolist()
+    lengths, shoulder = geometry.lengths, geometry.shoulder
     chain.a2, chain.a3, chain.d4, chain.d5, chain.d6 = (float(x) for x in lengths)
     chain.shoulder[:] = [float(x) for x in shoulder]
     chain.lo[:] = np.asarray(lower, float).tolist()
