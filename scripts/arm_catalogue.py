@@ -43,7 +43,7 @@ class Arm:
     ``mount``: JAKA's ``world`` → base link fixed offset (xyz m), the driver's ``base_link`` →
     ``link_0``. ``tcp_speed_mm_s`` and its ``tcp_speed_source``; ``catalogue_mass_kg`` is None
     where no catalogue weight is known (the mass rule of ``gen_urdf.py`` decides then);
-    ``home``: JAKA's named state ``pose_1`` (MoveIt SRDF), deg. ``structure`` names the
+    ``home``: JAKA's named state ``pose_1`` (MoveIt SRDF), deg (the A12: see DEVIATIONS). ``structure`` names the
     kinematic layout (docs/models.md, "Three kinematic structures")."""
 
     name: str
@@ -187,7 +187,7 @@ ARMS: dict[str, Arm] = {a.name: a for a in (
               ((0, -0.5515, 0), (-H, 0, -PI), _Z, -6.28, 6.28, 3.67),
               ((0, -0.115, 0), (-H, -H, PI), _Z, -6.28, 6.28, 3.67),
               ((0, -0.1035, 0), (H, 0, 0), _Z, -6.28, 6.28, 3.67)),
-        12, 4000, _LIBJAKA, "forearm_roll", _POSE_1),
+        12, 4000, _LIBJAKA, "forearm_roll", (0.0, 90.0, -90.0, 0.0, 0.0, 0.0)),
     # The A20 file is broken (DEVIATIONS): the Zu 20 chain until an A20 confirms it.
     Arm("a20", "JAKA A20", (0.005, 0.0, 0.0), _ZU20_ROWS,
         20, 5000, _LIBJAKA, "zu", _POSE_1),
@@ -220,4 +220,7 @@ DEVIATIONS = {
            "is used",
     "zu30": "JAKA's ROS 1 file has no 5 mm `world` → base offset; the newer ROS 2 file is used",
     "minicobo": "JAKA's identity frame dummy_tcp after Link_6 is the driver's flange",
+    "a12 home": "JAKA's pose_1 for the A12 (the Zu's, copied into its SRDF) puts J6 in line "
+                "with J4, a singular pose no Cartesian move can start from; the twin starts "
+                "at (0, 90°, -90°, 0, 0, 0) instead: the same arm, tool pointing down",
 }

@@ -268,7 +268,7 @@ arm_mass_kg: {mass:g}
 # Reach, mm: the farthest the flange centre gets from the shoulder (computed from the chain).
 reach_mm: {reach(arm) * 1000:.0f}
 
-# JAKA's named pose "pose_1" (MoveIt SRDF), deg: where the twin starts.
+# Where the twin starts, deg: JAKA's named pose "pose_1" (MoveIt SRDF){"; for the A12 with J4 and J5 at 0 (JAKA's is singular there)" if name == "a12" else ""}.
 home_deg: [{", ".join(f"{x:g}" for x in arm.home)}]
 
 # Maximum joint accelerations, rad/s^2, J1..J6 ({deg[0]} deg/s^2 on J1-J3, {deg[3]} deg/s^2 on the wrist).
