@@ -1,7 +1,7 @@
 """The compiled IK fast path (kinematics/jaka_ik.c) answers exactly what the Python path answers.
 
-For every model of the Zu structure (the compiled closed form's; the MiniCobo and A12 are solved
-in Python only), seeded targets over the whole joint range — with and without a tool and a
+For every model — the Zu structure through the compiled closed form, the MiniCobo and A12
+through the compiled damped least squares from the seed they start with — seeded targets over the whole joint range — with and without a tool and a
 user frame — are solved twice, once through the library and once with it switched off: both
 succeed on the same targets, with the same joints (to float rounding, 1e-9 rad), and the
 library's answer is within tolerance by Pinocchio's FK. Bad input still gets the Python path's
@@ -17,10 +17,7 @@ from jaka_driver.transforms import pose_to_matrix
 N = 400
 
 
-ZU_MODELS = [name for name in MODEL_NAMES if load_model(name).structure == "zu"]
-
-
-@pytest.fixture(scope="module", params=ZU_MODELS)
+@pytest.fixture(scope="module", params=MODEL_NAMES)
 def kin(request):
     return Kinematics(load_model(request.param))
 

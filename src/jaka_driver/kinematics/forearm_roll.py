@@ -33,9 +33,6 @@ FINE = 32                   # samples across two grid steps where two roots may 
 class ForearmRoll:
     """The solutions of one forearm-roll chain; build with :meth:`fit`."""
 
-    #: A seeded request is first tried by Newton from the seed: the search costs more.
-    seed_first = True
-
     def __init__(self, plane: ArmPlane, axes: Sequence[np.ndarray], offset: float,
                  p_in_j6: np.ndarray, zero_j6: np.ndarray, branches: Branches):
         self._plane = plane

@@ -1,5 +1,6 @@
-/* The seeded IK of a JAKA Zu arm in one compiled call: the fast path of
- * jaka_driver.kinematics.Kinematics.ik, for the Python side to call through ctypes.
+/* The seeded IK of a JAKA arm in one compiled call: the fast path of
+ * jaka_driver.kinematics.Kinematics.ik, for the Python side to call through ctypes. For the
+ * Zu structure, jk_ik_seeded; for the others (no compiled closed form), jk_local_seeded.
  *
  * Same algorithm as the Python path, step for step: the closed form of the ideal Zu chain
  * (UR-type; the model's own lengths, its goal turned by `tip` into the ideal chain's joint-6
@@ -258,16 +259,14 @@ static void jacobian6(double R[6][9], double p[6][3], const double R6[9], const 
     }
 }
 
-/* The fast path of Kinematics.ik. T: joint-6 goal (4x4 row-major, m); ref: reference joints
- * (rad, inside the limits); tcp_offset: 3 values or NULL. On success returns the number of
- * Newton steps (>= 1) and writes q (rad) and err = (position m, rotation rad); else 0. */
-int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *tcp_offset,
-          double pos_tol, double rot_tol, double *q, double *err) {
-    double R[6][9], p[6][3], R6[9], p6[3], E[9], e[3], J[36], dq[6], G[16];
+/* Newton steps from q (as numeric.NumericIk.polish): T the joint-6 goal, at most max_steps,
+ * until the TCP error is within tolerance and the last step settled the joints. On success
+ * returns the number of steps (>= 1), q updated and err = (position m, rotation rad); else 0. */
+static int newton(const jk_chain *c, const double *T, const double *tcp_offset, double pos_tol,
+                  double rot_tol, int max_steps, double q[6], double *err) {
+    double R[6][9], p[6][3], R6[9], p6[3], E[9], e[3], J[36], dq[6];
     double pe = INFINITY, re = INFINITY;
-    times_tip(c, T, G);
-    if (!closed_form(c, G, ref, q)) return 0;
-    for (int it = 1; it <= MAX_STEPS; it++) {
+    for (int it = 1; it <= max_steps; it++) {
         forward(c, q, R, p, R6, p6);
         pose_error(R6, p6, T, E, e);
         if (!log6(E, e, dq)) return 0;
@@ -280,7 +279,7 @@ int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *t
         forward(c, q, R, p, R6, p6);
         pose_error(R6, p6, T, E, e);
         tcp_error(E, e, tcp_offset, &pe, &re);
-        if (pe <= pos_tol && re <= rot_tol && (step2 <= SETTLED_STEP2 || it == MAX_STEPS)) {
+        if (pe <= pos_tol && re <= rot_tol && (step2 <= SETTLED_STEP2 || it == max_steps)) {
             int clipped = 0;
             for (int k = 0; k < 6; k++) {
                 if (q[k] < c->lo[k]) { q[k] = c->lo[k]; clipped = 1; }
@@ -296,6 +295,58 @@ int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *t
             err[1] = re;
             return it;
         }
+    }
+    return 0;
+}
+
+/* The fast path of Kinematics.ik. T: joint-6 goal (4x4 row-major, m); ref: reference joints
+ * (rad, inside the limits); tcp_offset: 3 values or NULL. On success returns the number of
+ * Newton steps (>= 1) and writes q (rad) and err = (position m, rotation rad); else 0. */
+int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *tcp_offset,
+          double pos_tol, double rot_tol, double *q, double *err) {
+    double G[16];
+    times_tip(c, T, G);
+    if (!closed_form(c, G, ref, q)) return 0;
+    return newton(c, T, tcp_offset, pos_tol, rot_tol, MAX_STEPS, q, err);
+}
+
+/* Damped least squares from q (as numeric.NumericIk.dls, no TCP offset): steps
+ * J^T (J J^T + (|e|^2 + 1e-12) I)^-1 e on log6 e of the joint-6 error, at most 0.5 rad long,
+ * each clamped into the limits, until the error is within tolerance; at most max_iter steps.
+ * Returns the steps taken + 1 on success (q updated, err written), else 0. */
+static int dls(const jk_chain *c, const double *T, double pos_tol, double rot_tol,
+               int max_iter, double q[6], double *err) {
+    double R[6][9], p[6][3], R6[9], p6[3], E[9], e[3], J[36], A[36], y[6];
+    for (int k = 0; k < 6; k++) q[k] = clampd(q[k], c->lo[k], c->hi[k]);
+    for (int it = 0; it <= max_iter; it++) {
+        double pe, re;
+        forward(c, q, R, p, R6, p6);
+        pose_error(R6, p6, T, E, e);
+        tcp_error(E, e, NULL, &pe, &re);
+        if (pe <= pos_tol && re <= rot_tol) {
+            err[0] = pe;
+            err[1] = re;
+            return it + 1;
+        }
+        if (it == max_iter || !log6(E, e, y)) return 0;
+        jacobian6(R, p, R6, p6, J);
+        double damping = 1e-12;
+        for (int k = 0; k < 6; k++) damping += y[k] * y[k];
+        for (int r = 0; r < 6; r++)
+            for (int k = 0; k < 6; k++) {
+                double s = r == k ? damping : 0.0;
+                for (int m = 0; m < 6; m++) s += J[6 * r + m] * J[6 * k + m];
+                A[6 * r + k] = s;
+            }
+        if (!solve6(A, y)) return 0;
+        double dq[6], n2 = 0.0;
+        for (int m = 0; m < 6; m++) {
+            dq[m] = 0.0;
+            for (int r = 0; r < 6; r++) dq[m] += J[6 * r + m] * y[r];
+            n2 += dq[m] * dq[m];
+        }
+        double scale = n2 > 0.25 ? 0.5 / sqrt(n2) : 1.0;
+        for (int m = 0; m < 6; m++) q[m] = clampd(q[m] + scale * dq[m], c->lo[m], c->hi[m]);
     }
     return 0;
 }
@@ -323,4 +374,36 @@ int jk_ik_seeded(const jk_chain *c, const double *T, const double *seed, double 
         ref[k] = clampd(seed[k], c->lo[k], c->hi[k]);
     }
     return jk_ik(c, T, ref, NULL, pos_tol, rot_tol, out, out + 6);
+}
+
+/* The seeded fast path of the structures without a compiled closed form (MiniCobo, A12), as
+ * Kinematics._ik_python's first attempt there: damped least squares from the seed (clamped
+ * into the limits) for at most max_iter steps, then two Newton steps that settle the joints
+ * (kept only if they succeed); answered only if no joint ended more than `radius` rad from
+ * the seed — the seed's own branch. T: the flange pose (= joint-6 frame), no tool offset.
+ * Returns the steps taken (>= 1) with out = q (6) then the errors (2), else 0. */
+int jk_local_seeded(const jk_chain *c, const double *T, const double *seed, double pos_tol,
+                    double rot_tol, int max_iter, double radius, double *out) {
+    double ref[6], q[6], err[2];
+    for (int k = 0; k < 16; k++)
+        if (!sane(T[k])) return 0;
+    for (int k = 0; k < 6; k++) {
+        if (!sane(seed[k])) return 0;
+        ref[k] = q[k] = clampd(seed[k], c->lo[k], c->hi[k]);
+    }
+    int steps = dls(c, T, pos_tol, rot_tol, max_iter, q, err);
+    if (!steps) return 0;
+    double q2[6], err2[2];
+    memcpy(q2, q, sizeof q2);
+    int settle = newton(c, T, NULL, pos_tol, rot_tol, 2, q2, err2);
+    if (settle) {
+        memcpy(q, q2, sizeof q);
+        memcpy(err, err2, sizeof err);
+    }
+    for (int k = 0; k < 6; k++)
+        if (fabs(q[k] - ref[k]) > radius) return 0;
+    memcpy(out, q, sizeof q);
+    out[6] = err[0];
+    out[7] = err[1];
+    return steps + settle;
 }

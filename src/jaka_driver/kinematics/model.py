@@ -35,13 +35,15 @@ from .chain import z_axis_placements
 from .closed_form import ClosedForm, zu_geometry
 from .forearm_roll import ForearmRoll
 from .spherical_wrist import SLACK, SphericalWrist
-from .numeric import NumericIk
+from .numeric import FINISH_DLS_STEPS, NumericIk
 
 _I4 = np.eye(4)
 _I4.setflags(write=False)
-# A seeded request on a structure whose solver searches (seed_first) is first tried by this
-# many Newton steps from the seed, and the answer kept when no joint moved more than this (rad).
-SEED_STEPS = 6
+# A seeded request on a structure without a compiled closed form (MiniCobo, A12) is first
+# solved from the seed itself — damped least squares, at most SEED_STEPS steps — and the answer
+# kept when no joint moved more than SEED_RADIUS (rad) from the seed: the seed's own branch, at a
+# fraction of the cost of listing every branch. Also in jaka_ik.c (jk_local_seeded).
+SEED_STEPS = 15
 SEED_RADIUS = 0.5
 
 
@@ -118,22 +120,23 @@ class Kinematics:
         self._middle_list = self._middle.tolist()
         self._numeric = NumericIk(self._pin, self._joint6, self._lower, self._upper,
                                   self._weight2)
-        # The solver of the model's structure (None: numeric IK only); the compiled closed
-        # form exists for Zu-structure chains only, and is None without the built library.
+        # The solver of the model's structure (None: numeric IK only). The compiled library
+        # (None when it is not built) has the Zu closed form, and for the other structures
+        # the damped least squares from the seed they start with (SEED_STEPS).
         self._solver = None
-        self._native: native.NativeIk | None = None
         geometry = zu_geometry(model.chain)
         if geometry is not None:
             self._solver = ClosedForm(geometry, self._lower, self._upper, self._weight2,
                                       model.joint_names)
-            placements, fix6 = z_axis_placements(model.chain)
-            self._native = native.load(placements, fix6, geometry, self._lower, self._upper,
-                                       self._weight2)
         else:
             branches = Branches(self._lower, self._upper, self._weight2, model.joint_names,
                                 SLACK)
             self._solver = (SphericalWrist.fit(model.chain, branches)
                             or ForearmRoll.fit(model.chain, branches))
+        self._local_first = geometry is None
+        placements, fix6 = z_axis_placements(model.chain)
+        self._native: native.NativeIk | None = native.load(
+            placements, fix6, geometry, self._lower, self._upper, self._weight2)
 
     # ------------------------------------------------------------------ helpers
     def _data(self) -> pin.Data:
@@ -213,35 +216,43 @@ class Kinematics:
                 and self._F_is_identity:
             # The commonest request goes to C as it is. This is its one entry into C whatever
             # the outcome: a second call would compute the same refusal again.
-            fast = compiled.solve_seeded(target, seed, pos_tol, rot_tol)
+            fast = (compiled.solve_local_seeded(target, seed, pos_tol, rot_tol, SEED_STEPS,
+                                                SEED_RADIUS) if self._local_first else
+                    compiled.solve_seeded(target, seed, pos_tol, rot_tol))
             if fast is not None:
                 return IkResult(True, *fast, "ok")
             compiled = None     # refused there, or malformed input the checks below refuse
+            local_tried = True
+        else:
+            local_tried = False
         target = _as_pose(target, "target")
         ref = self._middle_list if seed is None else self._seed_ref(seed)
         goal_T, tcp_offset = self._joint6_goal(target, tool, user)
-        if compiled is not None:
+        if compiled is not None and not self._local_first:
             fast = compiled.solve(goal_T, ref, tcp_offset, pos_tol, rot_tol)
             if fast is not None:
                 return IkResult(True, *fast, "ok")
         return self._ik_python(goal_T, ref, tcp_offset, pos_tol, rot_tol, max_iter, restarts,
-                               seed is not None)
+                               seed is not None, local_tried)
 
     def _ik_python(self, goal_T: np.ndarray, ref: list[float], tcp_offset, pos_tol: float,
-                   rot_tol: float, max_iter: int, restarts: int, seeded: bool) -> IkResult:
+                   rot_tol: float, max_iter: int, restarts: int, seeded: bool,
+                   local_tried: bool = False) -> IkResult:
         """The IK in Python for the joint-6 goal ``goal_T`` (4x4, m, base frame) near ``ref``
-        (rad): the ideal chain's nearest branch finished on the exact chain, then its next two
-        branches, then damped least squares with restarts. Also explains every failure."""
+        (rad): for the structures that start there, damped least squares from the seed
+        (SEED_STEPS; unless the compiled path has just tried that: ``local_tried``); then the ideal
+        chain's nearest branch finished on the exact chain, its next two branches, and damped
+        least squares with restarts. Also explains every failure."""
         d, numeric, solver = self._data(), self._numeric, self._solver
         goal = pin.SE3(goal_T)
         iters = 0
-        if seeded and getattr(solver, "seed_first", False):
-            # Newton from the seed: its own branch when it is near one, and cheaper than the
-            # search of this structure's solver
-            ok, q, pe, re, iters = numeric.polish(d, ref, goal, tcp_offset, pos_tol, rot_tol,
-                                                  SEED_STEPS)
-            if ok and float(np.max(np.abs(q - np.asarray(ref)))) <= SEED_RADIUS:
-                return IkResult(True, q, pe, re, iters, "ok")
+        if seeded and self._local_first and not local_tried:
+            ok, q, pe, re, iters = numeric.dls(d, ref, goal, tcp_offset, pos_tol, rot_tol,
+                                               SEED_STEPS)
+            if ok:
+                _, q, pe, re = numeric.settled(d, q, pe, re, goal, tcp_offset, pos_tol, rot_tol)
+                if float(np.max(np.abs(q - np.asarray(ref)))) <= SEED_RADIUS:
+                    return IkResult(True, q, pe, re, iters, "ok")
         cands, why = ([], "") if solver is None else \
             solver.solutions(goal_T, ref, nearest_only=True)
         best = (math.inf, math.inf)
@@ -261,7 +272,17 @@ class Kinematics:
                     return IkResult(True, q, pe, re, iters, "ok")
                 best = min(best, (pe, re))
         if why:
-            # The closed form covers every solution; when it finds none, neither would DLS.
+            # The ideal chain's solver covers every solution; when it finds none, neither
+            # would DLS with restarts. Only next to a singularity can the ideal chain's sub-mm
+            # error hide a solution the seed is already near: look there once.
+            if seeded:
+                ok, q, pe, re, n = numeric.dls(d, ref, goal, tcp_offset, pos_tol, rot_tol,
+                                               FINISH_DLS_STEPS)
+                iters += n
+                if ok:
+                    _, q, pe, re = numeric.settled(d, q, pe, re, goal, tcp_offset, pos_tol,
+                                                   rot_tol)
+                    return IkResult(True, q, pe, re, iters, "ok (damped least squares)")
             return IkResult(False, None, *numeric.pose_error(d, ref, goal, tcp_offset), iters,
                             why)
         ok, q, pe, re, n = numeric.dls_restarts(d, ref, goal, tcp_offset, pos_tol, rot_tol,

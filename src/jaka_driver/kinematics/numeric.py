@@ -119,11 +119,17 @@ class NumericIk:
                                         FINISH_DLS_STEPS)
             steps += n
             if ok and float(np.max(np.abs(q - cand))) <= BRANCH_RADIUS:
-                # settle the joints too: DLS stops as soon as the pose is within tolerance
-                settled = self.polish(d, q, goal, tcp_offset, pos_tol, rot_tol, 2)
-                return (settled if settled[0] else (ok, q, pe, re, 0))[:4] + (steps,)
+                return self.settled(d, q, pe, re, goal, tcp_offset, pos_tol, rot_tol) + (steps,)
             best = min(best, (pe, re))
         return False, cand, best[0], best[1], steps
+
+    def settled(self, d: pin.Data, q: np.ndarray, pe: float, re: float, goal: pin.SE3,
+                tcp_offset, pos_tol: float, rot_tol: float):
+        """``(True, q, position error, rotation error)`` for a ``q`` (rad) within tolerance
+        (its errors ``pe`` m, ``re`` rad), after Newton steps that settle the joints too:
+        damped least squares stops as soon as the pose is within tolerance."""
+        ok, q2, pe2, re2, _ = self.polish(d, q, goal, tcp_offset, pos_tol, rot_tol, 2)
+        return (True, q2, pe2, re2) if ok else (True, q, pe, re)
 
     def dls(self, d: pin.Data, q0, goal: pin.SE3, tcp_offset, pos_tol: float, rot_tol: float,
             max_iter: int):
