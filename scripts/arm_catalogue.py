@@ -43,8 +43,8 @@ class Arm:
     ``mount``: JAKA's ``world`` → base link fixed offset (xyz m), the driver's ``base_link`` →
     ``link_0``. ``tcp_speed_mm_s`` and its ``tcp_speed_source``; ``catalogue_mass_kg`` is None
     where no catalogue weight is known (the mass rule of ``gen_urdf.py`` decides then);
-    ``home``: JAKA's named state ``pose_1`` (MoveIt SRDF), deg (the A12: see DEVIATIONS). ``structure`` names the
-    kinematic layout (docs/models.md, "Three kinematic structures")."""
+    ``home``: JAKA's named state ``pose_1`` (MoveIt SRDF), deg (the A12: see DEVIATIONS).
+    ``structure`` names the kinematic layout (docs/models.md, "Three kinematic structures")."""
 
     name: str
     title: str

@@ -15,25 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from arm_catalogue import Arm
+from jaka_driver.transforms import rotvec_to_matrix, rpy_to_matrix
 
 FLANGE_T = 0.012        # m, flange disc thickness
 MIN_TUBE = 0.005        # m, shorter connections are not drawn
-
-
-def rpy_matrix(rpy) -> np.ndarray:
-    """URDF's fixed-axis roll-pitch-yaw: R = Rz(yaw)·Ry(pitch)·Rx(roll)."""
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
-
-
-def axis_rotation(axis, angle: float) -> np.ndarray:
-    """Rotation by ``angle`` (rad) about the unit vector ``axis``."""
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * K @ K
 
 
 def link_frames(arm: Arm, q=None) -> list[np.ndarray]:
@@ -44,7 +29,8 @@ def link_frames(arm: Arm, q=None) -> list[np.ndarray]:
     out = [T]
     for row, qi in zip(arm.joints, q):
         J = np.eye(4)
-        J[:3, :3] = rpy_matrix(row.rpy) @ axis_rotation(row.axis, qi)
+        axis = np.asarray(row.axis) / np.linalg.norm(row.axis)
+        J[:3, :3] = rpy_to_matrix(*row.rpy) @ rotvec_to_matrix(axis * qi)
         J[:3, 3] = row.xyz
         T = T @ J
         out.append(T)
@@ -76,7 +62,7 @@ class Cylinder:
 
     @property
     def rotation(self) -> np.ndarray:
-        return rpy_matrix(self.rpy)
+        return rpy_to_matrix(*self.rpy)
 
     def inertia_about_centre(self, mass: float) -> np.ndarray:
         """Inertia tensor (kg·m²) about the centre, in link-frame axes."""

@@ -129,7 +129,8 @@ class LaunchProcess:
 
     def __init__(self, log_name: str = "launch", **args):
         self.prefix = "/jaka_driver"
-        self.log_path = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir())) / f"{log_name}.log"
+        log_dir = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir()))
+        self.log_path = log_dir / f"{log_name}.log"
         self.log_path.parent.mkdir(parents=True, exist_ok=True)
         self._log = open(self.log_path, "wb")
         self.proc = subprocess.Popen(

@@ -1,7 +1,8 @@
 """Every model's twin carries its rated payload: with the payload set, a joint_move at the
 model's full joint speed and acceleration and a fast linear_move (half its TCP speed limit, at
-its full TCP acceleration) end where they were sent, the drives following their setpoints closely all the way (no overload stop);
-and get_fk / get_ik answer JAKA's chain and find the reference's own configuration again.
+its full TCP acceleration) end where they were sent, the drives following their setpoints
+closely all the way (no overload stop); and get_fk / get_ik answer JAKA's chain and find the
+reference's own configuration again.
 
 RobotDriver on the real MuJoCo twin of each model, in simulated time at full speed
 (real_time_factor 0), no ROS. get_fk is compared with test/data/jaka_chains/flange_poses.json

@@ -16,20 +16,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..transforms import rotvec_to_matrix
 from .chain import Axis, snapped
 
 _Y = np.array([0.0, 1.0, 0.0])
 _Z = np.array([0.0, 0.0, 1.0])
-
-
-def turn(axis: np.ndarray, angle: float) -> np.ndarray:
-    """Rotation by ``angle`` (rad) about the unit vector ``axis``."""
-    x, y, z = axis
-    c, s = math.cos(angle), math.sin(angle)
-    C = 1.0 - c
-    return np.array([[c + x * x * C, x * y * C - z * s, x * z * C + y * s],
-                     [y * x * C + z * s, c + y * y * C, y * z * C - x * s],
-                     [z * x * C - y * s, z * y * C + x * s, c + z * z * C]])
 
 
 def angle_about(axis: np.ndarray, p: np.ndarray, q: np.ndarray) -> float:
@@ -125,4 +116,5 @@ class ArmPlane(NamedTuple):
 
     def rotation(self, q) -> np.ndarray:
         """The rotation (3x3) of J3's link after J1 … J3 turn by ``q`` (rad), from q = 0."""
-        return turn(_Z, self.s1 * q[0]) @ turn(_Y, -(self.s2 * q[1] + self.s3 * q[2]))
+        return rotvec_to_matrix(_Z * (self.s1 * q[0])) @ rotvec_to_matrix(
+            _Y * -(self.s2 * q[1] + self.s3 * q[2]))

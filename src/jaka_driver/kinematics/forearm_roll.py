@@ -21,7 +21,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .arm_plane import ArmPlane, angle_about, turn
+from ..transforms import rotvec_to_matrix
+from .arm_plane import ArmPlane, angle_about
 from .branches import Branches
 from .chain import axes_at_zero, closest_points, joint_frames, snapped
 
@@ -140,8 +141,8 @@ class ForearmRoll:
         """(q4, q5, q6) once J1 … J3 are at ``q123``, J5 along ``u5`` and J6 along ``n``."""
         R03 = self._plane.rotation(q123)
         q4 = angle_about(R03 @ self._u4, R03 @ self._u5, u5)
-        R04 = R03 @ turn(self._u4, q4)
+        R04 = R03 @ rotvec_to_matrix(self._u4 * q4)
         q5 = angle_about(self._u5, self._u6, R04.T @ n)
-        R05 = R04 @ turn(self._u5, q5)
+        R05 = R04 @ rotvec_to_matrix(self._u5 * q5)
         q6 = angle_about(self._u6, self._u5, R05.T @ goal @ self._u5)
         return q4, q5, q6

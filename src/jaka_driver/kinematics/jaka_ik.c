@@ -4,8 +4,8 @@
  *
  * Same algorithm as the Python path, step for step: the closed form of the ideal Zu chain
  * (UR-type; the model's own lengths, its goal turned by `tip` into the ideal chain's joint-6
- * frame) picks the solution nearest the reference (each joint at the 2pi-turn nearest to it, distance
- * weighted by 1/max_velocity), then Newton steps on log6 of the joint-6 pose error with the
+ * frame) picks the solution nearest the reference (each joint at the 2pi-turn nearest to it,
+ * distance weighted by 1/max_velocity), then Newton steps on log6 of the joint-6 pose error with the
  * LOCAL joint-6 Jacobian of the exact chain (the URDF's joint placements) remove the URDF's
  * departures from the ideal chain. Anything unusual (no closed-form solution, a singular step,
  * no convergence in 4 steps) returns 0 and the Python path, which also explains failures,
@@ -35,7 +35,8 @@ typedef struct {
 #define TWO_PI 6.283185307179586
 #define MAX_STEP2 0.04          /* rad^2: a longer Newton step means a singular spot */
 #define MAX_STEPS 4
-#define SLACK 2e-3              /* m, rad: the file's departure from the ideal chain (closed_form.py) */
+#define SLACK 2e-3              /* m, rad: the file's departure from the ideal chain
+                                   (closed_form.py) */
 #define SETTLED_STEP2 1e-9      /* rad^2: a longer step is followed by one more (numeric.py) */
 
 static double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }

@@ -1,4 +1,4 @@
-"""What the robot is: a JAKA Zu arm's Pinocchio model, its FK, Jacobian, frames and IK dispatch.
+"""What the robot is: a JAKA arm's Pinocchio model, its FK, Jacobian, frames and IK dispatch.
 
 Frames and units: everything is SI (m, rad) and every pose is a 4x4 homogeneous matrix.
 

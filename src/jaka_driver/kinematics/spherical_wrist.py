@@ -16,7 +16,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .arm_plane import ArmPlane, angle_about, turn
+from ..transforms import rotvec_to_matrix
+from .arm_plane import ArmPlane, angle_about
 from .branches import Branches
 from .chain import axes_at_zero, closest_points, joint_frames, snapped
 
@@ -78,7 +79,7 @@ class SphericalWrist:
                                                 "beyond the arm's reach")
 
     def _wrist(self, Rw: np.ndarray, ref6: float) -> list[tuple[float, float, float]]:
-        """(q4, q5, q6) with turn(u4, q4)·turn(u5, q5)·turn(u6, q6) = ``Rw``: 2 ways, or 1 at
+        """(q4, q5, q6) with e4·e5·e6 = ``Rw``, eᵢ the turn by qᵢ about uᵢ: 2 ways, or 1 at
         q5 = 0 (J4 and J6 in line), where J6 keeps its reference ``ref6``."""
         u4, u5, u6 = self._u4, self._u5, self._u6
         a = Rw @ u6
@@ -86,13 +87,13 @@ class SphericalWrist:
         q5a = math.acos(c5)
         if math.sin(q5a) < 1e-6:
             q6 = ref6
-            q4 = angle_about(u4, u5, Rw @ turn(u6, -q6) @ u5)
+            q4 = angle_about(u4, u5, Rw @ rotvec_to_matrix(u6 * -q6) @ u5)
             return [(q4, 0.0 if c5 > 0 else math.pi, q6)]
         out = []
         for q5 in (q5a, -q5a):
-            e5 = turn(u5, q5)
+            e5 = rotvec_to_matrix(u5 * q5)
             q4 = angle_about(u4, e5 @ u6, a)
-            e45 = turn(u4, q4) @ e5
+            e45 = rotvec_to_matrix(u4 * q4) @ e5
             q6 = angle_about(u6, u5, e45.T @ Rw @ u5)
             out.append((q4, q5, q6))
         return out
