@@ -15,8 +15,8 @@ below, stated once here and in docs/models.md:
 * **TCP acceleration** (:func:`tcp_acceleration`): 8000 mm/s² (libjaka's bound), 6000 from 12 kg
   payload up, the MiniCobo's 4000 (libjaka).
 * **joint torque limits** (:func:`torque_limits`): ``TORQUE_MARGIN`` × the torque the model's own
-  twin needs to hold its rated payload anywhere in its workspace and accelerate a joint at its
-  limit there (JAKA's URDF efforts are placeholders).
+  twin needs to hold its rated payload anywhere in its workspace while all joints accelerate at
+  their limits (JAKA's URDF efforts are placeholders).
 
 Frames: ``base_link`` (root, the mounting face) → fixed offset → ``link_0`` → ``joint_1`` …
 ``joint_6`` → ``link_6`` → ``flange`` (identity) → ``tool0`` (identity).
@@ -44,7 +44,7 @@ MASS_SHARE = (0.13, 0.17, 0.31, 0.17, 0.09, 0.09, 0.04)
 # mass (kg) = k · payload(kg)^a · length(m)^b, least squares in log over the five catalogue
 # weights (zu3 12, zu5 23, zu7 22, zu12 41, zu18 35 kg; residuals within 5 %).
 MASS_FIT = (19.2327, 0.246120, 0.964516)
-TORQUE_MARGIN = 1.25
+TORQUE_MARGIN = 1.1
 PAYLOAD_OFFSET = 0.1    # m along the flange z: where the rated payload sits for the torque rule
 SERVO_KP, SERVO_KD = 22500, 300   # 1/s², 1/s: ωn = 150 rad/s, ζ = 1 (sim/servo.py)
 IO = {"cabinet": {"digital_in": 16, "digital_out": 16, "analog_in": 2, "analog_out": 2},
@@ -95,10 +95,13 @@ def tcp_acceleration(arm: Arm) -> float:
 
 def torque_limits(arm: Arm) -> tuple[float, ...]:
     """N·m, J1…J6 (see the module docstring). Each joint needs, at worst over 2000
-    configurations inside the limits, |gravity torque| + (its inertia × its acceleration
-    limit), with the rated payload ``PAYLOAD_OFFSET`` out along the flange z. J1–J3 are one
-    module size and J4–J6 another, as on the real arms: each group's limit is
-    ``TORQUE_MARGIN`` × its largest need, rounded up to 5 N·m (1 N·m below 50)."""
+    configurations inside the limits, |gravity torque| + Σ_k |M_jk| · a_k: holding the rated
+    payload (``PAYLOAD_OFFSET`` out along the flange z) while every joint accelerates at its
+    limit in the direction that loads this one most (a joint move accelerates all joints at
+    once, and the big joints' acceleration loads the wrist). J1–J3 are one module size and
+    J4–J6 another, as on the real arms: each group's limit is ``TORQUE_MARGIN`` × its largest
+    need (the margin for the velocity terms the need leaves out), rounded up to 5 N·m (1 N·m
+    below 50)."""
     import pinocchio as pin
     model = pin.buildModelFromXML(render(arm.name, effort=(1.0,) * 6))
     frame = model.frames[model.getFrameId("flange")]
@@ -113,7 +116,8 @@ def torque_limits(arm: Arm) -> tuple[float, ...]:
     for q in np.random.default_rng(25).uniform(lo, hi, (2000, 6)):
         g = pin.computeGeneralizedGravity(model, data, q)
         M = pin.crba(model, data, q)
-        need = np.maximum(need, np.abs(g) + np.diag(M) * accel)
+        M = np.triu(M) + np.triu(M, 1).T        # crba fills the upper triangle
+        need = np.maximum(need, np.abs(g) + np.abs(M) @ accel)
     out = []
     for group in (need[:3], need[3:]):
         limit = TORQUE_MARGIN * float(group.max())
