@@ -119,9 +119,10 @@ def _profile(kin: Kinematics, poses, seeds) -> list[tuple[str, float]]:
 def _structure(profile: list[tuple[str, float]]) -> str:
     """What the profile says about the solver's shape (the IK module may change)."""
     names = " ".join(name for name, _ in profile).lower()
-    if "solve_seeded" in names:
+    if "seeded" in names:
         return ("The solution itself is one compiled call (kinematics/jaka_ik.c: closed form and "
-                "Newton steps, ~3 µs); the rest is the Python call around it (type checks, "
+                "Newton steps, or for the MiniCobo and A12 damped least squares from the seed; "
+                "~3 µs); the rest is the Python call around it (type checks, "
                 "ctypes views of the arrays, the result tuple). Timed interleaved with KDL, "
                 "whose ~60 µs of C++ evict the interpreter's caches between two of our calls, "
                 "the same code measures about twice its standalone median, and the median "
@@ -135,7 +136,7 @@ def _structure(profile: list[tuple[str, float]]) -> str:
 
 def _fix(profile: list[tuple[str, float]]) -> str:
     names = " ".join(name for name, _ in profile).lower()
-    if "solve_seeded" in names:
+    if "seeded" in names:
         return ("What would reach it: fewer Python calls per solution — a batch call that "
                 "solves a whole path in C (the linear planner's use), or the IK called from "
                 "compiled code.")

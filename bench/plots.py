@@ -99,11 +99,11 @@ def ik_times(results: list, out_dir: Path) -> Path | None:
     """Per-call IK time distributions, ours and KDL's, every model."""
     if not results:
         return None
-    fig, ax = plt.subplots(figsize=(8, 4.5))
     data, labels = [], []
     for r in results:
         data += [r["ours_us"], r["kdl_us"]]
         labels += [f"{r['model']}\nours", f"{r['model']}\nKDL"]
+    fig, ax = plt.subplots(figsize=(max(8.0, 0.4 * len(data)), 4.5))   # 22 models: 44 boxes
     ax.boxplot(data, showfliers=False)
     ax.set_xticks(range(1, len(labels) + 1), labels, fontsize=7)
     ax.axhline(50, color="red", linestyle="--", label="median target 50 µs")

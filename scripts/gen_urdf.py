@@ -1,190 +1,135 @@
 #!/usr/bin/env python3
-"""Generate ``urdf/jaka_<model>.urdf`` for the JAKA Zu 3/5/7/12/18.
+"""Generate ``urdf/jaka_<model>.urdf`` and ``config/<model>.yaml`` for the 22 six-axis JAKA arms.
 
-The joint chains (origins, axes, position and velocity limits, fixed base offset) are JAKA's
-official ``jaka_description`` values (docs/models.md, "Kinematic chains"), copied number for number
-so that joint zero, joint directions and the flange frame equal the controller's. Everything else
-is ours: simple cylinders for geometry, masses that add up to the catalogue weight (the official
-Zu3/5/7 URDF masses are ~4x too heavy), inertias of those cylinders, and realistic effort limits
-(the official ones are placeholders).
+The joint chains (origins, axes, position and velocity limits, base offset) are JAKA's, copied
+number for number in ``arm_catalogue.py`` (with its documented deviations), so that joint zero,
+joint directions and the flange frame equal the controller's. Everything else follows the rules
+below, stated once here and in docs/models.md:
 
-Frames: ``base_link`` (root, robot mounting face) → fixed offset → ``link_0`` → ``joint_1`` …
+* **mass** (:func:`arm_mass`): the catalogue weight where one is known (Zu 3/5/7/12/18), else
+  ``MASS_FIT``: a power law in the rated payload and the arm length (upper arm + forearm), fitted
+  to those five weights; spread over the links by ``MASS_SHARE`` as solid cylinders
+  (:mod:`arm_geometry`). JAKA's URDF masses (mesh volume × a default density) are not used.
+* **joint accelerations** (:func:`joint_accelerations`): by payload class, within JAKA's
+  recommended 720 °/s² for joint moves.
+* **TCP acceleration** (:func:`tcp_acceleration`): 8000 mm/s² (libjaka's bound), 6000 from 12 kg
+  payload up, the MiniCobo's 4000 (libjaka).
+* **joint torque limits** (:func:`torque_limits`): ``TORQUE_MARGIN`` × the torque the model's own
+  twin needs to hold its rated payload anywhere in its workspace while all joints accelerate at
+  their limits (JAKA's URDF efforts are placeholders).
+
+Frames: ``base_link`` (root, the mounting face) → fixed offset → ``link_0`` → ``joint_1`` …
 ``joint_6`` → ``link_6`` → ``flange`` (identity) → ``tool0`` (identity).
 
-Usage: ``scripts/gen_urdf.py [OUT_DIR]`` (default ``urdf/`` next to this script). The output is
-deterministic; the generated files are committed, this script is their source.
+Usage: ``scripts/gen_urdf.py [ROOT]`` (default: the repository): writes ``ROOT/urdf`` and
+``ROOT/config``. Deterministic; the generated files are committed, this script is their source.
 """
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-MODEL_NAMES = ("zu3", "zu5", "zu7", "zu12", "zu18")
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "src"))   # jaka_driver
+from arm_catalogue import ARMS, MODEL_NAMES, Arm  # noqa: E402
+from arm_geometry import link_frames, link_geometry, link_inertial  # noqa: E402
+from jaka_driver.transforms import rotvec_to_matrix, rpy_to_matrix  # noqa: E402
 
+__all__ = ["MODEL_NAMES", "render", "render_config", "main"]
 
-@dataclass(frozen=True)
-class JointRow:
-    """One revolute joint of the official chain: origin in the parent link frame (m, rad)."""
-
-    xyz: tuple[float, float, float]
-    rpy: tuple[float, float, float]
-    lower: float
-    upper: float
-    velocity: float
-
-
-@dataclass(frozen=True)
-class ArmSpec:
-    """Per-model data: the official chain plus our geometry/mass choices."""
-
-    base_xyz: tuple[float, float, float]  # world→Link_0 fixed offset of the official URDF
-    joints: tuple[JointRow, ...]
-    total_mass_kg: float  # catalogue weight of the arm
-    effort_nm: tuple[float, ...]  # rated joint torques we assume, N·m
-    r_arm: float  # upper-arm tube radius, m; the other radii derive from it
-    r_wrist: float  # wrist drum radius, m
-
-
-# Official limits shared by every Zu model (docs/models.md, "Joint position limits"):
-# J2/J4 −85°…265°, J3 ±175°.
-_LIM = ((-6.28, 6.28), (-1.48, 4.62), (-3.05, 3.05), (-1.48, 4.62), (-6.28, 6.28), (-6.28, 6.28))
-_RX = (1.5708, 0.0, 0.0)  # as written in the official URDFs (not exactly pi/2)
-_RXN = (-1.5708, 0.0, 0.0)
-_R0 = (0.0, 0.0, 0.0)
-
-
-def _chain(d1, a2, a3, j4xyz, d5, d6, vel) -> tuple[JointRow, ...]:
-    origins = (((0, 0, d1), _R0), ((0, 0, 0), _RX), ((a2, 0, 0), _R0),
-               (j4xyz, _R0), ((0, -d5, 0), _RX), ((0, d6, 0), _RXN))
-    return tuple(JointRow(tuple(float(v) for v in xyz), rpy, lo, hi, v)
-                 for (xyz, rpy), (lo, hi), v in zip(origins, _LIM, vel))
-
-
-SPECS: dict[str, ArmSpec] = {
-    "zu3": ArmSpec((-0.002, 0.0, -0.00001),
-                   _chain(0.15055, 0.248, 0.228, (0.228, 1.1925e-5, -0.115), 0.1175, 0.1065,
-                          (3.14, 3.14, 3.14, 3.84, 3.84, 3.84)),
-                   12.0, (80, 80, 80, 15, 15, 15), 0.045, 0.040),
-    "zu5": ArmSpec((0.0, 0.0, 0.0),
-                   _chain(0.12015, 0.43, 0.3685, (0.3685, -1.185e-5, -0.114), 0.1135, 0.107,
-                          (3.14,) * 6),
-                   23.0, (150, 150, 150, 28, 28, 28), 0.060, 0.045),
-    "zu7": ArmSpec((0.0, 0.0, 0.0),
-                   _chain(0.12015, 0.36, 0.30353, (0.30353, 0.0, -0.11501), 0.1135, 0.107,
-                          (3.14,) * 6),
-                   22.0, (150, 150, 150, 28, 28, 28), 0.060, 0.045),
-    "zu12": ArmSpec((0.0, 0.0, 0.04),
-                    _chain(0.10265, 0.595, 0.5715, (0.5715, 0.0, -0.1315), 0.115, 0.1035,
-                           (2.09, 2.09, 2.09, 3.14, 3.14, 3.14)),
-                    41.0, (330, 330, 330, 54, 54, 54), 0.075, 0.050),
-    "zu18": ArmSpec((0.0, 0.0, 0.0),
-                    _chain(0.14265, 0.51, 0.4, (0.4, 0.0, -0.154), 0.115, 0.1035,
-                           (2.09, 2.09, 3.14, 3.14, 3.14, 3.14)),
-                    35.0, (380, 380, 380, 54, 54, 54), 0.075, 0.050),
-}
-
-# Share of the total mass per link_0..link_6: heavy shoulder and upper arm, light wrist.
+# Share of the arm's mass per link_0..link_6: heavy shoulder and upper arm, light wrist.
 MASS_SHARE = (0.13, 0.17, 0.31, 0.17, 0.09, 0.09, 0.04)
+# mass (kg) = k · payload(kg)^a · length(m)^b, least squares in log over the five catalogue
+# weights (zu3 12, zu5 23, zu7 22, zu12 41, zu18 35 kg; residuals within 5 %).
+MASS_FIT = (19.2327, 0.246120, 0.964516)
+TORQUE_MARGIN = 1.1
+PAYLOAD_OFFSET = 0.1    # m along the flange z: where the rated payload sits for the torque rule
+SERVO_KP, SERVO_KD = 22500, 300   # 1/s², 1/s: ωn = 150 rad/s, ζ = 1 (sim/servo.py)
+IO = {"cabinet": {"digital_in": 16, "digital_out": 16, "analog_in": 2, "analog_out": 2},
+      "tool": {"digital_in": 2, "digital_out": 2, "analog_in": 2, "analog_out": 0},
+      "extension": {"digital_in": 8, "digital_out": 8, "analog_in": 4, "analog_out": 4}}
 
 ARM_RGBA = "0.92 0.92 0.90 1"  # light grey/white covers
 JOINT_RGBA = "0.22 0.23 0.25 1"  # dark joint modules
 
 
-@dataclass(frozen=True)
-class Cylinder:
-    """A solid cylinder in a link frame: centre (m), unit axis, radius, length, material."""
-
-    centre: tuple[float, float, float]
-    axis: str  # "x", "y" or "z" of the link frame
-    radius: float
-    length: float
-    material: str  # "arm" or "joint"
-
-    @property
-    def volume(self) -> float:
-        return np.pi * self.radius ** 2 * self.length
-
-    @property
-    def rpy(self) -> tuple[float, float, float]:
-        # URDF cylinders lie along their own z; turn z onto the wanted link axis.
-        return {"x": (0.0, np.pi / 2, 0.0), "y": (-np.pi / 2, 0.0, 0.0), "z": (0.0, 0.0, 0.0)}[self.axis]
-
-    def inertia_about_centre(self, mass: float) -> np.ndarray:
-        """Inertia tensor (kg·m²) about the centre, in link-frame axes."""
-        r, h = self.radius, self.length
-        axial = 0.5 * mass * r * r
-        radial = mass * (3 * r * r + h * h) / 12.0
-        k = "xyz".index(self.axis)
-        diag = np.full(3, radial)
-        diag[k] = axial
-        return np.diag(diag)
+def arm_length(arm: Arm) -> float:
+    """Upper arm + forearm (m): distance J2 → J3 axis plus J3 axis → wrist, at q = 0."""
+    frames = link_frames(arm)[1:]
+    o = [T[:3, 3] for T in frames]
+    u = [T[:3, :3] @ np.asarray(r.axis) for T, r in zip(frames, arm.joints)]
+    upper = o[2] - o[1]
+    fore = o[3] - o[2]          # J4's origin is the wrist in every JAKA file
+    # lengths across the parallel J2/J3 axes: drop the components along them
+    return float(np.linalg.norm(upper - (upper @ u[1]) * u[1])
+                 + np.linalg.norm(fore - (fore @ u[2]) * u[2]))
 
 
-def _segment(a: float, b: float, axis: str, radius: float, material: str,
-             at: tuple[float, float] = (0.0, 0.0)) -> Cylinder:
-    """Cylinder along ``axis`` from coordinate ``a`` to ``b``; ``at`` = the other two coords."""
-    k = "xyz".index(axis)
-    centre = [0.0, 0.0, 0.0]
-    others = [i for i in range(3) if i != k]
-    centre[others[0]], centre[others[1]] = at
-    centre[k] = 0.5 * (a + b)
-    return Cylinder(tuple(centre), axis, radius, abs(b - a), material)
+def arm_mass(arm: Arm) -> tuple[float, str]:
+    """(mass kg, where it comes from): the catalogue weight, else the ``MASS_FIT`` rule."""
+    if arm.catalogue_mass_kg is not None:
+        return arm.catalogue_mass_kg, arm.mass_source
+    k, a, b = MASS_FIT
+    mass = round(k * arm.payload_kg ** a * arm_length(arm) ** b, 1)
+    return mass, "mass rule (payload and arm length, fitted to the Zu catalogue weights)"
 
 
-def link_geometry(spec: ArmSpec) -> list[list[Cylinder]]:
-    """Cylinders of link_0..link_6, each in its own link frame (z = the link's joint axis)."""
-    j = spec.joints
-    d1 = j[0].xyz[2]
-    a2 = j[2].xyz[0]
-    a3, _, zoff4 = j[3].xyz  # forearm length and the elbow's lateral offset (negative)
-    d5 = -j[4].xyz[1]
-    d6 = j[5].xyz[1]
-    ra, rw = spec.r_arm, spec.r_wrist
-    rj = 1.1 * ra  # shoulder/elbow joint modules are a little wider than the tubes
-    rf = 0.85 * ra  # forearm tube
-    base_z0 = -spec.base_xyz[2]  # the base reaches down to the mounting face (base_link z=0)
-    base_top = max(d1 - rj, base_z0 + 0.03)
-    flange_t = 0.012  # flange disc thickness
-    return [
-        # link_0: base column from the mounting face up to just below the shoulder module.
-        [_segment(base_z0, base_top, "z", 1.15 * ra, "arm")],
-        # link_1: joint-1 module (vertical drum) at the shoulder.
-        [_segment(-rj, rj, "z", rj, "joint")],
-        # link_2: joint-2 module on its axis + upper-arm tube along x to the elbow module.
-        [_segment(-rj, rj, "z", rj, "joint"),
-         _segment(rj, a2 - rj, "x", ra, "arm")],
-        # link_3: joint-3 module spanning the elbow offset + forearm tube in line with wrist 1.
-        [_segment(zoff4 - rf, rj, "z", rj, "joint"),
-         _segment(rj, a3 - rw, "x", rf, "arm", at=(0.0, zoff4))],
-        # link_4: wrist-1 module + the short tube down to wrist 2.
-        [_segment(-rw, rw, "z", rw, "joint"),
-         _segment(-(d5 - rw), -rw, "y", 0.9 * rw, "arm")],
-        # link_5: wrist-2 module + the joint-6 module reaching to the flange.
-        [_segment(-rw, rw, "z", rw, "joint"),
-         _segment(rw, d6 - flange_t, "y", rw, "arm")],
-        # link_6: the flange disc, its outer face is the flange frame (z = 0).
-        [_segment(-flange_t, 0.0, "z", 0.7 * rw, "joint")],
-    ]
+def joint_accelerations(arm: Arm) -> tuple[float, ...]:
+    """rad/s², J1…J6: 720 °/s² for arms up to 3 kg; 600 °/s² on J1–J3 and 720 on the wrist up
+    to 7 kg; 360 / 600 °/s² from 12 kg up (the heavier the arm, the gentler its big joints)."""
+    if arm.payload_kg <= 3:
+        return (12.57,) * 6
+    if arm.payload_kg <= 7:
+        return (10.47,) * 3 + (12.57,) * 3
+    return (6.28,) * 3 + (10.47,) * 3
 
 
-def link_inertial(cyls: list[Cylinder], mass: float) -> tuple[np.ndarray, np.ndarray]:
-    """COM (m) and inertia about it (kg·m², link axes) of solid cylinders of one density."""
-    vols = np.array([c.volume for c in cyls])
-    masses = mass * vols / vols.sum()
-    centres = np.array([c.centre for c in cyls])
-    com = masses @ centres / mass
-    inertia = np.zeros((3, 3))
-    for c, m, p in zip(cyls, masses, centres):
-        d = p - com
-        inertia += c.inertia_about_centre(m) + m * (d @ d * np.eye(3) - np.outer(d, d))
-    return com, inertia
+def tcp_acceleration(arm: Arm) -> float:
+    """mm/s²: libjaka's Cartesian bound (8000; the MiniCobo's 4000), 6000 from 12 kg up."""
+    if arm.name == "minicobo":
+        return 4000.0
+    return 8000.0 if arm.payload_kg <= 7 else 6000.0
+
+
+def torque_limits(arm: Arm) -> tuple[float, ...]:
+    """N·m, J1…J6 (see the module docstring). Each joint needs, at worst over 2000
+    configurations inside the limits, |gravity torque| + Σ_k |M_jk| · a_k: holding the rated
+    payload (``PAYLOAD_OFFSET`` out along the flange z) while every joint accelerates at its
+    limit in the direction that loads this one most (a joint move accelerates all joints at
+    once, and the big joints' acceleration loads the wrist). J1–J3 are one module size and
+    J4–J6 another, as on the real arms: each group's limit is ``TORQUE_MARGIN`` × its largest
+    need (the margin for the velocity terms the need leaves out), rounded up to 5 N·m (1 N·m
+    below 50)."""
+    import pinocchio as pin
+    model = pin.buildModelFromXML(render(arm.name, effort=(1.0,) * 6))
+    frame = model.frames[model.getFrameId("flange")]
+    placement = frame.placement * pin.SE3(np.eye(3), np.array([0.0, 0.0, PAYLOAD_OFFSET]))
+    model.appendBodyToJoint(frame.parentJoint,
+                            pin.Inertia.FromSphere(arm.payload_kg, 0.01), placement)
+    data = model.createData()
+    lo = np.array([r.lower for r in arm.joints])
+    hi = np.array([r.upper for r in arm.joints])
+    accel = np.array(joint_accelerations(arm))
+    need = np.zeros(6)
+    for q in np.random.default_rng(25).uniform(lo, hi, (2000, 6)):
+        g = pin.computeGeneralizedGravity(model, data, q)
+        M = pin.crba(model, data, q)
+        M = np.triu(M) + np.triu(M, 1).T        # crba fills the upper triangle
+        need = np.maximum(need, np.abs(g) + np.abs(M) @ accel)
+    out = []
+    for group in (need[:3], need[3:]):
+        limit = TORQUE_MARGIN * float(group.max())
+        step = 1.0 if limit < 50.0 else 5.0
+        out += [float(np.ceil(limit / step) * step)] * 3
+    return tuple(out)
 
 
 def _f(x: float) -> str:
-    """Shortest exact-enough text of a float (9 significant digits; -0 → 0)."""
+    """Shortest exact-enough text of a float (9 significant digits; tiny and -0 → 0)."""
+    if abs(x) < 1e-12:
+        return "0"
     s = f"{float(x):.9g}"
     return "0" if s in ("-0", "0") else s
 
@@ -193,14 +138,18 @@ def _v(xs) -> str:
     return " ".join(_f(x) for x in xs)
 
 
-def render(name: str) -> str:
-    spec = SPECS[name]
-    geometry = link_geometry(spec)
+def render(name: str, effort=None) -> str:
+    """The URDF text of model ``name``; ``effort`` (N·m, J1…J6) defaults to
+    :func:`torque_limits`."""
+    arm = ARMS[name]
+    effort = torque_limits(arm) if effort is None else effort
+    mass, _ = arm_mass(arm)
+    geometry = link_geometry(arm)
     out = [
         '<?xml version="1.0"?>',
-        f"<!-- GENERATED by scripts/gen_urdf.py - edit the generator, not this file.",
-        f"     JAKA {name.upper()}: official joint chain (jaka_description), our own geometry,",
-        f"     masses (total {spec.total_mass_kg:g} kg) and effort limits. Units: m, rad, kg, N·m. -->",
+        "<!-- GENERATED by scripts/gen_urdf.py - edit the generator, not this file.",
+        f"     {arm.title}: JAKA's joint chain (jaka_description), our own geometry,",
+        f"     masses (total {mass:g} kg) and effort limits. Units: m, rad, kg, N·m. -->",
         f'<robot name="jaka_{name}">',
         f'  <material name="arm_white"><color rgba="{ARM_RGBA}"/></material>',
         f'  <material name="joint_dark"><color rgba="{JOINT_RGBA}"/></material>',
@@ -208,16 +157,16 @@ def render(name: str) -> str:
         '  <joint name="base_link-link_0" type="fixed">',
         '    <parent link="base_link"/>',
         '    <child link="link_0"/>',
-        f'    <origin xyz="{_v(spec.base_xyz)}" rpy="0 0 0"/>',
+        f'    <origin xyz="{_v(arm.mount)}" rpy="0 0 0"/>',
         "  </joint>",
     ]
     for i, cyls in enumerate(geometry):
-        mass = spec.total_mass_kg * MASS_SHARE[i]
-        com, inertia = link_inertial(cyls, mass)
+        link_mass = mass * MASS_SHARE[i]
+        com, inertia = link_inertial(cyls, link_mass)
         out += [f'  <link name="link_{i}">',
                 "    <inertial>",
                 f'      <origin xyz="{_v(com)}" rpy="0 0 0"/>',
-                f'      <mass value="{_f(mass)}"/>',
+                f'      <mass value="{_f(link_mass)}"/>',
                 f'      <inertia ixx="{_f(inertia[0, 0])}" ixy="{_f(inertia[0, 1])}" '
                 f'ixz="{_f(inertia[0, 2])}" iyy="{_f(inertia[1, 1])}" iyz="{_f(inertia[1, 2])}" '
                 f'izz="{_f(inertia[2, 2])}"/>',
@@ -226,20 +175,22 @@ def render(name: str) -> str:
             for c in cyls:
                 out += [f"    <{tag}>",
                         f'      <origin xyz="{_v(c.centre)}" rpy="{_v(c.rpy)}"/>',
-                        f'      <geometry><cylinder radius="{_f(c.radius)}" length="{_f(c.length)}"/></geometry>']
+                        f'      <geometry><cylinder radius="{_f(c.radius)}" '
+                        f'length="{_f(c.length)}"/></geometry>']
                 if tag == "visual":
-                    out.append(f'      <material name="{"arm_white" if c.material == "arm" else "joint_dark"}"/>')
+                    out.append(f'      <material name="'
+                               f'{"arm_white" if c.material == "arm" else "joint_dark"}"/>')
                 out.append(f"    </{tag}>")
         out.append("  </link>")
         if i < 6:
-            row = spec.joints[i]
+            row = arm.joints[i]
             out += [f'  <joint name="joint_{i + 1}" type="revolute">',
                     f'    <parent link="link_{i}"/>',
                     f'    <child link="link_{i + 1}"/>',
                     f'    <origin xyz="{_v(row.xyz)}" rpy="{_v(row.rpy)}"/>',
-                    '    <axis xyz="0 0 1"/>',
+                    f'    <axis xyz="{_v(row.axis)}"/>',
                     f'    <limit lower="{_f(row.lower)}" upper="{_f(row.upper)}" '
-                    f'effort="{_f(spec.effort_nm[i])}" velocity="{_f(row.velocity)}"/>',
+                    f'effort="{_f(effort[i])}" velocity="{_f(row.velocity)}"/>',
                     "  </joint>"]
     for parent, child in (("link_6", "flange"), ("flange", "tool0")):
         out += [f'  <joint name="{parent}-{child}" type="fixed">',
@@ -252,13 +203,119 @@ def render(name: str) -> str:
     return "\n".join(out) + "\n"
 
 
+def flange_positions(arm: Arm, qs: np.ndarray) -> np.ndarray:
+    """Flange positions (N, 3), m, base frame, at joint positions ``qs`` (N, 6) rad."""
+    n = len(qs)
+    R = np.broadcast_to(np.eye(3), (n, 3, 3))
+    p = np.broadcast_to(np.asarray(arm.mount, float), (n, 3))
+    for row, q in zip(arm.joints, qs.T):
+        p = p + R @ np.asarray(row.xyz)
+        k = np.asarray(row.axis) / np.linalg.norm(row.axis)
+        R = R @ rpy_to_matrix(*row.rpy) @ rotvec_to_matrix(q[:, None] * k)
+    return p
+
+
+def reach(arm: Arm) -> float:
+    """m: the farthest the flange centre gets from the shoulder (the J1 axis at the height of
+    J2): the farthest of 20 000 configurations inside the limits, refined by a coordinate
+    search from the five farthest."""
+    shoulder = link_frames(arm)[2][:3, 3]
+    lo = np.array([r.lower for r in arm.joints])
+    hi = np.array([r.upper for r in arm.joints])
+
+    def dist(qs):
+        return np.linalg.norm(flange_positions(arm, qs) - shoulder, axis=1)
+
+    qs = np.random.default_rng(7).uniform(lo, hi, (20000, 6))
+    top = 0.0
+    for q in qs[np.argsort(dist(qs))[-5:]]:
+        d, step = float(dist(q[None])[0]), 0.2
+        while step > 1e-4:
+            moves = np.repeat(q[None], 12, axis=0)
+            for j in range(6):
+                moves[2 * j, j] += step
+                moves[2 * j + 1, j] -= step
+            moves = np.clip(moves, lo, hi)
+            dm = dist(moves)
+            if dm.max() > d:
+                q, d = moves[int(np.argmax(dm))], float(dm.max())
+            else:
+                step /= 2
+        top = max(top, d)
+    return top
+
+
+def render_config(name: str) -> str:
+    """The text of ``config/<name>.yaml``: what the URDF cannot say."""
+    arm = ARMS[name]
+    mass, mass_source = arm_mass(arm)
+    acc = joint_accelerations(arm)
+    deg = [round(np.degrees(a)) for a in acc]
+    payload_note = "; the MiniCobo's is an assumption" if name == "minicobo" else ""
+    home_note = "; for the A12 J4 and J5 at 0 (JAKA's is singular)" if name == "a12" else ""
+    io = "\n".join(f"  {k + ':':<10} {{{', '.join(f'{s}: {n}' for s, n in v.items())}}}"
+                   for k, v in IO.items())
+    return f"""\
+# {arm.title}: per-model data that is NOT in urdf/jaka_{name}.urdf.
+# GENERATED by scripts/gen_urdf.py from scripts/arm_catalogue.py - edit those, not this file.
+# The URDF is the single source of truth for joint names, position/velocity/effort limits,
+# kinematics and masses; jaka_driver.models.load_model("{name}") merges both.
+model: {name}
+title: {arm.title}
+# Kinematic layout (docs/models.md, "Three kinematic structures"): zu, forearm_roll or
+# spherical_wrist.
+structure: {arm.structure}
+
+# Rated payload, kg (JAKA's naming: the model number is the payload{payload_note}).
+rated_payload_kg: {arm.payload_kg:g}
+
+# Arm mass in the URDF, kg: {mass_source}.
+arm_mass_kg: {mass:g}
+
+# Reach, mm: the farthest the flange centre gets from the shoulder (computed from the chain).
+reach_mm: {reach(arm) * 1000:.0f}
+
+# Where the twin starts, deg: JAKA's named pose "pose_1" (MoveIt SRDF){home_note}.
+home_deg: [{", ".join(f"{x:g}" for x in arm.home)}]
+
+# Maximum joint accelerations, rad/s^2, J1..J6 ({deg[0]} deg/s^2 on J1-J3, {deg[3]} deg/s^2 on
+# the wrist).
+# JAKA publishes none; JAKA recommends <= 720 deg/s^2 (12.57 rad/s^2) for MoveJ.
+max_joint_acceleration_rad_s2: [{", ".join(f"{a:g}" for a in acc)}]
+
+# Cartesian bounds of the TCP: speed, mm/s, {arm.tcp_speed_source};
+# acceleration, mm/s^2, the rule of scripts/gen_urdf.py.
+max_tcp_speed_mm_s: {arm.tcp_speed_mm_s:g}
+max_tcp_accel_mm_s2: {tcp_acceleration(arm):g}
+
+# Joint position servo of the MuJoCo twin, J1..J6 (jaka_driver/sim/servo.py): MuJoCo position
+# actuators following the interpolated setpoint, with inertia, velocity and Coriolis
+# feed-forward and gravity compensation; the gains are accelerations, kp = wn^2 in 1/s^2,
+# kd = 2*zeta*wn in 1/s (wn = 150 rad/s, 24 Hz; zeta = 1), scaled each cycle by the joint's
+# inertia at the current pose.
+servo:
+  kp: [{", ".join([str(SERVO_KP)] * 6)}]
+  kd: [{", ".join([str(SERVO_KD)] * 6)}]
+
+# IO channel counts, addressed like jaka_msgs/SetIO and GetIO:
+#   type 0 = cabinet (IO_CABINET), 1 = tool (IO_TOOL), 2 = extension (IO_EXTEND);
+#   path 0 = input, 1 = output (GetIO); SetIO always addresses outputs.
+# Indices run 0..count-1. The controller reports larger arrays (din/dout 144+) that include
+# bus and function IO; these are the physical channels of a standard cabinet and tool.
+io:
+{io}
+"""
+
+
 def main(argv: list[str]) -> int:
-    out_dir = Path(argv[1]) if len(argv) > 1 else Path(__file__).resolve().parent.parent / "urdf"
-    out_dir.mkdir(parents=True, exist_ok=True)
+    root = Path(argv[1]) if len(argv) > 1 else Path(__file__).resolve().parent.parent
+    for sub in ("urdf", "config"):
+        (root / sub).mkdir(parents=True, exist_ok=True)
     for name in MODEL_NAMES:
-        path = out_dir / f"jaka_{name}.urdf"
-        path.write_text(render(name))
-        print(f"wrote {path}")
+        for path, text in ((root / "urdf" / f"jaka_{name}.urdf", render(name)),
+                           (root / "config" / f"{name}.yaml", render_config(name))):
+            path.write_text(text)
+            print(f"wrote {path}")
     return 0
 
 

@@ -80,6 +80,84 @@ def stop_process(proc: subprocess.Popen, timeout: float = 10.0) -> None:
     proc.wait()
 
 
+def descendants(pid: int) -> list[int]:
+    """Every live descendant of ``pid``: roslaunch starts each node in a session of its own,
+    so signalling its process group does not reach them."""
+    parents = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    # the command name may hold spaces: the ppid follows its closing bracket
+                    parents[int(entry)] = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass
+    found, frontier = [], [pid]
+    while frontier:
+        p = frontier.pop()
+        kids = [c for c, pp in parents.items() if pp == p]
+        found += kids
+        frontier += kids
+    return found
+
+
+def stop_launch(proc: subprocess.Popen, timeout: float = 20.0) -> None:
+    """SIGINT lets roslaunch stop its nodes; whatever it started and is still alive after
+    ``timeout`` s is killed by pid."""
+    started = descendants(proc.pid)
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.wait(timeout=timeout)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            pass
+    for pid in started:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    proc.wait()
+
+
+class LaunchProcess:
+    """``roslaunch jaka_driver jaka_driver.launch <arg>:=<value> …`` on the test's master, its
+    output (the driver's, ``output="screen"``) in a log file."""
+
+    def __init__(self, log_name: str = "launch", **args):
+        self.prefix = "/jaka_driver"
+        log_dir = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir()))
+        self.log_path = log_dir / f"{log_name}.log"
+        self.log_path.parent.mkdir(parents=True, exist_ok=True)
+        self._log = open(self.log_path, "wb")
+        self.proc = subprocess.Popen(
+            ["roslaunch", "jaka_driver", "jaka_driver.launch"]
+            + [f"{k}:={v}" for k, v in args.items()],
+            stdout=self._log, stderr=subprocess.STDOUT, start_new_session=True,
+            env=os.environ.copy())
+
+    def name(self, leaf: str) -> str:
+        return f"{self.prefix}/{leaf}"
+
+    def wait_ready(self, timeout: float = 60.0) -> None:
+        """Until the driver has said "jaka_driver ready"."""
+        ready = wait_until(lambda: "jaka_driver ready" in self.log_path.read_text(errors="replace")
+                           or self.proc.poll() is not None, timeout, 0.05)
+        if not ready or self.proc.poll() is not None:
+            raise RuntimeError(f"roslaunch not ready in {timeout} s; log:\n{self.log()}")
+
+    def log(self) -> str:
+        self._log.flush()
+        return self.log_path.read_text(errors="replace")[-4000:]
+
+    def stop(self) -> None:
+        stop_launch(self.proc)
+        self._log.close()
+
+
 class DriverProcess:
     """The real node, started as ``rosrun`` would, with private params ``_name:=value``."""
 

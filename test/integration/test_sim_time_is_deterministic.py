@@ -16,9 +16,10 @@ from jaka_driver.driver import RobotDriver
 from jaka_driver.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.constants import SERVO_CYCLE as CYCLE
-from jaka_driver.sim.backend import HOME, SimBackend
+from jaka_driver.sim.backend import SimBackend
 
 MODEL = load_model("zu5")
+HOME = MODEL.home
 
 
 class Collector:

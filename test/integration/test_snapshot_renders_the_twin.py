@@ -116,5 +116,5 @@ def test_rosrun_snapshot_names_the_models_on_a_wrong_one(tmp_path):
 def test_docs_show_one_picture_per_model():
     for name in MODEL_NAMES:
         path = ROOT / "docs" / "images" / f"jaka_{name}.png"
-        assert path.is_file(), f"{path} missing (README shows it)"
-        assert arm_pixels(read_png(path)).mean() > 0.02
+        assert path.is_file(), f"{path} missing (docs/models.md shows it)"
+        assert arm_pixels(read_png(path)).mean() > 0.01, f"{path} shows no arm"

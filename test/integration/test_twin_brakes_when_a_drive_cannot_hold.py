@@ -40,10 +40,11 @@ def still_for(twin, seconds: float) -> float:
 
 def test_a_payload_the_wrist_cannot_hold_here_is_refused_and_changes_nothing(twin):
     before = twin.state().joint_position.copy()
-    reply = twin.set_payload(3, 6.14, np.array([-0.0317, -0.4379, -0.4379]))
+    # 7.5 kg (1.5 × rated, what set_payload's field check allows) 850 mm out sideways
+    reply = twin.set_payload(3, 7.5, np.array([-0.0317, -0.6, -0.6]))
     assert reply.code == -2
-    assert "mass 6.14 kg" in reply.message and "joint_4" in reply.message
-    assert "28 N·m limit" in reply.message
+    assert "mass 7.5 kg" in reply.message and "joint_4" in reply.message
+    assert f"{twin.model.max_effort[3]:g} N·m limit" in reply.message
     assert twin.payload.mass == 0.0 and twin.tool_id == 0
     assert still_for(twin, 0.3) < 1e-3
     assert np.max(np.abs(twin.state().joint_position - before)) < 1e-4
@@ -60,9 +61,9 @@ def test_predicted_holding_torque_is_what_the_drives_apply(twin):
 
 
 def test_overload_on_the_way_is_a_protective_stop_on_brakes(twin):
-    # 7 kg 450 mm out along the tool axis: held with the tool pointing down, not once joint_5
-    # tilts it towards horizontal
-    assert twin.set_payload(1, 7.0, np.array([0.0, 0.0, 0.45])).ok
+    # 7.5 kg 1 m out along the tool axis (the most set_payload's field checks allow): held
+    # with the tool pointing down, not once joint_5 tilts it towards horizontal
+    assert twin.set_payload(1, 7.5, np.array([0.0, 0.0, 1.0])).ok
     target = twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0])
     reply = run_move(twin.start_joint_move(target, 1.0, 2.0))
     assert reply.code == -12 and "joint_5" in reply.message and "brakes" in reply.message
@@ -82,13 +83,13 @@ def test_overload_on_the_way_is_a_protective_stop_on_brakes(twin):
 
 
 def test_clear_err_keeps_the_brakes_on_an_arm_it_could_not_hold(twin):
-    assert twin.set_payload(1, 7.0, np.array([0.0, 0.0, 0.45])).ok
+    assert twin.set_payload(1, 7.5, np.array([0.0, 0.0, 1.0])).ok
     run_move(twin.start_joint_move(twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0]),
                                    1.0, 2.0))
     assert twin.physics.braked
     # heavier still, as if the payload were changed on a braked arm: the brakes stay closed
     with twin.physics.lock:
-        twin.payload.set(7.5, np.array([0.0, 0.0, 0.8]))
+        twin.payload.set(9.0, np.array([0.0, 0.0, 1.0]))
     reply = twin.clear_error()
     assert reply.code == -12 and "protective stop stands" in reply.message
     assert twin.physics.braked and twin.state().protective_stop

@@ -7,7 +7,6 @@ The screenshots stay in test/artifacts/ (git-ignored) for a human to look at.
 from __future__ import annotations
 
 import os
-import signal
 import subprocess
 import tempfile
 import time
@@ -16,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ros_harness import wait_until
+from ros_harness import stop_launch, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -26,27 +25,6 @@ SCREEN = "1280x1024x24"
 BACKGROUND = (48, 48, 48)       # config/jaka_driver.rviz, Global Options → Background Color
 TARGET = [1.2, 1.2, -1.0, 1.57, 1.57, 0.0]      # joint_1 swings the arm across the view
 MIN_ARM_PIXELS = 1500           # measured: ~7000 at home, ~4000 at TARGET in a 1280x1024 shot
-
-
-def _children(pid: int) -> list[int]:
-    """Every live descendant of ``pid``: roslaunch starts each node in a session of its own,
-    so signalling our process group does not reach them."""
-    parents = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as f:
-                    # the command name may hold spaces: the ppid follows its closing bracket
-                    parents[int(entry)] = int(f.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, IndexError, ValueError):
-                pass
-    found, frontier = [], [pid]
-    while frontier:
-        p = frontier.pop()
-        kids = [c for c, pp in parents.items() if pp == p]
-        found += kids
-        frontier += kids
-    return found
 
 
 class RvizOnVirtualDisplay:
@@ -83,23 +61,7 @@ class RvizOnVirtualDisplay:
     def stop(self) -> None:
         """SIGINT lets roslaunch stop its nodes and xvfb-run its X server; whatever is still
         alive 20 s later is killed by pid."""
-        started = _children(self.proc.pid)
-        if self.proc.poll() is None:
-            try:
-                os.killpg(self.proc.pid, signal.SIGINT)
-                self.proc.wait(timeout=20)
-            except (subprocess.TimeoutExpired, ProcessLookupError):
-                pass
-        for pid in started:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        try:
-            os.killpg(self.proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        self.proc.wait()
+        stop_launch(self.proc)
         self._log.close()
 
 

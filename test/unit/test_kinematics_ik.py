@@ -106,7 +106,10 @@ def test_unseeded_ik_succeeds_and_prefers_the_middle_of_the_limits(kin):
         mid = 0.5 * (kin.model.lower + kin.model.upper)
         others = kin.ik_all(target)
         w = 1.0 / kin.model.max_velocity
-        assert np.sum(((r.q - mid) * w) ** 2) <= min(np.sum(((o - mid) * w) ** 2) for o in others) + 1e-9
+        # branches are ranked by the ideal chain's solutions, ~1e-2 rad from the exact ones on
+        # the models with sub-mm offsets: two branches within that of each other tie
+        assert np.sum(((r.q - mid) * w) ** 2) <= 1.02 * min(np.sum(((o - mid) * w) ** 2)
+                                                            for o in others) + 1e-9
     assert ok >= 198
     assert kin.ik(kin.flange_pose(qs[0])).q.tolist() == kin.ik(kin.flange_pose(qs[0])).q.tolist()
 
@@ -116,7 +119,8 @@ def test_ik_all_lists_distinct_exact_solutions(kin):
     for q in _random_q(kin, rng, 20):
         target = kin.flange_pose(q)
         sols = kin.ik_all(target, reference=q)
-        assert 1 <= len(sols) <= 8
+        # a general 6R arm has up to 16 solutions; the Zu and spherical-wrist layouts up to 8
+        assert 1 <= len(sols) <= (8 if kin.model.structure != "forearm_roll" else 16)
         if _well_conditioned(kin, q):
             np.testing.assert_allclose(sols[0], q, atol=1e-6)  # nearest to the reference first
         for i, s in enumerate(sols):
@@ -152,7 +156,7 @@ def test_joint_limits_are_respected_and_named_when_they_forbid_a_target():
 
 def test_damped_least_squares_fallback_solves_without_the_closed_form():
     kin = Kinematics(load_model("zu5"))
-    kin._closed_form = kin._native = None  # as for an arm that is not UR-type
+    kin._solver = kin._native = None  # as for an arm without a solver of its structure
     q = np.array([0.3, 1.2, -1.0, 0.5, 0.7, 0.2])
     r = kin.ik(kin.flange_pose(q), seed=q + 0.05)
     assert r.success and "damped least squares" in r.message

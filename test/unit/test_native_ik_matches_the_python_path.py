@@ -1,7 +1,8 @@
 """The compiled IK fast path (kinematics/jaka_ik.c) answers exactly what the Python path answers.
 
-For every model, seeded targets over the whole joint range — with and without a tool and a
-user frame — are solved twice, once through the library and once with it switched off: both
+For every model (the Zu structure through the compiled closed form, the MiniCobo and A12
+through the compiled damped least squares from the seed they start with), seeded targets over
+the whole joint range — with and without a tool and a user frame — are solved twice, once through the library and once with it switched off: both
 succeed on the same targets, with the same joints (to float rounding, 1e-9 rad), and the
 library's answer is within tolerance by Pinocchio's FK. Bad input still gets the Python path's
 refusal. ``make setup`` builds the library, so the suite requires it to be loaded.

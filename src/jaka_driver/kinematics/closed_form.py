@@ -1,59 +1,115 @@
-"""The closed-form IK of a UR-type arm: up to 8 joint solutions of the ideal chain, in Python.
+"""The closed-form IK of the Zu structure: up to 8 joint solutions of the ideal chain, in Python.
 
-The Zu arms are UR-type (three parallel axes J2–J4, wrist axes J5 ⟂ J4, J6 ⟂ J5), so the
-solutions of the ideal geometry have a closed form. The official URDFs are not exactly ideal
-(rpy written as 1.5708, a 1.2e-5 m offset in joint_4's origin): the caller finishes the chosen
-solution with Newton steps on the exact model (:mod:`.numeric`). ``jaka_ik.c`` beside this file
-is the same algorithm compiled, for the seeded fast path (:mod:`.native`).
+19 of the 22 JAKA arms (Zu, C, Pro, S, A5, and the A20 on the Zu 20's chain) are UR-type: three
+parallel axes J2–J4, wrist axes J5 ⟂ J4, J6 ⟂ J5, so the solutions of the ideal geometry have a
+closed form. :func:`zu_geometry` reads each model's ideal chain (its own lengths and shoulder,
+and the constant turn of its joint-6 frame) from the joint axes; JAKA's files are not exactly
+ideal (rpy written as 1.5708, sub-mm offsets, the A5's 1e-4 rad tilt): the caller finishes the
+chosen solution with Newton steps on the exact model (:mod:`.numeric`). ``jaka_ik.c`` beside
+this file is the same algorithm compiled, for the seeded fast path (:mod:`.native`).
 
 Units and frames: m, rad; every pose is the 4x4 pose of the joint-6 frame in the base frame
-(``base_link``); the shoulder is the joint-1 frame origin in the base.
+(``base_link``); the shoulder is the ideal J1 frame's origin in the base.
 """
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
-import pinocchio as pin
+
+from .chain import axes_at_zero, joint_frames
 
 _TWO_PI = 2.0 * math.pi
+_RX = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])   # Rx(+π/2)
+# Joint directions at q = 0 of the Zu structure (base frame): J1 up, J2–J4 and J6 along -y,
+# J5 down — the same in all 19 of JAKA's Zu-like files, whatever their link frames.
+_ZU_DIRECTIONS = np.array([[0, 0, 1], [0, -1, 0], [0, -1, 0], [0, -1, 0], [0, 0, -1], [0, -1, 0]],
+                          float)
+# How far a file may depart from the ideal Zu chain (m, rad): JAKA's sub-mm offsets and its
+# 1.5708 for π/2 pass, anything structural does not. The Newton polish removes what passes;
+# the closed form keeps solutions up to this far beyond a joint limit or the reach, for the
+# polish to decide. Also in jaka_ik.c.
+_SLACK = 2e-3
 
 
-def ur_lengths(model: pin.Model) -> tuple[float, float, float, float, float] | None:
-    """(a2, a3, d4, d5, d6) in m if the 6-joint chain has the UR-type layout the closed form
-    assumes, else None.
+class ZuGeometry(NamedTuple):
+    """The ideal Zu chain closest to a model's: ``lengths`` (a2, a3, d4, d5, d6) m, the
+    ``shoulder`` (J1 axis at the height of J2, base frame, m), and ``tip``: the constant 4x4
+    taking the model's joint-6 frame to the ideal chain's (identity for most files; the S7's
+    flange is turned 180° about z). The ideal chain: J1 about z at the shoulder; J2 turned
+    Rx(π/2); J3 at (a2, 0, 0); J4 at (a3, 0, -d4); J5 at (0, -d5, 0) turned Rx(π/2); J6 at
+    (0, d6, 0) turned Rx(-π/2), each joint's own frame."""
 
-    Small deviations (up to 1e-3 m / rad) are accepted: the Newton polish removes them.
-    """
-    jp = [model.jointPlacements[i] for i in range(1, 7)]
-    rx = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], float)  # Rx(+pi/2)
-    want_R = [np.eye(3), rx, np.eye(3), np.eye(3), rx, rx.T]
-    if any(not np.allclose(p.rotation, R, atol=1e-3) for p, R in zip(jp[1:], want_R[1:])):
+    lengths: tuple[float, float, float, float, float]
+    shoulder: tuple[float, float, float]
+    tip: np.ndarray
+
+
+def _ideal_joint6(lengths, shoulder, q) -> np.ndarray:
+    """Joint-6 pose (4x4, base frame) of the ideal chain at ``q`` (rad)."""
+    a2, a3, d4, d5, d6 = lengths
+    places = ((np.eye(3), shoulder), (_RX, (0, 0, 0)), (np.eye(3), (a2, 0, 0)),
+              (np.eye(3), (a3, 0, -d4)), (_RX, (0, -d5, 0)), (_RX.T, (0, d6, 0)))
+    T = np.eye(4)
+    for (R, t), qi in zip(places, q):
+        P = np.eye(4)
+        c, s = math.cos(qi), math.sin(qi)
+        P[:3, :3] = R @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        P[:3, 3] = t
+        T = T @ P
+    return T
+
+
+def zu_geometry(chain) -> ZuGeometry | None:
+    """The ideal Zu chain of ``chain`` (:attr:`RobotModel.chain`), read from its joint axes at
+    q = 0 and checked on random joint positions; None if the chain is not of the Zu
+    structure (within :data:`_SLACK`)."""
+    axes, flange = axes_at_zero(chain)
+    if len(axes) != 6 or any(float(a.direction @ d) < math.cos(_SLACK)
+                             for a, d in zip(axes, _ZU_DIRECTIONS)):
         return None
-    t = [p.translation for p in jp]
-    a2, a3, d4, d5, d6 = t[2][0], t[3][0], -t[3][2], -t[4][1], t[5][1]
-    off = [t[1], (0, t[2][1], t[2][2]), (0, t[3][1], 0), (t[4][0], 0, t[4][2]),
-           (t[5][0], 0, t[5][2])]
-    if np.max(np.abs(np.array(off, float))) > 1e-3 or not np.allclose(jp[0].rotation, np.eye(3)):
+    (p1, p2, p3, p4, p5, p6) = (a.point for a in axes)
+    sx, sy = p1[0], p1[1]
+    d1 = p2[2]
+    # each joint's axis where the ideal chain has it: J2 through J1, J3/J4 at J2's height,
+    # J5 through J4's line, J6 through J5's, the flange on J6's
+    if max(abs(p2[0] - sx), abs(p3[2] - d1), abs(p4[2] - d1), abs(p5[0] - p4[0]),
+           abs(p6[0] - p5[0]), abs(flange[0, 3] - p6[0]), abs(flange[2, 3] - p6[2])) > _SLACK:
         return None
-    return float(a2), float(a3), float(d4), float(d5), float(d6)
+    lengths = (p3[0] - p2[0], p4[0] - p3[0], p5[1] - sy, p4[2] - p6[2], p5[1] - flange[1, 3])
+    shoulder = (sx, sy, d1)
+    joint6 = joint_frames(chain, np.zeros(6))[0][5]
+    # What the tip fixes is a file's choice of frame (the S7's turn by π), exact; JAKA's
+    # sub-mm departures from the ideal chain depend on the configuration and are left to the
+    # polish, so the tip is rounded to a signed permutation without a translation.
+    tip = np.eye(4)
+    tip[:3, :3] = np.round((np.linalg.inv(joint6) @ _ideal_joint6(lengths, shoulder,
+                                                                   np.zeros(6)))[:3, :3])
+    for q in np.random.default_rng(0).uniform(-math.pi, math.pi, (8, 6)):
+        E = np.linalg.inv(joint_frames(chain, q)[0][5] @ tip) @ _ideal_joint6(lengths,
+                                                                               shoulder, q)
+        if np.max(np.abs(E[:3, 3])) > _SLACK or np.max(np.abs(E[:3, :3] - np.eye(3))) > _SLACK:
+            return None     # same lines at zero, but the joints or the flange turn otherwise
+    return ZuGeometry(tuple(float(x) for x in lengths), tuple(float(x) for x in shoulder), tip)
 
 
 class ClosedForm:
-    """Closed-form solutions of one UR-type chain (see :func:`ur_lengths`).
+    """Closed-form solutions of one Zu-structure chain (see :func:`zu_geometry`).
 
-    ``lengths`` (a2, a3, d4, d5, d6) m; ``shoulder`` the joint-1 frame origin in the base, m
-    (its rotation is identity); ``lower``/``upper`` joint limits, rad; ``weight2`` the per-joint
-    weight (1 / max_velocity)², (s/rad)², of the distance between configurations;
-    ``joint_names`` name the joints in failure messages.
+    ``geometry`` the ideal chain (:class:`ZuGeometry`); ``lower``/``upper`` joint limits, rad;
+    ``weight2`` the per-joint weight (1 / max_velocity)², (s/rad)², of the distance between
+    configurations; ``joint_names`` name the joints in failure messages.
     """
 
-    def __init__(self, lengths: Sequence[float], shoulder: Sequence[float],
-                 lower: Sequence[float], upper: Sequence[float], weight2: Sequence[float],
-                 joint_names: Sequence[str]):
-        self.lengths = tuple(float(x) for x in lengths)
-        self.shoulder = tuple(float(x) for x in shoulder)
+    def __init__(self, geometry: ZuGeometry, lower: Sequence[float], upper: Sequence[float],
+                 weight2: Sequence[float], joint_names: Sequence[str]):
+        self.lengths = geometry.lengths
+        self.shoulder = geometry.shoulder
+        self._tip = None if np.array_equal(geometry.tip, np.eye(4)) else geometry.tip
+        a2, a3 = geometry.lengths[:2]
+        # cos q3 moves by |wrist - shoulder| · ε / (a2·a3) when the wrist moves by ε
+        self._c3_slack = _SLACK * (a2 + a3) / (a2 * a3)
         # Plain floats, not numpy: for 8 small solutions the interpreter is faster than numpy's
         # per-call overhead, and this is the hot path of every seeded IK in Python.
         self._lower = [float(x) for x in lower]
@@ -63,7 +119,8 @@ class ClosedForm:
 
     def solutions(self, T: np.ndarray, ref: list[float], nearest_only: bool = False
                   ) -> tuple[list, str]:
-        """Closed-form solutions for the joint-6 pose ``T`` (4x4, m, in the base frame).
+        """Closed-form solutions for the joint-6 pose ``T`` (4x4, m, in the base frame; the
+        model's own joint-6 frame, turned into the ideal chain's here).
 
         Returns ``([(distance, q), ...] nearest first, reason-if-none)``, q in rad. Each joint
         is taken at the 2π-turn nearest to ``ref`` (rad) and moved a turn into its limits if
@@ -78,12 +135,14 @@ class ClosedForm:
         (a2, a3) reaching p4 = p5 + d5·y4 gives q3 (2 ways) and q2.
         """
         a2, a3, d4, d5, d6 = self.lengths
+        if self._tip is not None:
+            T = T @ self._tip
         (xx, yx, zx, px), (xy, yy, zy, py), (xz, yz, zz, pz) = T[:3].tolist()
         ox, oy, oz = self.shoulder
         p5x, p5y, p5z = px - ox - d6 * zx, py - oy - d6 * zy, pz - oz - d6 * zz
         r = math.hypot(p5x, p5y)
-        # Slack for the URDF's departures from the ideal chain; the polish decides there.
-        if r < d4 * (1.0 - 1e-4):
+        # Slack for the file's departures from the ideal chain; the polish decides there.
+        if r < d4 - _SLACK:
             return [], "target out of reach: wrist centre too close to the joint-1 axis"
         lo, hi, w2 = self._lower, self._upper, self._weight2
         r1, r2, r3, r4, r5, r6 = ref
@@ -91,13 +150,12 @@ class ClosedForm:
         bad = [0] * 6
 
         def near(x: float, j: int, r: float) -> float | None:
+            # the turn nearest r, else the one a turn away; a turn outside the limits by no
+            # more than the ideal chain's error is put on the limit
             v = r + (x - r + pi) % two_pi - pi
-            if v > hi[j]:
-                v -= two_pi
-            elif v < lo[j]:
-                v += two_pi
-            if lo[j] <= v <= hi[j]:
-                return v
+            for w in (v, v - two_pi if v > r else v + two_pi):
+                if lo[j] - _SLACK <= w <= hi[j] + _SLACK:
+                    return min(hi[j], max(lo[j], w))
             bad[j] += 1
             return None
 
@@ -141,7 +199,7 @@ class ClosedForm:
                 u = c1 * (p5x + d5 * y4x) + s1 * (p5y + d5 * y4y)
                 v = p5z + d5 * y4z
                 c3 = (u * u + v * v - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
-                if abs(c3) > 1.0 + 1e-4:
+                if abs(c3) > 1.0 + self._c3_slack:
                     continue
                 reach = True
                 q3a = math.acos(min(1.0, max(-1.0, c3)))

@@ -1,9 +1,11 @@
-/* The seeded IK of a JAKA Zu arm in one compiled call: the fast path of
- * jaka_driver.kinematics.Kinematics.ik, for the Python side to call through ctypes.
+/* The seeded IK of a JAKA arm in one compiled call: the fast path of
+ * jaka_driver.kinematics.Kinematics.ik, for the Python side to call through ctypes. For the
+ * Zu structure, jk_ik_seeded; for the others (no compiled closed form), jk_local_seeded.
  *
- * Same algorithm as the Python path, step for step: the closed form of the ideal UR-type chain
- * picks the solution nearest the reference (each joint at the 2pi-turn nearest to it, distance
- * weighted by 1/max_velocity), then Newton steps on log6 of the joint-6 pose error with the
+ * Same algorithm as the Python path, step for step: the closed form of the ideal Zu chain
+ * (UR-type; the model's own lengths, its goal turned by `tip` into the ideal chain's joint-6
+ * frame) picks the solution nearest the reference (each joint at the 2pi-turn nearest to it,
+ * distance weighted by 1/max_velocity), then Newton steps on log6 of the joint-6 pose error with the
  * LOCAL joint-6 Jacobian of the exact chain (the URDF's joint placements) remove the URDF's
  * departures from the ideal chain. Anything unusual (no closed-form solution, a singular step,
  * no convergence in 4 steps) returns 0 and the Python path, which also explains failures,
@@ -16,10 +18,16 @@
 #include <string.h>
 
 typedef struct {
-    double R[6][9];             /* joint placement rotations in the parent joint frame */
+    double R[6][9];             /* joint placement rotations in the parent joint frame, each
+                                   joint turning about its frame's z */
     double t[6][3];             /* joint placement translations, m */
-    double a2, a3, d4, d5, d6;  /* UR-type lengths, m */
-    double shoulder[3];         /* joint-1 frame origin in the base, m */
+    double fix6[12];            /* the model's joint-6 frame in the last frame of R/t (3x4
+                                   row-major: rotation | translation): a joint-6 axis that is
+                                   not z in the file is re-expressed as z above */
+    double tip[12];             /* ideal chain's joint-6 frame in the model's (3x4): the
+                                   closed form solves goal * tip */
+    double a2, a3, d4, d5, d6;  /* ideal Zu-chain lengths, m */
+    double shoulder[3];         /* ideal joint-1 frame origin in the base, m */
     double lo[6], hi[6];        /* joint limits, rad */
     double w2[6];               /* (1 / max_velocity)^2, (s/rad)^2 */
 } jk_chain;
@@ -27,19 +35,26 @@ typedef struct {
 #define TWO_PI 6.283185307179586
 #define MAX_STEP2 0.04          /* rad^2: a longer Newton step means a singular spot */
 #define MAX_STEPS 4
+#define SLACK 2e-3              /* m, rad: the file's departure from the ideal chain
+                                   (closed_form.py) */
+#define SETTLED_STEP2 1e-9      /* rad^2: a longer step is followed by one more (numeric.py) */
 
 static double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-/* Joint x at the 2pi-turn nearest to r, moved a turn into [lo, hi]; 0 if outside anyway. */
+/* Joint x at the 2pi-turn nearest to r, else the one a turn away, inside [lo, hi]; a turn
+ * beyond a limit by no more than SLACK (the ideal chain's error) is put on the limit; 0 if
+ * none. */
 static int near_turn(const jk_chain *c, double x, int j, double r, double *out) {
     double m = fmod(x - r + M_PI, TWO_PI);
     if (m < 0) m += TWO_PI;
     double v = r + m - M_PI;
-    if (v > c->hi[j]) v -= TWO_PI;
-    else if (v < c->lo[j]) v += TWO_PI;
-    if (v < c->lo[j] || v > c->hi[j]) return 0;
-    *out = v;
-    return 1;
+    double turns[2] = {v, v > r ? v - TWO_PI : v + TWO_PI};
+    for (int k = 0; k < 2; k++)
+        if (turns[k] >= c->lo[j] - SLACK && turns[k] <= c->hi[j] + SLACK) {
+            *out = clampd(turns[k], c->lo[j], c->hi[j]);
+            return 1;
+        }
+    return 0;
 }
 
 /* Nearest closed-form solution for the joint-6 pose T (4x4); 0 if none within limits. */
@@ -52,7 +67,8 @@ static int closed_form(const jk_chain *c, const double *T, const double *ref, do
     double p5y = py - c->shoulder[1] - c->d6 * zy;
     double p5z = pz - c->shoulder[2] - c->d6 * zz;
     double r = hypot(p5x, p5y);
-    if (r < c->d4 * (1.0 - 1e-4)) return 0;
+    if (r < c->d4 - SLACK) return 0;
+    const double c3_slack = SLACK * (c->a2 + c->a3) / (c->a2 * c->a3);
     double phi = atan2(p5y, p5x), alpha = asin(fmin(c->d4 / r, 1.0));
     double best = INFINITY;
     double q1s[2] = {phi - alpha, phi + alpha - M_PI};
@@ -82,7 +98,7 @@ static int closed_form(const jk_chain *c, const double *T, const double *ref, do
             double u = c1 * (p5x + c->d5 * y4x) + s1 * (p5y + c->d5 * y4y);
             double v = p5z + c->d5 * y4z;
             double c3 = (u * u + v * v - c->a2 * c->a2 - c->a3 * c->a3) / (2.0 * c->a2 * c->a3);
-            if (fabs(c3) > 1.0 + 1e-4) continue;
+            if (fabs(c3) > 1.0 + c3_slack) continue;
             double q3a = acos(clampd(c3, -1.0, 1.0));
             double q3s[2] = {q3a, -q3a};
             int n3 = q3a > 1e-12 ? 2 : 1;
@@ -107,8 +123,9 @@ static int closed_form(const jk_chain *c, const double *T, const double *ref, do
 }
 
 /* Joint frames in the base: rotation R (row-major) and origin p of each joint after its
- * rotation; the joint axis is the frame's z. */
-static void forward(const jk_chain *c, const double q[6], double R[6][9], double p[6][3]) {
+ * rotation, the joint axis the frame's z; and the model's joint-6 frame (R6, p6). */
+static void forward(const jk_chain *c, const double q[6], double R[6][9], double p[6][3],
+                    double R6[9], double p6[3]) {
     double Rp[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, pp[3] = {0, 0, 0};
     for (int i = 0; i < 6; i++) {
         const double *Ri = c->R[i], *ti = c->t[i];
@@ -128,6 +145,24 @@ static void forward(const jk_chain *c, const double q[6], double R[6][9], double
         memcpy(Rp, R[i], sizeof Rp);
         memcpy(pp, p[i], sizeof pp);
     }
+    const double *f = c->fix6;
+    for (int r = 0; r < 3; r++) {
+        p6[r] = pp[r] + Rp[3 * r] * f[3] + Rp[3 * r + 1] * f[7] + Rp[3 * r + 2] * f[11];
+        for (int k = 0; k < 3; k++)
+            R6[3 * r + k] = Rp[3 * r] * f[k] + Rp[3 * r + 1] * f[4 + k] + Rp[3 * r + 2] * f[8 + k];
+    }
+}
+
+/* G = T * tip, both 4x4 row-major poses (tip given as 3x4). */
+static void times_tip(const jk_chain *c, const double *T, double G[16]) {
+    const double *k = c->tip;
+    for (int r = 0; r < 3; r++) {
+        for (int j = 0; j < 4; j++)
+            G[4 * r + j] = T[4 * r] * k[j] + T[4 * r + 1] * k[4 + j] + T[4 * r + 2] * k[8 + j]
+                           + (j == 3 ? T[4 * r + 3] : 0.0);
+    }
+    G[12] = G[13] = G[14] = 0.0;
+    G[15] = 1.0;
 }
 
 /* E = M6^-1 * goal: rotation E (row-major) and translation e. */
@@ -210,9 +245,9 @@ static int solve6(double A[36], double b[6]) {
     return 1;
 }
 
-/* LOCAL Jacobian of the joint-6 frame (rows v, w in the joint-6 frame; column k = joint k). */
-static void jacobian6(double R[6][9], double p[6][3], double J[36]) {
-    const double *R6 = R[5], *p6 = p[5];
+/* LOCAL Jacobian of the joint-6 frame (R6, p6) (rows v, w in that frame; column k = joint k). */
+static void jacobian6(double R[6][9], double p[6][3], const double R6[9], const double p6[3],
+                      double J[36]) {
     for (int k = 0; k < 6; k++) {
         double z[3] = {R[k][2], R[k][5], R[k][8]};
         double d[3] = {p6[0] - p[k][0], p6[1] - p[k][1], p6[2] - p[k][2]};
@@ -225,35 +260,35 @@ static void jacobian6(double R[6][9], double p[6][3], double J[36]) {
     }
 }
 
-/* The fast path of Kinematics.ik. T: joint-6 goal (4x4 row-major, m); ref: reference joints
- * (rad, inside the limits); tcp_offset: 3 values or NULL. On success returns the number of
- * Newton steps (>= 1) and writes q (rad) and err = (position m, rotation rad); else 0. */
-int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *tcp_offset,
-          double pos_tol, double rot_tol, double *q, double *err) {
-    double R[6][9], p[6][3], E[9], e[3], J[36], dq[6], pe = INFINITY, re = INFINITY;
-    if (!closed_form(c, T, ref, q)) return 0;
-    for (int it = 1; it <= MAX_STEPS; it++) {
-        forward(c, q, R, p);
-        pose_error(R[5], p[5], T, E, e);
+/* Newton steps from q (as numeric.NumericIk.polish): T the joint-6 goal, at most max_steps,
+ * until the TCP error is within tolerance and the last step settled the joints. On success
+ * returns the number of steps (>= 1), q updated and err = (position m, rotation rad); else 0. */
+static int newton(const jk_chain *c, const double *T, const double *tcp_offset, double pos_tol,
+                  double rot_tol, int max_steps, double q[6], double *err) {
+    double R[6][9], p[6][3], R6[9], p6[3], E[9], e[3], J[36], dq[6];
+    double pe = INFINITY, re = INFINITY;
+    for (int it = 1; it <= max_steps; it++) {
+        forward(c, q, R, p, R6, p6);
+        pose_error(R6, p6, T, E, e);
         if (!log6(E, e, dq)) return 0;
-        jacobian6(R, p, J);
+        jacobian6(R, p, R6, p6, J);
         if (!solve6(J, dq)) return 0;
         double step2 = 0.0;
         for (int k = 0; k < 6; k++) step2 += dq[k] * dq[k];
         if (!(step2 < MAX_STEP2)) return 0;
         for (int k = 0; k < 6; k++) q[k] += dq[k];
-        forward(c, q, R, p);
-        pose_error(R[5], p[5], T, E, e);
+        forward(c, q, R, p, R6, p6);
+        pose_error(R6, p6, T, E, e);
         tcp_error(E, e, tcp_offset, &pe, &re);
-        if (pe <= pos_tol && re <= rot_tol) {
+        if (pe <= pos_tol && re <= rot_tol && (step2 <= SETTLED_STEP2 || it == max_steps)) {
             int clipped = 0;
             for (int k = 0; k < 6; k++) {
                 if (q[k] < c->lo[k]) { q[k] = c->lo[k]; clipped = 1; }
                 if (q[k] > c->hi[k]) { q[k] = c->hi[k]; clipped = 1; }
             }
             if (clipped) {      /* a joint on its limit stepped just past it */
-                forward(c, q, R, p);
-                pose_error(R[5], p[5], T, E, e);
+                forward(c, q, R, p, R6, p6);
+                pose_error(R6, p6, T, E, e);
                 tcp_error(E, e, tcp_offset, &pe, &re);
                 if (!(pe <= pos_tol && re <= rot_tol)) return 0;
             }
@@ -261,6 +296,58 @@ int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *t
             err[1] = re;
             return it;
         }
+    }
+    return 0;
+}
+
+/* The fast path of Kinematics.ik. T: joint-6 goal (4x4 row-major, m); ref: reference joints
+ * (rad, inside the limits); tcp_offset: 3 values or NULL. On success returns the number of
+ * Newton steps (>= 1) and writes q (rad) and err = (position m, rotation rad); else 0. */
+int jk_ik(const jk_chain *c, const double *T, const double *ref, const double *tcp_offset,
+          double pos_tol, double rot_tol, double *q, double *err) {
+    double G[16];
+    times_tip(c, T, G);
+    if (!closed_form(c, G, ref, q)) return 0;
+    return newton(c, T, tcp_offset, pos_tol, rot_tol, MAX_STEPS, q, err);
+}
+
+/* Damped least squares from q (as numeric.NumericIk.dls, no TCP offset): steps
+ * J^T (J J^T + (|e|^2 + 1e-12) I)^-1 e on log6 e of the joint-6 error, at most 0.5 rad long,
+ * each clamped into the limits, until the error is within tolerance; at most max_iter steps.
+ * Returns the steps taken + 1 on success (q updated, err written), else 0. */
+static int dls(const jk_chain *c, const double *T, double pos_tol, double rot_tol,
+               int max_iter, double q[6], double *err) {
+    double R[6][9], p[6][3], R6[9], p6[3], E[9], e[3], J[36], A[36], y[6];
+    for (int k = 0; k < 6; k++) q[k] = clampd(q[k], c->lo[k], c->hi[k]);
+    for (int it = 0; it <= max_iter; it++) {
+        double pe, re;
+        forward(c, q, R, p, R6, p6);
+        pose_error(R6, p6, T, E, e);
+        tcp_error(E, e, NULL, &pe, &re);
+        if (pe <= pos_tol && re <= rot_tol) {
+            err[0] = pe;
+            err[1] = re;
+            return it + 1;
+        }
+        if (it == max_iter || !log6(E, e, y)) return 0;
+        jacobian6(R, p, R6, p6, J);
+        double damping = 1e-12;
+        for (int k = 0; k < 6; k++) damping += y[k] * y[k];
+        for (int r = 0; r < 6; r++)
+            for (int k = 0; k < 6; k++) {
+                double s = r == k ? damping : 0.0;
+                for (int m = 0; m < 6; m++) s += J[6 * r + m] * J[6 * k + m];
+                A[6 * r + k] = s;
+            }
+        if (!solve6(A, y)) return 0;
+        double dq[6], n2 = 0.0;
+        for (int m = 0; m < 6; m++) {
+            dq[m] = 0.0;
+            for (int r = 0; r < 6; r++) dq[m] += J[6 * r + m] * y[r];
+            n2 += dq[m] * dq[m];
+        }
+        double scale = n2 > 0.25 ? 0.5 / sqrt(n2) : 1.0;
+        for (int m = 0; m < 6; m++) q[m] = clampd(q[m] + scale * dq[m], c->lo[m], c->hi[m]);
     }
     return 0;
 }
@@ -288,4 +375,36 @@ int jk_ik_seeded(const jk_chain *c, const double *T, const double *seed, double 
         ref[k] = clampd(seed[k], c->lo[k], c->hi[k]);
     }
     return jk_ik(c, T, ref, NULL, pos_tol, rot_tol, out, out + 6);
+}
+
+/* The seeded fast path of the structures without a compiled closed form (MiniCobo, A12), as
+ * Kinematics._ik_python's first attempt there: damped least squares from the seed (clamped
+ * into the limits) for at most max_iter steps, then two Newton steps that settle the joints
+ * (kept only if they succeed); answered only if no joint ended more than `radius` rad from
+ * the seed — the seed's own branch. T: the flange pose (= joint-6 frame), no tool offset.
+ * Returns the steps taken (>= 1) with out = q (6) then the errors (2), else 0. */
+int jk_local_seeded(const jk_chain *c, const double *T, const double *seed, double pos_tol,
+                    double rot_tol, int max_iter, double radius, double *out) {
+    double ref[6], q[6], err[2];
+    for (int k = 0; k < 16; k++)
+        if (!sane(T[k])) return 0;
+    for (int k = 0; k < 6; k++) {
+        if (!sane(seed[k])) return 0;
+        ref[k] = q[k] = clampd(seed[k], c->lo[k], c->hi[k]);
+    }
+    int steps = dls(c, T, pos_tol, rot_tol, max_iter, q, err);
+    if (!steps) return 0;
+    double q2[6], err2[2];
+    memcpy(q2, q, sizeof q2);
+    int settle = newton(c, T, NULL, pos_tol, rot_tol, 2, q2, err2);
+    if (settle) {
+        memcpy(q, q2, sizeof q);
+        memcpy(err, err2, sizeof err);
+    }
+    for (int k = 0; k < 6; k++)
+        if (fabs(q[k] - ref[k]) > radius) return 0;
+    memcpy(out, q, sizeof q);
+    out[6] = err[0];
+    out[7] = err[1];
+    return steps + settle;
 }

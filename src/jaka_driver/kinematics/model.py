@@ -1,4 +1,4 @@
-"""What the robot is: a JAKA Zu arm's Pinocchio model, its FK, Jacobian, frames and IK dispatch.
+"""What the robot is: a JAKA arm's Pinocchio model, its FK, Jacobian, frames and IK dispatch.
 
 Frames and units: everything is SI (m, rad) and every pose is a 4x4 homogeneous matrix.
 
@@ -10,12 +10,14 @@ Frames and units: everything is SI (m, rad) and every pose is a 4x4 homogeneous 
 Thread safety: one :class:`Kinematics` may be shared by any number of threads. The Pinocchio
 ``Model`` is read-only; each thread gets its own ``Data`` (scratch space) on first use.
 
-IK strategy, closed form first, numeric fallback: the Zu arms are UR-type, so the up-to-8
-solutions of the ideal geometry have a closed form (:mod:`.closed_form`); the chosen branch is
-finished by one or two Newton steps on Pinocchio's exact model (:mod:`.numeric`). If that fails
-(a non-UR model, or a singular spot), damped least squares with restarts takes over. The closed
-form + Newton also exists compiled (:mod:`.native`): ``ik`` enters it once per request when the
-library is built, and it computes the same solution as the Python path.
+IK strategy, the ideal chain's solutions first, numeric fallback: each of the three kinematic
+structures of the JAKA arms has a solver listing the solutions of its ideal chain — the Zu
+structure's closed form (:mod:`.closed_form`, 19 models), the spherical wrist's
+(:mod:`.spherical_wrist`, MiniCobo) and the forearm roll's search (:mod:`.forearm_roll`, A12).
+The branch nearest the seed is finished by Newton steps on Pinocchio's exact model
+(:mod:`.numeric`); if that fails (a singular spot), damped least squares with restarts takes
+over. The Zu closed form + Newton also exists compiled (:mod:`.native`): ``ik`` enters it once
+per request when the library is built, and it computes the same solution as the Python path.
 """
 from __future__ import annotations
 
@@ -28,11 +30,21 @@ import pinocchio as pin
 
 from ..models import RobotModel
 from . import native
-from .closed_form import ClosedForm, ur_lengths
-from .numeric import NumericIk
+from .branches import Branches
+from .chain import z_axis_placements
+from .closed_form import ClosedForm, zu_geometry
+from .forearm_roll import ForearmRoll
+from .spherical_wrist import SLACK, SphericalWrist
+from .numeric import FINISH_DLS_STEPS, NumericIk
 
 _I4 = np.eye(4)
 _I4.setflags(write=False)
+# A seeded request on a structure without a compiled closed form (MiniCobo, A12) is first
+# solved from the seed itself — damped least squares, at most SEED_STEPS steps — and the answer
+# kept when no joint moved more than SEED_RADIUS (rad) from the seed: the seed's own branch, at a
+# fraction of the cost of listing every branch. Also in jaka_ik.c (jk_local_seeded).
+SEED_STEPS = 15
+SEED_RADIUS = 0.5
 
 
 class IkResult(NamedTuple):
@@ -108,19 +120,23 @@ class Kinematics:
         self._middle_list = self._middle.tolist()
         self._numeric = NumericIk(self._pin, self._joint6, self._lower, self._upper,
                                   self._weight2)
-        # The closed form and its compiled twin exist for UR-type chains only; the compiled
-        # one is None without the built library too.
-        self._closed_form: ClosedForm | None = None
-        self._native: native.NativeIk | None = None
-        lengths = ur_lengths(self._pin)
-        if lengths is not None:
-            # Joint-1 frame origin in the base (base offset + d1); its rotation is identity.
-            shoulder = self._pin.jointPlacements[1].translation.tolist()
-            self._closed_form = ClosedForm(lengths, shoulder, self._lower, self._upper,
-                                           self._weight2, model.joint_names)
-            self._native = native.load(
-                [(p.rotation, p.translation) for p in list(self._pin.jointPlacements)[1:7]],
-                lengths, shoulder, self._lower, self._upper, self._weight2)
+        # The solver of the model's structure (None: numeric IK only). The compiled library
+        # (None when it is not built) has the Zu closed form, and for the other structures
+        # the damped least squares from the seed they start with (SEED_STEPS).
+        self._solver = None
+        geometry = zu_geometry(model.chain)
+        if geometry is not None:
+            self._solver = ClosedForm(geometry, self._lower, self._upper, self._weight2,
+                                      model.joint_names)
+        else:
+            branches = Branches(self._lower, self._upper, self._weight2, model.joint_names,
+                                SLACK)
+            self._solver = (SphericalWrist.fit(model.chain, branches)
+                            or ForearmRoll.fit(model.chain, branches))
+        self._local_first = geometry is None
+        placements, fix6 = z_axis_placements(model.chain)
+        self._native: native.NativeIk | None = native.load(
+            placements, fix6, geometry, self._lower, self._upper, self._weight2)
 
     # ------------------------------------------------------------------ helpers
     def _data(self) -> pin.Data:
@@ -200,46 +216,73 @@ class Kinematics:
                 and self._F_is_identity:
             # The commonest request goes to C as it is. This is its one entry into C whatever
             # the outcome: a second call would compute the same refusal again.
-            fast = compiled.solve_seeded(target, seed, pos_tol, rot_tol)
+            fast = (compiled.solve_local_seeded(target, seed, pos_tol, rot_tol, SEED_STEPS,
+                                                SEED_RADIUS) if self._local_first else
+                    compiled.solve_seeded(target, seed, pos_tol, rot_tol))
             if fast is not None:
                 return IkResult(True, *fast, "ok")
             compiled = None     # refused there, or malformed input the checks below refuse
+            local_tried = True
+        else:
+            local_tried = False
         target = _as_pose(target, "target")
         ref = self._middle_list if seed is None else self._seed_ref(seed)
         goal_T, tcp_offset = self._joint6_goal(target, tool, user)
-        if compiled is not None:
+        if compiled is not None and not self._local_first:
             fast = compiled.solve(goal_T, ref, tcp_offset, pos_tol, rot_tol)
             if fast is not None:
                 return IkResult(True, *fast, "ok")
-        return self._ik_python(goal_T, ref, tcp_offset, pos_tol, rot_tol, max_iter, restarts)
+        return self._ik_python(goal_T, ref, tcp_offset, pos_tol, rot_tol, max_iter, restarts,
+                               seed is not None, local_tried)
 
     def _ik_python(self, goal_T: np.ndarray, ref: list[float], tcp_offset, pos_tol: float,
-                   rot_tol: float, max_iter: int, restarts: int) -> IkResult:
+                   rot_tol: float, max_iter: int, restarts: int, seeded: bool,
+                   local_tried: bool = False) -> IkResult:
         """The IK in Python for the joint-6 goal ``goal_T`` (4x4, m, base frame) near ``ref``
-        (rad): the closed form's nearest branch polished by Newton, then its next two
-        branches, then damped least squares with restarts. Also explains every failure."""
-        d, numeric, closed_form = self._data(), self._numeric, self._closed_form
+        (rad): for the structures that start there, damped least squares from the seed
+        (SEED_STEPS; unless the compiled path has just tried that: ``local_tried``); then the ideal
+        chain's nearest branch finished on the exact chain, its next two branches, and damped
+        least squares with restarts. Also explains every failure."""
+        d, numeric, solver = self._data(), self._numeric, self._solver
         goal = pin.SE3(goal_T)
-        cands, why = ([], "") if closed_form is None else \
-            closed_form.solutions(goal_T, ref, nearest_only=True)
         iters = 0
+        if seeded and self._local_first and not local_tried:
+            ok, q, pe, re, iters = numeric.dls(d, ref, goal, tcp_offset, pos_tol, rot_tol,
+                                               SEED_STEPS)
+            if ok:
+                _, q, pe, re = numeric.settled(d, q, pe, re, goal, tcp_offset, pos_tol, rot_tol)
+                if float(np.max(np.abs(q - np.asarray(ref)))) <= SEED_RADIUS:
+                    return IkResult(True, q, pe, re, iters, "ok")
+        cands, why = ([], "") if solver is None else \
+            solver.solutions(goal_T, ref, nearest_only=True)
         best = (math.inf, math.inf)
+        ref = np.array(ref)
         if cands:
-            ok, q, pe, re, iters = numeric.polish(d, cands[0][1], goal, tcp_offset, pos_tol,
-                                                  rot_tol, 4)
+            ok, q, pe, re, iters = numeric.finish(d, cands[0][1], ref, goal, tcp_offset,
+                                                  pos_tol, rot_tol)
             if ok:
                 return IkResult(True, q, pe, re, iters, "ok")
             best = (pe, re)
             # Rare (a singular spot): try the next branches before the iterative fallback.
-            for _, c in closed_form.solutions(goal_T, ref)[0][1:3]:
-                ok, q, pe, re, n = numeric.polish(d, c, goal, tcp_offset, pos_tol, rot_tol, 4)
+            for _, c in solver.solutions(goal_T, ref)[0][1:3]:
+                ok, q, pe, re, n = numeric.finish(d, c, ref, goal, tcp_offset, pos_tol,
+                                                  rot_tol)
                 iters += n
                 if ok:
                     return IkResult(True, q, pe, re, iters, "ok")
                 best = min(best, (pe, re))
-        ref = np.array(ref)
         if why:
-            # The closed form covers every solution; when it finds none, neither would DLS.
+            # The ideal chain's solver covers every solution; when it finds none, neither
+            # would DLS with restarts. Only next to a singularity can the ideal chain's sub-mm
+            # error hide a solution the seed is already near: look there once.
+            if seeded:
+                ok, q, pe, re, n = numeric.dls(d, ref, goal, tcp_offset, pos_tol, rot_tol,
+                                               FINISH_DLS_STEPS)
+                iters += n
+                if ok:
+                    _, q, pe, re = numeric.settled(d, q, pe, re, goal, tcp_offset, pos_tol,
+                                                   rot_tol)
+                    return IkResult(True, q, pe, re, iters, "ok (damped least squares)")
             return IkResult(False, None, *numeric.pose_error(d, ref, goal, tcp_offset), iters,
                             why)
         ok, q, pe, re, n = numeric.dls_restarts(d, ref, goal, tcp_offset, pos_tol, rot_tol,
@@ -265,11 +308,12 @@ class Kinematics:
         ref = self._middle_list if reference is None else self._check_q(reference).tolist()
         goal_T, tcp_offset = self._joint6_goal(target, tool, user)
         out: list[np.ndarray] = []
-        if self._closed_form is None:
+        if self._solver is None:
             return out
         goal, d = pin.SE3(goal_T), self._data()
-        for _, c in self._closed_form.solutions(goal_T, ref)[0]:
-            ok, q, *_ = self._numeric.polish(d, c, goal, tcp_offset, pos_tol, rot_tol, 6)
+        for _, c in self._solver.solutions(goal_T, ref)[0]:
+            ok, q, *_ = self._numeric.finish(d, c, np.asarray(c), goal, tcp_offset, pos_tol,
+                                             rot_tol, 6)
             if ok and all(np.max(np.abs(q - o)) > 1e-6 for o in out):
                 out.append(q)
         return out

@@ -1,6 +1,6 @@
 """The compiled fast path of the IK (``jaka_ik.c`` beside this file), through ctypes.
 
-:class:`jaka_driver.kinematics.Kinematics` enters it once for every IK request on a UR-type
+:class:`jaka_driver.kinematics.Kinematics` enters it once for every IK request on a Zu-structure
 chain: closed form of the nearest configuration + Newton steps, in one C call instead of
 dozens of Python → Pinocchio calls. It answers only successes; anything else (no closed-form
 solution, a singular spot, no convergence) goes to the Python path, which also explains
@@ -36,6 +36,7 @@ class _Chain(ctypes.Structure):
     """``jk_chain`` of jaka_ik.c, field for field (m, rad)."""
 
     _fields_ = [("R", (ctypes.c_double * 9) * 6), ("t", (ctypes.c_double * 3) * 6),
+                ("fix6", ctypes.c_double * 12), ("tip", ctypes.c_double * 12),
                 ("a2", ctypes.c_double), ("a3", ctypes.c_double), ("d4", ctypes.c_double),
                 ("d5", ctypes.c_double), ("d6", ctypes.c_double),
                 ("shoulder", ctypes.c_double * 3), ("lo", ctypes.c_double * 6),
@@ -63,6 +64,10 @@ def _open() -> Optional[ctypes.CDLL]:
     lib.jk_ik_seeded.restype = ctypes.c_int
     lib.jk_ik_seeded.argtypes = [ctypes.c_void_p, _DoubleP, _DoubleP,
                                  ctypes.c_double, ctypes.c_double, ctypes.c_void_p]
+    lib.jk_local_seeded.restype = ctypes.c_int
+    lib.jk_local_seeded.argtypes = [ctypes.c_void_p, _DoubleP, _DoubleP, ctypes.c_double,
+                                    ctypes.c_double, ctypes.c_int, ctypes.c_double,
+                                    ctypes.c_void_p]
     return lib
 
 
@@ -78,6 +83,22 @@ class NativeIk:
         self._chain = chain          # kept alive: C reads it on every call
         self._chain_addr = ctypes.addressof(chain)
 
+    def solve_local_seeded(self, flange, seed, pos_tol: float, rot_tol: float, steps: int,
+                           radius: float):
+        """As :meth:`solve_seeded`, by damped least squares from the seed (at most ``steps``
+        steps, then two settling Newton steps), answered only when no joint ends more than
+        ``radius`` rad from the seed: the first attempt for the structures without a compiled
+        closed form (``Kinematics._ik_python`` does the same in Python)."""
+        views = _views(flange, seed)
+        if views is None:
+            return None
+        out = _Out()
+        taken = self._lib.jk_local_seeded(self._chain_addr, *views, pos_tol, rot_tol, steps,
+                                          radius, out)
+        if taken <= 0:
+            return None
+        return np.frombuffer(out, count=6).copy(), out[6], out[7], taken
+
     def solve_seeded(self, flange, seed, pos_tol: float, rot_tol: float):
         """``(q rad, position error m, rotation error rad, Newton steps)`` for a flange pose
         (4x4, base frame) and a seed (rad, J1..J6), no tool, no user frame; None when C does
@@ -88,20 +109,11 @@ class NativeIk:
         the right shape (lists, read-only, Fortran-ordered or strided arrays) is copied first,
         so every well-formed request enters C exactly once. None without entering C when the
         shapes are wrong or the values are not numbers (the Python path refuses those)."""
-        pose = joints = None
-        if _plain(flange) and _plain(seed) and flange.shape == (4, 4) and seed.shape == (6,):
-            try:
-                # ctypes views of the caller's memory: half the cost of ndarray.ctypes.data
-                pose, joints = _Pose.from_buffer(flange), _Joints.from_buffer(seed)
-            except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
-                pass
-        if pose is None:
-            views = _copied_views(flange, seed)
-            if views is None:
-                return None
-            pose, joints = views
+        views = _views(flange, seed)
+        if views is None:
+            return None
         out = _Out()
-        steps = self._lib.jk_ik_seeded(self._chain_addr, pose, joints, pos_tol, rot_tol, out)
+        steps = self._lib.jk_ik_seeded(self._chain_addr, *views, pos_tol, rot_tol, out)
         if steps <= 0:
             return None
         return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
@@ -136,6 +148,18 @@ def _plain(a) -> bool:
     return type(a) is np.ndarray and a.dtype is _FLOAT64
 
 
+def _views(flange, seed):
+    """ctypes views of a flange pose (4x4) and a seed (6,): the caller's own memory when they
+    are plain float64 arrays (half the cost of ndarray.ctypes.data), else of copies; None when
+    the shapes are wrong or the values are not numbers."""
+    if _plain(flange) and _plain(seed) and flange.shape == (4, 4) and seed.shape == (6,):
+        try:
+            return _Pose.from_buffer(flange), _Joints.from_buffer(seed)
+        except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
+            pass
+    return _copied_views(flange, seed)
+
+
 def _copied_views(flange, seed):
     """ctypes views of fresh float64 C-ordered copies of a flange pose (4x4) and a seed (6,),
     or None when the shapes are wrong or the values are not numbers."""
@@ -149,14 +173,17 @@ def _copied_views(flange, seed):
     return _Pose.from_buffer(flange), _Joints.from_buffer(seed)
 
 
-def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[float],
-         shoulder: Sequence[float], lower: np.ndarray, upper: np.ndarray,
+def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], fix6: np.ndarray,
+         geometry, lower: np.ndarray, upper: np.ndarray,
          weight2: np.ndarray) -> Optional[NativeIk]:
     """The compiled IK of a 6-joint chain, or None when the library is not built.
 
-    ``placements``: (rotation 3x3, translation m) of each joint in its parent joint frame
-    (joint axes z); ``lengths``: (a2, a3, d4, d5, d6) m of the UR-type closed form;
-    ``shoulder``: joint-1 origin in the base (m); limits rad; ``weight2``: (1/max_velocity)².
+    ``placements``: (rotation 3x3, translation m) of each joint in its parent joint frame,
+    each joint turning about its frame's z; ``fix6``: the model's joint-6 frame in the last of
+    those frames (4x4) (see :func:`.chain.z_axis_placements`); ``geometry``: the ideal Zu chain
+    of the closed form (:class:`.closed_form.ZuGeometry`), or None for a chain of another
+    structure (then only :meth:`NativeIk.solve_local_seeded` may be called); limits rad;
+    ``weight2``: (1/max_velocity)².
     """
     if _LIB is None:
         return None
@@ -164,8 +191,11 @@ def load(placements: Sequence[tuple[np.ndarray, np.ndarray]], lengths: Sequence[
     for i, (rotation, translation) in enumerate(placements):
         chain.R[i][:] = np.asarray(rotation, float).reshape(9).tolist()
         chain.t[i][:] = np.asarray(translation, float).tolist()
-    chain.a2, chain.a3, chain.d4, chain.d5, chain.d6 = (float(x) for x in lengths)
-    chain.shoulder[:] = [float(x) for x in shoulder]
+    chain.fix6[:] = np.asarray(fix6, float)[:3].reshape(12).tolist()
+    if geometry is not None:
+        chain.tip[:] = np.asarray(geometry.tip, float)[:3].reshape(12).tolist()
+        chain.a2, chain.a3, chain.d4, chain.d5, chain.d6 = (float(x) for x in geometry.lengths)
+        chain.shoulder[:] = [float(x) for x in geometry.shoulder]
     chain.lo[:] = np.asarray(lower, float).tolist()
     chain.hi[:] = np.asarray(upper, float).tolist()
     chain.w2[:] = np.asarray(weight2, float).tolist()

@@ -18,6 +18,14 @@ import pinocchio as pin
 
 #: Seed of the random restarts of :meth:`NumericIk.dls_restarts`: results are deterministic.
 RESTART_RNG_SEED = 20240611
+#: rad²: a Newton step longer than this is followed by one more even when the pose is within
+#: tolerance, so the joints are exact too (the next step, and the joints' error, is of the
+#: order of this step squared), not only the pose. Also in jaka_ik.c.
+SETTLED_STEP2 = 1e-9
+#: rad: how far :meth:`NumericIk.finish` lets damped least squares stray from a candidate and
+#: still call the result that candidate's branch; its damped steps from the candidate or seed.
+BRANCH_RADIUS = 0.3
+FINISH_DLS_STEPS = 30
 
 
 def tcp_error(E: pin.SE3, tcp_offset) -> tuple[float, float]:
@@ -67,8 +75,9 @@ class NumericIk:
 
         At least one step is taken: the closed form of the ideal chain is never within
         tolerance (``pos_tol`` m, ``rot_tol`` rad) of the real URDF, so checking before the
-        first step would only cost time. A step over 0.2 rad means a singular spot; the caller
-        then tries something else.
+        first step would only cost time; and steps go on while they are longer than
+        :data:`SETTLED_STEP2`. A step over 0.2 rad means a singular spot; the caller then tries
+        something else.
         """
         m, j6 = self._pin, self._joint6
         q = np.array(q0, dtype=float)
@@ -78,18 +87,49 @@ class NumericIk:
             # Eigen's LU through eigenpy: numpy's solve costs three times more per call.
             dq = eigenpy.PartialPivLU(pin.getJointJacobian(m, d, j6, pin.LOCAL)).solve(
                 pin.log6(E).vector)
-            if not float(dq @ dq) < 0.04:  # also catches NaN
+            step2 = float(dq @ dq)
+            if not step2 < 0.04:  # also catches NaN
                 return False, q, *tcp_error(E, tcp_offset), it
             q = q + dq
             pin.forwardKinematics(m, d, q)
             pe, re = tcp_error(d.oMi[j6].actInv(goal), tcp_offset)
-            if pe <= pos_tol and re <= rot_tol:
+            if pe <= pos_tol and re <= rot_tol and (step2 <= SETTLED_STEP2 or it == max_steps):
                 if not self._within_limits(q):  # a joint on its limit stepped just past it
                     q = np.clip(q, self._lower, self._upper)
                     pe, re = self.pose_error(d, q, goal, tcp_offset)
                     return pe <= pos_tol and re <= rot_tol, q, pe, re, it
                 return True, q, pe, re, it
         return False, q, pe, re, max_steps
+
+    def finish(self, d: pin.Data, candidate, ref, goal: pin.SE3, tcp_offset, pos_tol: float,
+               rot_tol: float, max_steps: int = 4):
+        """The exact solution on the branch of ``candidate`` (rad, from a solver of the ideal
+        chain): Newton :meth:`polish`; where that fails (next to a singularity the ideal
+        chain's error turns into a long step), damped least squares from ``ref`` (rad, the
+        seed: it knows its own branch) and then from the candidate, kept only if it ends within
+        :data:`BRANCH_RADIUS` of the candidate."""
+        ok, q, pe, re, steps = self.polish(d, candidate, goal, tcp_offset, pos_tol, rot_tol,
+                                           max_steps)
+        if ok:
+            return ok, q, pe, re, steps
+        best = (pe, re)
+        cand = np.asarray(candidate, float)
+        for start in (ref, cand):
+            ok, q, pe, re, n = self.dls(d, start, goal, tcp_offset, pos_tol, rot_tol,
+                                        FINISH_DLS_STEPS)
+            steps += n
+            if ok and float(np.max(np.abs(q - cand))) <= BRANCH_RADIUS:
+                return self.settled(d, q, pe, re, goal, tcp_offset, pos_tol, rot_tol) + (steps,)
+            best = min(best, (pe, re))
+        return False, cand, best[0], best[1], steps
+
+    def settled(self, d: pin.Data, q: np.ndarray, pe: float, re: float, goal: pin.SE3,
+                tcp_offset, pos_tol: float, rot_tol: float):
+        """``(True, q, position error, rotation error)`` for a ``q`` (rad) within tolerance
+        (its errors ``pe`` m, ``re`` rad), after Newton steps that settle the joints too:
+        damped least squares stops as soon as the pose is within tolerance."""
+        ok, q2, pe2, re2, _ = self.polish(d, q, goal, tcp_offset, pos_tol, rot_tol, 2)
+        return (True, q2, pe2, re2) if ok else (True, q, pe, re)
 
     def dls(self, d: pin.Data, q0, goal: pin.SE3, tcp_offset, pos_tol: float, rot_tol: float,
             max_iter: int):

@@ -2,7 +2,9 @@
 
 Parameters (private, ``~name``):
   ``backend``        ``sim`` (MuJoCo twin, default) or ``controller`` (JAKA TCP protocol)
-  ``model``          ``zu3``, ``zu5`` (default), ``zu7``, ``zu12``, ``zu18``
+  ``model``          one of ``models.MODEL_NAMES``: ``zu3`` ``zu5`` (default) ``zu7`` ``zu12``
+                     ``zu18`` ``zu20`` ``zu30`` ``c5`` ``c7`` ``c12`` ``pro5`` ``pro7`` ``pro12``
+                     ``pro16`` ``pro18`` ``s5`` ``s7`` ``s12`` ``a5`` ``a12`` ``a20`` ``minicobo``
   ``rate``           state publishing rate, Hz (default 125, the controller's cycle)
   ``ip``             controller address (controller backend; default 10.5.5.100)
   ``command_port``   controller command port (default 10001)

@@ -36,7 +36,6 @@ from .servo import JointServo
 from .twin_model import Payload, build_twin_model
 
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
-HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])  # JAKA "pose_1"
 JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
 
 
@@ -54,7 +53,8 @@ class SimBackend(Backend):
         self.kin = Kinematics(model)
         self.mj_model = build_twin_model(model, scene)
         self.scene = scene
-        q_start = HOME.copy() if q0 is None else np.asarray(q0, float)
+        # JAKA's pose_1, unless told otherwise
+        q_start = model.home.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self.mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE,
                            native_drives.load())
         self.physics = PhysicsLoop(self.mj_model, servo, q_start, cycle=SERVO_CYCLE,

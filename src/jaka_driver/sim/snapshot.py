@@ -221,8 +221,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         "angles to a PNG, offscreen (no display needed).")
     parser.add_argument("--model", default="zu5", help=f"one of {', '.join(MODEL_NAMES)}")
     parser.add_argument("--joints", nargs=6, type=float, metavar="RAD",
-                        default=[0.0, 1.5708, -1.5708, 1.5708, 1.5708, 0.0],
-                        help="joint_1 … joint_6 in rad (default: the home pose)")
+                        help="joint_1 … joint_6 in rad (default: the model's home pose, "
+                             "where the twin starts)")
     parser.add_argument("-o", "--output", help="PNG file to write (default: <model>.png)")
     parser.add_argument("--scene", help="workcell obstacles, MJCF or YAML (as ~scene)")
     parser.add_argument("--width", type=int, default=800, help="px (default 800)")
@@ -236,12 +236,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     output = args.output or f"{name}.png"
     view = View(azimuth=args.azimuth, elevation=args.elevation)
     try:
-        with TwinCamera(load_model(name), args.scene, width=args.width, height=args.height,
+        model = load_model(name)
+        joints = model.home.tolist() if args.joints is None else args.joints
+        with TwinCamera(model, args.scene, width=args.width, height=args.height,
                         view=view) as camera:
-            path = camera.save(args.joints, output)
+            path = camera.save(joints, output)
     except (ValueError, RuntimeError, ImportError, OSError) as exc:
         print(f"snapshot: {exc}", file=sys.stderr)
         return 1
     print(f"wrote {path} ({args.width}x{args.height} px, {name} at "
-          f"[{', '.join(f'{q:g}' for q in args.joints)}] rad)")
+          f"[{', '.join(f'{q:g}' for q in joints)}] rad)")
     return 0
