@@ -40,7 +40,9 @@ def test_a_zu_arm_comes_out_in_the_form_jakas_sdk_reads(name):
     alpha, a, d, home = fit.dh.to_wire()
     # JAKA writes pi/2 as 1.5708 (0.0002 deg off)
     np.testing.assert_allclose(alpha, [0, 90, 0, 0, 90, -90], atol=1e-3)
-    assert a[0] == a[1] == a[4] == a[5] == 0.0 and a[2] > 200 and a[3] > 200
+    # JAKA's files carry CAD dust: J6 placed up to 0.39 mm off its axis (zu20, zu30)
+    assert a[0] == a[1] == 0.0 and abs(a[4]) < 0.5 and abs(a[5]) < 0.5
+    assert a[2] > 200 and a[3] > 200
     assert d[0] > 100 and d[1] == d[2] == 0.0 and d[3] < -100 and d[4] > 100 and d[5] > 100
     # JAKA's URDFs carry sub-mm CAD offsets: a few thousandths of a degree at most
     assert np.abs(home).max() < 0.01
@@ -54,15 +56,18 @@ def test_the_zu5_parameters_are_the_transcripts():
     np.testing.assert_allclose(d, [120.15, 0, 0, -114, 113.5, 107], atol=0.02)
 
 
-def test_a_calibrated_arm_is_its_model_and_no_other():
+def test_a_calibrated_arm_is_its_own_kinematics_and_no_other():
     # A Zu 5's parameters as read from a real controller (a third-party project's calibration)
     nominal = dh_of_model(load_model("zu5"))
     calibrated = DHParameters.from_sdk(nominal.alpha, [0, 0, 429.733, 368.162, 0, 0],
                                        [121.1, 0, 0, -114.195, 113.416, 107.119], [0.0] * 6)
     assert 0.0005 < chain_difference(calibrated, load_model("zu5")) < CALIBRATION_TOLERANCE
+    # JAKA sells the Zu 5's arm also as C5 and Pro 5 (the same chain) and A5 (d4 1 mm longer):
+    # a calibration cannot tell those apart, and need not; every other arm it tells apart
+    same_arm = {"zu5", "c5", "pro5", "a5"}
     for other in MODEL_NAMES:
-        if other != "zu5":
-            assert chain_difference(calibrated, load_model(other)) > CALIBRATION_TOLERANCE, other
+        difference = chain_difference(calibrated, load_model(other))
+        assert (difference < CALIBRATION_TOLERANCE) == (other in same_arm), (other, difference)
 
 
 def test_the_wire_rows_round_trip_and_bad_rows_are_refused():
