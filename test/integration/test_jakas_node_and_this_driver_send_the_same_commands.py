@@ -15,12 +15,14 @@ conventions in :data:`CONVENTIONS`, each with its reason; any other difference f
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field
 from typing import Callable, Dict, List, Sequence
 
 import numpy as np
 import pytest
 
+from ros_harness import wait_until
 from fake_controller import FakeController, start_backend
 
 from jaka_driver.driver import RobotDriver
@@ -256,6 +258,10 @@ def session():
 @pytest.mark.parametrize("case", CASES, ids=[c.service for c in CASES])
 def test_a_service_puts_what_jakas_node_puts_on_the_wire(session, case):
     fake, driver = session
+    # the previous case's move may still have its get_motion_state follower about to poll once
+    # more: let it end, so its request is not counted as this service's
+    assert wait_until(lambda: not any(t.name == "jaka-motion-state" and t.is_alive()
+                                      for t in threading.enumerate()), 2.0)
     with fake.lock:
         before = len(fake.requests)
     result = case.ours(driver)

@@ -50,8 +50,11 @@ def answering(first_reply: bytes):
 
     def serve(conn, server):
         for _ in requests_of(conn, server):
-            conn.sendall(OK_VERSION if sent else first_reply)
+            # counted before sending: the client may close while the malformed reply is still
+            # going out (it can tell it is malformed before its end), and the send then fails
+            first = not sent
             sent.append(1)
+            conn.sendall(first_reply if first else OK_VERSION)
     return serve
 
 
