@@ -8,6 +8,9 @@ through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and th
 A group that fails is reported as "not run" with the reason and the others still run; every
 process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
 ``--quick`` shortens every window for a smoke run (its numbers are not the benchmark).
+``--only controller`` (names from :data:`GROUPS`, comma-separated) runs those groups alone and
+writes to ``bench/results/only-<names>/`` (not committed), so that the table of record
+(``latest.md``) only ever comes from a whole run; ``--out`` names another folder.
 """
 from __future__ import annotations
 
@@ -26,6 +29,10 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "bench" / "results"
 SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
+#: the groups ``--only`` may name, in the order a whole run takes them
+GROUPS = ("ik", "twin", "startup", "sim", "sim_time", "controller")
+#: the groups that need a rosmaster
+ROS_GROUPS = ("startup", "sim", "sim_time", "controller")
 
 
 class Run:
@@ -119,7 +126,7 @@ def _sim_time(run: Run) -> None:
     run.rows += sim_time.rows(speed, same)
 
 
-def _emulator(run: Run) -> None:
+def _emulator(run: Run, out: Path) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
     from . import node_suite, ros_session
@@ -128,7 +135,7 @@ def _emulator(run: Run) -> None:
         # As the rows were measured before the emulator had controller profiles: a packet
         # every servo cycle and the arm on (the default profile pushes every 30 ms, as the
         # recorded Zu 5s, and starts powered off).
-        emulator = EmulatorProcess("zu5", log_path=str(OUT / "emulator.log.tmp"),
+        emulator = EmulatorProcess("zu5", log_path=str(out / "emulator.log.tmp"),
                                    period=0.008, start="enabled")
         stack.callback(emulator.stop)
         emulator.start()
@@ -144,7 +151,7 @@ def _emulator(run: Run) -> None:
         run.raw["controller"] = raw
 
 
-def _plots(run: Run) -> list[str]:
+def _plots(run: Run, out: Path) -> list[str]:
     from . import linear_move_accuracy, plots
     made = []
     sim, ctl = run.raw.get("sim", {}), run.raw.get("controller", {})
@@ -154,12 +161,12 @@ def _plots(run: Run) -> list[str]:
             topics = raw.get(f"topics {cond}")
             if topics:
                 series[f"{label}, {cond}"] = topics["joint_position"]["recv"]
-    made.append(plots.period_histogram(series, OUT))
+    made.append(plots.period_histogram(series, out))
     made.append(plots.servo_tracking({"sim": sim.get("servo stream"),
-                                      "controller/emulator": ctl.get("servo stream")}, OUT))
-    made.append(plots.linear_deviation(run.raw.get("lines", []), OUT,
+                                      "controller/emulator": ctl.get("servo stream")}, out))
+    made.append(plots.linear_deviation(run.raw.get("lines", []), out,
                                        linear_move_accuracy.TARGET_MM))
-    made.append(plots.ik_times(run.raw.get("ik", []), OUT))
+    made.append(plots.ik_times(run.raw.get("ik", []), out))
     return [str(p) for p in made if p is not None]
 
 
@@ -167,12 +174,24 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true",
                         help="short windows: a smoke run, not the benchmark")
+    parser.add_argument("--only", default=",".join(GROUPS),
+                        help=f"comma-separated groups to run, of: {', '.join(GROUPS)} "
+                             "(default: all)")
+    parser.add_argument("--out", default=None, help="folder for the results (default "
+                        "bench/results, or bench/results/only-<groups> with --only)")
     args = parser.parse_args(argv)
+    chosen = [g.strip() for g in args.only.split(",") if g.strip()]
+    unknown = sorted(set(chosen) - set(GROUPS))
+    if unknown or not chosen:
+        parser.error(f"--only: unknown group(s) {', '.join(unknown) or '(none given)'}; "
+                     f"expected some of {', '.join(GROUPS)}")
+    whole = set(chosen) == set(GROUPS)
+    out = Path(args.out) if args.out else OUT if whole else OUT / f"only-{'-'.join(chosen)}"
     for sig in (signal.SIGTERM, signal.SIGHUP):   # unwind, so that finally blocks run
         signal.signal(sig, lambda signum, _frame: sys.exit(128 + signum))
     run = Run(args.quick)
     started = dt.datetime.now().astimezone().isoformat(timespec="seconds")
-    OUT.mkdir(parents=True, exist_ok=True)
+    out.mkdir(parents=True, exist_ok=True)
 
     from .proc_meter import MachineWindow, OtherPrograms
     others = OtherPrograms().start()
@@ -183,26 +202,31 @@ def main(argv=None) -> int:
         run.log(f"warning: the machine is already {before.percent:.0f} % busy (of one core) "
                 "before the benchmarks start; numbers will be disturbed")
 
-    run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
-                "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
-    run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 150",
-                lambda: _twin(run))
+    if "ik" in chosen:
+        run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
+                    "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
+    if "twin" in chosen:
+        run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 150",
+                    lambda: _twin(run))
     with ExitStack() as ros:
         from . import ros_session
-        ros_up = run.guarded("ROS", "rosmaster for the ROS benchmarks", "—",
-                             lambda: ros_session.start_ros(ros))
-        if ros_up:
+        ros_up = any(g in ROS_GROUPS for g in chosen) and run.guarded(
+            "ROS", "rosmaster for the ROS benchmarks", "—", lambda: ros_session.start_ros(ros))
+        if ros_up and "startup" in chosen:
             run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
                         lambda: _startup(run))
+        if ros_up and "sim" in chosen:
             run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
                         "see the table", lambda: _sim(run))
+        if ros_up and "sim_time" in chosen:
             run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
                         "60 s of sim time through ROS; determinism idle vs loaded",
                         "≤ 15 s wall; ≤ 1e-9 rad", lambda: _sim_time(run))
+        if ros_up and "controller" in chosen:
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
-                        "report", lambda: _emulator(run))
+                        "report", lambda: _emulator(run, out))
     try:
-        plots = _plots(run)
+        plots = _plots(run, out)
     except Exception:  # noqa: BLE001 - the table matters more than the pictures
         traceback.print_exc()
         plots = []
@@ -211,7 +235,7 @@ def main(argv=None) -> int:
         label: raw.get(f"machine {cond}") for label, raw in
         (("sim", run.raw.get("sim", {})), ("controller", run.raw.get("controller", {})))
         for cond in ("idle",)}
-    json_path, md_path = write(run.rows, OUT, ROOT, started, time.monotonic() - run.t0, plots,
+    json_path, md_path = write(run.rows, out, ROOT, started, time.monotonic() - run.t0, plots,
                                run.extra, quick=args.quick)
     failed = sum(r.status == "FAIL" for r in run.rows)
     missing = sum(r.status == NOT_RUN for r in run.rows)

@@ -13,7 +13,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .servo_latency import CYCLE_S, OBSERVED_P99_MS, observed_latency  # noqa: E402
+from jaka_driver.constants import SERVO_CYCLE  # noqa: E402
+
+from .servo_latency import OBSERVED_P99_MS, observed_latency  # noqa: E402
 from .state_topics import INTERARRIVAL_P99_MS  # noqa: E402
 
 
@@ -38,7 +40,7 @@ def period_histogram(series: dict, out_dir: Path) -> Path | None:
         gaps = np.diff(recv) * 1e3
         ax.hist(np.clip(gaps, 0, 30), bins=bins, histtype="step", linewidth=1.4,
                 label=f"{label} (p99 {np.percentile(gaps, 99):.1f} ms)")
-    ax.axvline(CYCLE_S * 1e3, color="grey", linestyle=":", label="8 ms period")
+    ax.axvline(SERVO_CYCLE * 1e3, color="grey", linestyle=":", label="8 ms period")
     ax.axvline(INTERARRIVAL_P99_MS, color="red", linestyle="--", label="p99 target 10 ms")
     ax.set_yscale("log")
     ax.set_xlabel("inter-arrival time of /jaka_driver/joint_position (ms; > 30 ms shown at 30)")
