@@ -58,21 +58,17 @@ class Backend(ABC):
     #: wall clock, unless a twin owns time (sim_time; then ``RobotState.stamp`` is sim time).
     clock = WallClock()
 
-    #: Period (s) at which new state samples appear, when the backend has such a clock (the
-    #: twin's 8 ms cycle) and implements :meth:`wait_for_sample`; None otherwise.
-    sample_period: Optional[float] = None
-
+    @abstractmethod
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Block until a sample stamped later than ``after`` (s, as ``RobotState.stamp``)
-        exists, at most ``timeout`` s; True if one does. Lets the node publish each sample the
-        moment it exists instead of on a clock of its own; the node uses it only when
-        :attr:`sample_period` is set."""
-        raise NotImplementedError(f"{type(self).__name__} has no sample clock")
+        exists, at most ``timeout`` s; True if one does. The new sample wakes the wait (the
+        twin's cycle, a controller's status packet): the node publishes each sample the moment
+        it exists, with no clock of its own."""
 
     def states_since(self, after: float) -> list[RobotState]:
         """The samples stamped later than ``after`` (s), oldest first — every one a backend
-        with a sample clock still holds, so a reader that fell behind misses none. Default:
-        the latest, if it is newer."""
+        still holds, so a reader that fell behind misses none (the twin keeps a few hundred
+        cycles). Default: the latest, if it is newer."""
         st = self.state()
         return [st] if st.stamp > after else []
 

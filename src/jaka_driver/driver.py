@@ -76,11 +76,6 @@ class RobotDriver:
     def state(self) -> RobotState:
         return self.backend.state()
 
-    @property
-    def sample_period(self):
-        """The backend's sample period (s), or None if it has no sample clock."""
-        return self.backend.sample_period
-
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """See :meth:`Backend.wait_for_sample`."""
         return self.backend.wait_for_sample(after, timeout)

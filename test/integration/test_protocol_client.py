@@ -266,10 +266,25 @@ def test_receiver_decodes_split_packets(serve):
         status, received = col.statuses[-1]
         assert received == 42.0 and status.powered and status.enabled and not status.has_error
         np.testing.assert_allclose(status.tcp_pose, [1, 2, 3, 0, 0, np.pi / 2], atol=1e-12)
-        assert rx.latest == col.statuses[-1] and rx.decoder.packets == 5
+        # the callback's owner keeps the packets: the receiver holds no copy of its own
+        assert rx.latest is None and rx.decoder.packets == 5
     finally:
         rx.stop()
     assert not rx.running and col.lost == []   # a stop is not a loss
+
+
+def test_receiver_without_a_callback_keeps_the_latest_packet(serve):
+    server = serve(stream_then([status_packet(i) for i in range(3)]))
+    rx = StatusReceiver("127.0.0.1", server.port, clock=lambda: 7.0)
+    rx.start()
+    try:
+        deadline = time.monotonic() + 2
+        while rx.decoder.packets < 3 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        status, received = rx.latest
+        assert received == 7.0 and round(np.degrees(status.joint_position[0])) == 2
+    finally:
+        rx.stop()
 
 
 def test_receiver_reports_connection_loss(serve):

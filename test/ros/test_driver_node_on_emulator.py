@@ -1,6 +1,7 @@
 """The real node with ``_backend:=controller`` against the emulator subprocess: joint_move
-through ROS reaches its target, the state topics come from the controller's status stream,
-and drag mode goes on and off through ROS (torque_control_enable on the wire)."""
+through ROS reaches its target, the state topics come from the controller's status stream —
+one message per status packet, at the emulator's recorded 30 ms, none twice — and drag mode
+goes on and off through ROS (torque_control_enable on the wire)."""
 from __future__ import annotations
 
 import time
@@ -14,6 +15,7 @@ from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool
 
 from jaka_driver.emulator.process import EmulatorProcess
+from jaka_driver.emulator.profiles import DEFAULT_PROFILE, profile_named
 
 pytestmark = pytest.mark.ros
 
@@ -46,6 +48,11 @@ def test_joint_move_through_ros_reaches_the_target(call, joints):
     assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
 
 
+def emulator_period() -> float:
+    """s between two status packets of the emulator's default profile."""
+    return profile_named(DEFAULT_PROFILE).period
+
+
 def test_robot_states_come_from_the_controller(sim_driver, joints):
     states = Recorder(sim_driver.name("robot_states"), RobotMsg)
     try:
@@ -53,9 +60,14 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         assert msg is not None
         assert (msg.power_state, msg.motion_state) == (1, 0)
         t0 = time.time()
-        wait_until(lambda: len(joints.since(t0)) > 60, 2.0)
-        rate = len(joints.since(t0)) / (time.time() - t0)
-        assert rate > 100, f"joint_position at {rate:.0f} Hz"
+        time.sleep(2.0)
+        got = joints.since(t0)
+        stamps = [m.header.stamp.to_sec() for _, m in got]
+        assert len(set(stamps)) == len(stamps), "a packet published twice"
+        # one message per packet: the emulator's default profile pushes every 30 ms
+        rate = len(got) / (got[-1][0] - got[0][0])
+        assert 1 / (emulator_period() * 1.3) < rate < 1 / (emulator_period() * 0.8), \
+            f"joint_position at {rate:.1f} Hz"
     finally:
         states.close()
 

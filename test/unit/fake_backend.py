@@ -58,6 +58,9 @@ class FakeBackend(Backend):
         return RobotState(stamp=time.time(), joint_position=self.q.copy(), powered=True,
                           enabled=True)
 
+    def wait_for_sample(self, after, timeout):
+        return True   # every state() is a new sample, stamped when it is read
+
     def set_power(self, on):
         return self._called("set_power", on)
 

@@ -100,7 +100,7 @@ class ControllerBackend(Backend):
                                    connect_timeout=connect_timeout, call_timeout=call_timeout,
                                    stall_timeout=stall_timeout, on_status=self._on_status,
                                    on_up=self._on_up, on_down=self._on_down)
-        self.send = Commander(self.link, power_timeout)
+        self.send = Commander(self.link, self.view, power_timeout)
         self.frames_by_id = ControllerFrames(self.send.read)
         self.identity = ArmIdentity(model)
         self._lock = threading.RLock()
@@ -221,12 +221,12 @@ class ControllerBackend(Backend):
         try:
             return self.send.read(commands.get_robot_state(), commands.reply_robot_state)
         except CommandRefused as refusal:
-            latest = self.link.latest
+            latest = self.view.latest
             if refusal.code == Code.NOT_CONNECTED or latest is None:
                 raise
             log.info("get_robot_state failed (%s); reading power and enable from the status "
                      "stream", refusal.message)
-            return latest[0].powered, latest[0].enabled
+            return latest.powered, latest.enabled
 
     # ---- power ----------------------------------------------------------------------------------
     @answers
@@ -290,29 +290,22 @@ class ControllerBackend(Backend):
             if state.inpos and state.queue == 0:
                 # the move ended: let a packet from after now arrive, so state() shows it ended
                 self.wait_for_sample(time.time(), 0.2)
-            watch.on_motion_state(state.inpos, state.queue, self.link.latest)
+            watch.on_motion_state(state.inpos, state.queue, self.view.latest_received)
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         """Until a status packet received later than ``after`` (s, ``time.time()``, as
-        ``RobotState.stamp``), at most ``timeout`` s. The node does not use it here (no
-        :attr:`sample_period`: the packets' timing is the controller's); the move follower
-        does."""
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            latest = self.link.latest
-            if latest is not None and latest[1] > after:
-                return True
-            time.sleep(0.002)
-        return False
+        ``RobotState.stamp``) is here, at most ``timeout`` s: the packet wakes the wait (the
+        node's publisher, the move follower)."""
+        return self.view.wait_for_packet(after, timeout)
 
     @answers
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
         q_target = np.asarray(q_target, float)
-        latest = self.link.latest
+        latest = self.view.latest
         estimate = UNKNOWN_MOVE_TIME
-        if latest is not None and np.all(np.isfinite(latest[0].joint_position)):
+        if latest is not None and np.all(np.isfinite(latest.joint_position)):
             # The controller synchronises the joints: the longest travel sets the time.
-            longest = float(np.max(np.abs(q_target - latest[0].joint_position)))
+            longest = float(np.max(np.abs(q_target - latest.joint_position)))
             estimate = TrapezoidProfile(longest, speed, accel).min_duration
             if duration:
                 if estimate > duration + 1e-6:
@@ -332,10 +325,10 @@ class ControllerBackend(Backend):
         the tool at its own defaults); the estimate is the twin's time law of the same line."""
         pose = matrix_to_pose_mm_rpy(target)
         angular_speed, angular_accel = orientation_limits(speed, accel)
-        latest = self.link.latest
+        latest = self.view.latest
         estimate = UNKNOWN_MOVE_TIME
-        if latest is not None and np.all(np.isfinite(latest[0].tcp_pose)):
-            estimate = line_duration(pose_mm_rpy_to_matrix(latest[0].tcp_pose), target, speed,
+        if latest is not None and np.all(np.isfinite(latest.tcp_pose)):
+            estimate = line_duration(pose_mm_rpy_to_matrix(latest.tcp_pose), target, speed,
                                      accel)
         note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
                                            "configuration itself")
@@ -539,13 +532,8 @@ class ControllerBackend(Backend):
         """After a confirmed setting the status packets carry: wait (at most
         :data:`PACKET_CATCH_UP` s) for one that shows it, so that ``state()`` agrees with the
         answer the moment it is given (the next request's state checks read it)."""
-        deadline = time.monotonic() + PACKET_CATCH_UP
-        while time.monotonic() < deadline:
-            latest = self.link.latest
-            if latest is not None and shows(latest[0]):
-                return
-            time.sleep(0.002)
-        log.debug("the status stream did not show the setting within %.2f s", PACKET_CATCH_UP)
+        if not self.view.wait_until(shows, PACKET_CATCH_UP):
+            log.debug("the status stream did not show the setting within %.2f s", PACKET_CATCH_UP)
 
     def _moving(self) -> bool:
         """A move, trajectory or jog of this driver runs, or the status stream shows motion."""

@@ -26,6 +26,7 @@ from ..protocol.replies import Reply
 from ..protocol.status_stream import StatusPacket
 from ..results import Code, CommandRefused, Result
 from .connection import ControllerLink
+from .status_view import StatusView
 
 T = TypeVar("T")
 
@@ -47,10 +48,15 @@ def answers(method: Callable) -> Callable:
 
 
 class Commander:
-    """Sends requests over ``link``; ``confirm_timeout`` (s) bounds :meth:`confirmed`."""
+    """Sends requests over ``link``; :meth:`confirmed` watches the packets of ``view``, at most
+    ``confirm_timeout`` s."""
 
-    def __init__(self, link: ControllerLink, confirm_timeout: float):
+    #: s between two looks at the link while waiting for a packet (the packets wake the wait)
+    LINK_CHECK = 0.1
+
+    def __init__(self, link: ControllerLink, view: StatusView, confirm_timeout: float):
         self.link = link
+        self.view = view
         self.confirm_timeout = float(confirm_timeout)
 
     def require_link(self) -> None:
@@ -123,12 +129,13 @@ class Commander:
         enable: the reply says accepted, the stream says done)."""
         self.accepted(request, timeout=self.confirm_timeout)
         deadline = time.monotonic() + self.confirm_timeout
-        while time.monotonic() < deadline:
-            latest = self.link.latest
-            if latest is not None and arrived(latest[0]):
+        while True:
+            left = deadline - time.monotonic()
+            if self.view.wait_until(arrived, max(0.0, min(left, self.LINK_CHECK))):
                 return
             self.require_link()
-            time.sleep(0.01)
+            if left <= 0:
+                break
         raise CommandRefused(Code.COMMUNICATION_ERROR, f"{what}: the controller accepted it but "
                              f"the status stream did not show it within "
                              f"{self.confirm_timeout:g} s")

@@ -63,7 +63,8 @@ class ControllerLink:
     """Both connections to the controller at ``host``, and the reconnect supervisor.
 
     ``on_status(status, received)`` gets every status packet (receiver thread; ``received`` is
-    ``time.time()`` at the read). ``on_up(first)`` runs in the supervisor thread each time the
+    ``time.time()`` at the read); the link keeps none of them: the hook's owner keeps the
+    latest (the controller backend's :class:`~.status_view.StatusView`). ``on_up(first)`` runs in the supervisor thread each time the
     link comes up (``first`` True the first time); ``on_down(reason)`` runs once per loss, in
     whichever thread noticed it. Hooks must not block for long; exceptions are logged.
 
@@ -104,7 +105,6 @@ class ControllerLink:
         self._thread: Optional[threading.Thread] = None
         self._first_packet = threading.Event()
         self._attempted = threading.Event()   # the first connection attempt has ended
-        self._latest: Optional[Tuple[StatusPacket, float]] = None
         self._ever_up = False
         self.down_since: Optional[float] = time.monotonic()
         self.down_reason = "not connected yet"
@@ -120,11 +120,6 @@ class ControllerLink:
     @property
     def connected(self) -> bool:
         return self._up.is_set()
-
-    @property
-    def latest(self) -> Optional[Tuple[StatusPacket, float]]:
-        """The last (status, received) pair of any connection, or None before the first."""
-        return self._latest
 
     def counters(self) -> dict:
         """What the connections received and dropped, added up over every connection since
@@ -328,6 +323,5 @@ class ControllerLink:
     def _status(self, status: StatusPacket, received: float, generation: int) -> None:
         if generation != self._generation:
             return
-        self._latest = (status, received)
         self._first_packet.set()
         self._hook(self._on_status, status, received)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Optional
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
@@ -41,14 +41,18 @@ def is_collision(status: StatusPacket) -> bool:
 
 
 class StatusView:
-    """Keeps the latest packet and turns it into :class:`RobotState` on request.
+    """The one copy of the controller's latest status packet, and the :class:`RobotState` made
+    from it on request.
 
-    :meth:`feed` is called from the status thread, :meth:`state` from any thread; it never
-    blocks beyond a short lock and caches its answer until the next packet.
+    :meth:`feed` is called from the status thread, everything else from any thread: :meth:`state`
+    never blocks beyond a short lock and caches its answer until the next packet;
+    :meth:`wait_for_packet` and :meth:`wait_until` sleep on a condition every packet notifies,
+    so a waiter wakes the moment the packet it waits for exists.
     """
 
     def __init__(self):
         self._lock = threading.Lock()
+        self._arrived = threading.Condition(self._lock)   # notified by every packet
         self._status: Optional[StatusPacket] = None
         self._received = 0.0
         self._velocity = np.zeros(6)
@@ -80,10 +84,32 @@ class StatusView:
                 self._tcp = pose_mm_rpy_to_matrix(status.tcp_pose)
             self._status, self._received = status, received
             self._serial += 1
+            self._arrived.notify_all()
 
     @property
     def latest(self) -> Optional[StatusPacket]:
+        """The latest packet, or None before the first."""
         return self._status
+
+    @property
+    def latest_received(self) -> Optional[Tuple[StatusPacket, float]]:
+        """(latest packet, its receipt time s, ``time.time()``), or None before the first."""
+        with self._lock:
+            return None if self._status is None else (self._status, self._received)
+
+    def wait_for_packet(self, after: float, timeout: float) -> bool:
+        """Block until a packet received later than ``after`` (s, ``time.time()``) is here, at
+        most ``timeout`` s; True if one is."""
+        with self._arrived:
+            return self._arrived.wait_for(
+                lambda: self._status is not None and self._received > after, timeout)
+
+    def wait_until(self, shows: Callable[[StatusPacket], bool], timeout: float) -> bool:
+        """Block until the latest packet satisfies ``shows`` (a quick test, called under the
+        view's lock), at most ``timeout`` s; True if it does."""
+        with self._arrived:
+            return self._arrived.wait_for(
+                lambda: self._status is not None and shows(self._status), timeout)
 
     def state(self, connected: bool, servo_mode: bool) -> RobotState:
         with self._lock:

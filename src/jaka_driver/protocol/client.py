@@ -312,7 +312,10 @@ class StatusReceiver:
 
     @property
     def latest(self) -> Optional[Tuple[StatusPacket, float]]:
-        """The last (status, received) pair, or None before the first packet."""
+        """The last (status, received) pair of a receiver without ``on_status`` (a reader that
+        looks when it wants), or None before the first packet. With ``on_status`` the
+        callback's owner keeps what it needs and this stays None: one copy of the latest
+        packet, not one per layer."""
         return self._latest
 
     def start(self) -> None:
@@ -413,12 +416,13 @@ class StatusReceiver:
         self._deliver(status, received)
 
     def _deliver(self, status: StatusPacket, received: float) -> None:
-        self._latest = (status, received)
-        if self.on_status is not None:
-            try:
-                self.on_status(status, received)
-            except Exception:  # noqa: BLE001 - a callback must not kill the reader
-                _log.exception("on_status callback raised")
+        if self.on_status is None:
+            self._latest = (status, received)
+            return
+        try:
+            self.on_status(status, received)
+        except Exception:  # noqa: BLE001 - a callback must not kill the reader
+            _log.exception("on_status callback raised")
 
 
 class StatusPoller(StatusReceiver):

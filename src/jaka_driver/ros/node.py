@@ -5,7 +5,8 @@ Parameters (private, ``~name``):
   ``model``          one of ``models.MODEL_NAMES``: ``zu3`` ``zu5`` (default) ``zu7`` ``zu12``
                      ``zu18`` ``zu20`` ``zu30`` ``c5`` ``c7`` ``c12`` ``pro5`` ``pro7`` ``pro12``
                      ``pro16`` ``pro18`` ``s5`` ``s7`` ``s12`` ``a5`` ``a12`` ``a20`` ``minicobo``
-  ``rate``           state publishing rate, Hz (default 125, the controller's cycle)
+  ``rate``           highest state publishing rate, Hz (default 125, the controller's cycle):
+                     each sample is published once, as it comes
   ``ip``             controller address (controller backend; default 10.5.5.100)
   ``command_port``   controller command port (default 10001)
   ``status_port``    controller status port (default 10000)
@@ -34,7 +35,6 @@ from __future__ import annotations
 import logging
 import sys
 import threading
-import time
 import warnings
 from contextlib import contextmanager
 
@@ -100,17 +100,18 @@ def _synchronous_publishers():
 
 
 class StatePublisher:
-    """Publishes the state at ``rate`` Hz from its own thread.
+    """Publishes each new sample of the backend once, the moment it exists, from its own thread.
 
-    When the backend has a sample clock at that rate (the twin's 8 ms cycle at 125 Hz), each
-    sample is published the moment it exists: no phase between the physics and the publisher
-    to add to the sample's age or to a servo target's round trip. Every cycle gets its
-    message, also those the physics caught up on after a stall or that came while this thread
-    waited for the CPU (each with its own stamp). If no sample comes for STALL_PERIODS periods
-    (the source is stuck) the latest one is published again, so the topics stay alive.
-    Otherwise it runs on its own clock: deadlines are absolute (``next += period``) so
-    the rate does not drift with the time the publishing takes; after a stall it
-    resynchronises instead of bursting.
+    The thread sleeps on the backend's samples (:meth:`Backend.wait_for_sample`: the twin's
+    8 ms cycles, a controller's status packets) — no timer of its own, so no phase between the
+    source and the publisher to add to a sample's age, and no sample published twice or not at
+    all. Every sample gets its message, also those the twin caught up on after a stall or that
+    came while this thread waited for the CPU (each with its own stamp). ``rate`` (Hz) is the
+    highest rate: a sample less than half a period after the last one's due time waits for
+    the next, due times advancing by whole periods, so a lower ``rate`` keeps its average.
+    If no sample comes for STALL_PERIODS periods (the source is stuck, or a controller link is
+    down) the latest state is published again, so the topics stay alive and say so. In sim time
+    every sample is published, whatever ``rate`` says, and a stall is time standing still.
     """
 
     def __init__(self, driver: RobotDriver, rate: float):
@@ -160,12 +161,6 @@ class StatePublisher:
             self._window = (now, self._count)
         return self._rate
 
-    @property
-    def follows_samples(self) -> bool:
-        """True when publishing follows the backend's sample clock (see the class)."""
-        period = self._driver.sample_period
-        return period is not None and abs(period / self._period - 1.0) < 0.01
-
     def _publish_safely(self, st: RobotState | None = None) -> None:
         """:meth:`_publish_once`, logging instead of raising."""
         try:
@@ -174,34 +169,25 @@ class StatePublisher:
             rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
 
     def _run(self) -> None:
-        if self.follows_samples or self._sim_clock is not None:
-            self._run_on_samples()
-        else:
-            self._run_on_clock()
-
-    def _run_on_samples(self) -> None:
+        every_sample = self._sim_clock is not None
         last = self._driver.state().stamp - 1e-6     # from the current sample on
+        due = None                                   # stamp from which the next one is due
         while not rospy.is_shutdown():
             if not self._driver.wait_for_sample(last, STALL_PERIODS * self._period):
-                if self._sim_clock is None:
+                if not every_sample:
                     self._publish_safely()      # stuck source: the latest again
                 continue                        # (in sim time, time merely stands still)
             for st in self._driver.states_since(last):
-                self._publish_safely(st)
                 last = st.stamp                 # also past a sample that failed
-                if self._sim_clock is not None:
+                if not every_sample:
+                    if due is not None and st.stamp < due - 0.5 * self._period:
+                        continue                # ~rate is lower than the samples' rate
+                    # whole periods from the last due time, unless that fell behind
+                    due = st.stamp + self._period if due is None or st.stamp > due + \
+                        self._period else due + self._period
+                self._publish_safely(st)
+                if every_sample:
                     self._clock.consumed(last)
-
-    def _run_on_clock(self) -> None:
-        deadline = time.monotonic()
-        while not rospy.is_shutdown():
-            self._publish_safely()
-            deadline += self._period
-            delay = deadline - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            elif delay < -self._period:
-                deadline = time.monotonic()
 
 
 class _ToRosout(logging.Handler):

@@ -41,7 +41,6 @@ JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
 
 class SimBackend(Backend):
     kind = "sim"
-    sample_period = SERVO_CYCLE
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
