@@ -90,19 +90,26 @@ class Backend(ABC):
     def start_joint_move(self, q_target: np.ndarray, speed: float, accel: float,
                          duration: Optional[float] = None) -> Result:
         """Start a synchronised joint move to ``q_target`` (rad) with peak speed ``speed``
-        (rad/s) and acceleration ``accel`` (rad/s²), both already clamped to the model;
-        ``duration`` (s) stretches the motion. Returns at once; ``Result.value`` is
+        (rad/s) and acceleration ``accel`` (rad/s²), both already clamped to the model, taking
+        ``duration`` s: the driver's plan of it (:func:`jaka_driver.validation.
+        joint_move_duration`, the law of :func:`jaka_driver.motion.profiles.joint_move_profile`
+        from where the arm stands, stretched to ``mvtime``); None: the fastest by the same
+        law. A backend never refuses a duration: the driver did. Returns at once;
+        ``Result.value`` is
         ``(completion, planned_duration_s)``: the :class:`jaka_driver.completion.Completion`
         finishes with success once in position (``constants.IN_POSITION``), or -12 if stopped.
         :class:`jaka_driver.driver.RobotDriver` does the waiting (and stops an overrun)."""
 
     @abstractmethod
     def start_linear_move(self, target: np.ndarray, speed: float, accel: float,
-                          ref_q: Optional[np.ndarray] = None) -> Result:
+                          ref_q: Optional[np.ndarray] = None,
+                          duration: Optional[float] = None) -> Result:
         """Start a straight-line TCP move to ``target`` (4x4, active tool in the active user
-        frame, m) at ``speed`` m/s and ``accel`` m/s²; ``ref_q`` seeds the IK. The whole path is
-        checked before anything moves (-4 if unreachable). Returns at once, like
-        :meth:`start_joint_move`."""
+        frame, m) at ``speed`` m/s and ``accel`` m/s²; ``ref_q`` seeds the IK; ``duration`` (s)
+        is the driver's plan of it (:func:`jaka_driver.motion.linear_path.line_duration`), for
+        a backend that does not time the line itself (None: the same law from where the arm
+        stands). The whole path is checked before anything moves (-4 if unreachable). Returns
+        at once, like :meth:`start_joint_move`."""
 
     @abstractmethod
     def start_trajectory(self, trajectory: "JointTrajectory") -> Result:

@@ -5,12 +5,20 @@ stream publishes once per cycle, and the twin plans and steps its drives on the 
 """
 from __future__ import annotations
 
+import math
+
 #: s — the controller cycle: servo set-point period, status period, the twin's control cycle
 SERVO_CYCLE = 0.008
 
 #: cycles behind its pacing after which a paced loop (the twin's physics on the wall clock, the
 #: sim clock at a real-time factor) re-anchors instead of bursting through the missed cycles
 STALL_CYCLES = 25
+
+#: rad/s and rad/s² — the fastest the driver turns the tool about its own axes: a rotation jog
+#: (RX–RZ; a faster request is clamped to it) and the orientation of a straight line (both
+#: backends; :func:`jaka_driver.motion.linear_path.orientation_limits`)
+MAX_TOOL_ROTATION_SPEED = math.pi
+MAX_TOOL_ROTATION_ACCEL = 2.0 * math.pi
 
 #: rad — a joint move is in position once every joint is this close to its target
 #: (docs/interface.md, "Motion")

@@ -18,7 +18,7 @@ import numpy as np
 
 from . import validation as check
 from .backend import Backend
-from .constants import SERVO_CYCLE, move_deadline
+from .constants import move_deadline
 from .results import Code, CommandRefused, Result, invalid
 from .robot_state import RobotState
 from .transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
@@ -145,16 +145,16 @@ class RobotDriver:
         v = check.speed("mvvelo", mvvelo, float(np.max(self.model.max_velocity)), "rad/s",
                         notes=notes)
         a = check.speed("mvacc", mvacc, float(np.max(self.model.max_acceleration)), "rad/s²",
-                        default=float(np.min(self.model.max_acceleration)), notes=notes)
+                        default=self.model.default_joint_accel, notes=notes)
         duration = check.finite("mvtime", mvtime, "s")
         if duration < 0:
             raise invalid(f"mvtime is {duration:g} s, expected ≥ 0 (0 = as fast as allowed)")
-        check.joint_move_duration(self.backend.state().joint_position, q,
-                                  np.minimum(v, self.model.max_velocity),
-                                  np.minimum(a, self.model.max_acceleration),
-                                  duration or None, mvvelo, mvacc)
+        planned = check.joint_move_duration(self.backend.state().joint_position, q,
+                                            np.minimum(v, self.model.max_velocity),
+                                            np.minimum(a, self.model.max_acceleration),
+                                            duration or None, mvvelo, mvacc)
         result = self._run_move("joint_move", lambda st: self.backend.start_joint_move(
-            q, v, a, duration or None))
+            q, v, a, planned))
         return _with_notes(result, notes)
 
     @_answers
@@ -167,9 +167,11 @@ class RobotDriver:
         target_mm = check.vector("pose", pose)
         mode = check.integer_in("coord_mode", coord_mode, 0, 2)
         notes: list[str] = []
-        v = check.speed("mvvelo", mvvelo, self.model.max_tcp_speed_mm_s, "mm/s", notes=notes)
-        a = check.speed("mvacc", mvacc, self.model.max_tcp_accel_mm_s2, "mm/s²",
-                        default=self.model.max_tcp_accel_mm_s2 / 4, notes=notes)
+        # the request's mm: limits and refusals speak its unit, SI from here on
+        v = check.speed("mvvelo", mvvelo, self.model.max_tcp_speed * 1000.0, "mm/s",
+                        notes=notes) / 1000.0
+        a = check.speed("mvacc", mvacc, self.model.max_tcp_accel * 1000.0, "mm/s²",
+                        default=self.model.default_tcp_accel * 1000.0, notes=notes) / 1000.0
         ref_q = check.joint_targets("ref_joint", ref_joint, self.model) if has_ref else None
 
         def start(st: RobotState) -> Result:
@@ -179,9 +181,8 @@ class RobotDriver:
                 target = np.linalg.inv(user) @ target
             elif mode == 2:
                 target = st.tcp_pose @ target
-            check.linear_move_duration(st.tcp_pose, target, v / 1000.0, a / 1000.0,
-                                       mvvelo, mvacc)
-            return self.backend.start_linear_move(target, v / 1000.0, a / 1000.0, ref_q)
+            planned = check.linear_move_duration(st.tcp_pose, target, v, a, mvvelo, mvacc)
+            return self.backend.start_linear_move(target, v, a, ref_q, planned)
 
         return _with_notes(self._run_move("linear_move", start), notes)
 

@@ -32,6 +32,10 @@ STRUCTURES = ("zu", "forearm_roll", "spherical_wrist")
 # The IO numbering of jaka_msgs/SetIO and GetIO, one table: ``type`` indexes IO_TYPES, ``path``
 # indexes IO_PATHS; config/<model>.yaml counts them as ``<type>: {<signal>_<path>: n}``.
 # io_sizes keys: (signal, type, path).
+#: A linear move asked without an acceleration uses this share of the model's TCP acceleration
+#: (a joint move without one uses its slowest joint's: :attr:`RobotModel.default_joint_accel`).
+DEFAULT_TCP_ACCEL_SHARE = 0.25
+
 IO_SIGNALS = ("digital", "analog")
 IO_TYPES = ("cabinet", "tool", "extension")
 IO_PATHS = ("in", "out")
@@ -73,8 +77,8 @@ class RobotModel:
     max_acceleration: np.ndarray  # rad/s²
     max_effort: np.ndarray  # N·m
     rated_payload_kg: float
-    max_tcp_speed_mm_s: float
-    max_tcp_accel_mm_s2: float
+    max_tcp_speed: float  # m/s
+    max_tcp_accel: float  # m/s²
     servo_kp: np.ndarray  # N·m/rad
     servo_kd: np.ndarray  # N·m·s/rad
     io_sizes: Mapping[tuple[str, int, int], int]
@@ -84,6 +88,18 @@ class RobotModel:
     home: np.ndarray = None  # rad
     arm_mass_kg: float = 0.0
     reach_mm: float = 0.0
+
+    @property
+    def default_joint_accel(self) -> float:
+        """rad/s², what a joint move asked without an acceleration uses (``mvacc`` 0, a wire
+        request without ``acc``): the slowest joint's limit, which every joint can follow."""
+        return float(np.min(self.max_acceleration))
+
+    @property
+    def default_tcp_accel(self) -> float:
+        """m/s², what a linear move asked without an acceleration uses:
+        :data:`DEFAULT_TCP_ACCEL_SHARE` of :attr:`max_tcp_accel`."""
+        return DEFAULT_TCP_ACCEL_SHARE * self.max_tcp_accel
 
 
 def repo_root() -> Path:
@@ -190,8 +206,8 @@ def load_model(name: str) -> RobotModel:
         max_acceleration=_frozen(cfg["max_joint_acceleration_rad_s2"], what=where),
         max_effort=_frozen(effort),
         rated_payload_kg=float(cfg["rated_payload_kg"]),
-        max_tcp_speed_mm_s=float(cfg["max_tcp_speed_mm_s"]),
-        max_tcp_accel_mm_s2=float(cfg["max_tcp_accel_mm_s2"]),
+        max_tcp_speed=float(cfg["max_tcp_speed_mm_s"]) / 1000.0,   # the catalogue's mm
+        max_tcp_accel=float(cfg["max_tcp_accel_mm_s2"]) / 1000.0,
         servo_kp=_frozen(cfg["servo"]["kp"], what=where),
         servo_kd=_frozen(cfg["servo"]["kd"], what=where),
         io_sizes=_io_sizes(cfg.get("io", {})),

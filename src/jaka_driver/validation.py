@@ -7,10 +7,14 @@ in their own terms.
 Units: joints rad, speeds rad/s or mm/s, accelerations rad/s² or mm/s², poses 4x4 in m unless a
 name says mm, durations s.
 
-Move durations: a move slower than :data:`~jaka_driver.motion.trajectory.MAX_MOTION_DURATION`
-(10 min) comes from a units mistake (``mvvelo`` 1e-7, ``mvtime`` 3e38) and is refused; so is an
-``mvtime`` shorter than the move needs. The planners refuse both too, but only the request knows
-which field was at fault: these checks name it (docs/interface.md, "Result codes").
+Move durations: :func:`joint_move_duration` and :func:`linear_move_duration` are the driver's plan
+of a move's duration, by the law every backend times it with (:mod:`jaka_driver.motion.profiles`,
+:func:`jaka_driver.motion.linear_path.line_duration`); the driver hands the result to the backend,
+which plays it (the twin) or sends it as a speed (a controller). A move slower than
+:data:`~jaka_driver.motion.trajectory.MAX_MOTION_DURATION` (10 min) comes from a units mistake
+(``mvvelo`` 1e-7, ``mvtime`` 3e38) and is refused; so is an ``mvtime`` shorter than the move
+needs — here, where the request names the field at fault (docs/interface.md, "Result codes"),
+and nowhere else.
 """
 from __future__ import annotations
 
@@ -19,7 +23,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .constants import SERVO_CYCLE
+from .constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from .models import IO_PATHS, IO_SIGNALS, IO_TYPES, RobotModel
 from .motion.linear_path import line_duration
 from .motion.profiles import SyncJointProfile
@@ -32,7 +36,6 @@ from .transforms import pose_mm_to_matrix
 ABSURD_FACTOR = 10.0
 
 JOG_AXES = ("X", "Y", "Z", "RX", "RY", "RZ")
-MAX_JOG_ROTATION_SPEED = np.pi  # rad/s, cap for RX–RZ jogs
 TOOL_REACH_MM = 1000.0          # |tool offset| bound
 USER_REACH_MM = 10000.0         # |user frame origin| bound
 CENTROID_REACH_MM = 1000.0      # |payload centroid| from the flange
@@ -157,10 +160,11 @@ def servo_step(model: RobotModel, q: np.ndarray, reference: np.ndarray) -> None:
 def servo_tcp_step(model: RobotModel, target: np.ndarray, tcp: np.ndarray) -> None:
     """A servo_p target (4x4, m) whose origin is within one cycle of ``tcp`` at the model's
     TCP speed limit."""
-    tcp_speed = np.linalg.norm(target[:3, 3] - tcp[:3, 3]) / SERVO_CYCLE * 1000
-    if tcp_speed > model.max_tcp_speed_mm_s:
-        raise invalid(f"pose step needs {tcp_speed:.0f} mm/s in one {SERVO_CYCLE * 1000:g} ms "
-                      f"cycle, limit {model.max_tcp_speed_mm_s:.0f} mm/s; the arm holds")
+    tcp_speed = np.linalg.norm(target[:3, 3] - tcp[:3, 3]) / SERVO_CYCLE
+    if tcp_speed > model.max_tcp_speed:
+        raise invalid(f"pose step needs {tcp_speed * 1000:.0f} mm/s in one "
+                      f"{SERVO_CYCLE * 1000:g} ms cycle, limit {model.max_tcp_speed * 1000:.0f} "
+                      "mm/s; the arm holds")
 
 
 # ---- jog, frames, payload -----------------------------------------------------------------------
@@ -173,9 +177,9 @@ def jog_speed(model: RobotModel, coord: int, axis: int, field: str, value: float
         return label, unit, speed(field, value, float(model.max_velocity[axis]), unit,
                                   notes=notes)
     if axis < 3:
-        return JOG_AXES[axis], "mm/s", speed(field, value, model.max_tcp_speed_mm_s, "mm/s",
-                                             notes=notes) / 1000
-    return JOG_AXES[axis], "rad/s", speed(field, value, MAX_JOG_ROTATION_SPEED, "rad/s",
+        return JOG_AXES[axis], "mm/s", speed(field, value, model.max_tcp_speed * 1000.0,
+                                             "mm/s", notes=notes) / 1000.0
+    return JOG_AXES[axis], "rad/s", speed(field, value, MAX_TOOL_ROTATION_SPEED, "rad/s",
                                           notes=notes)
 
 

@@ -96,9 +96,9 @@ def test_fast_linear_move_with_the_rated_payload(twin):
     direction = np.r_[target[:3, 3] - start[:3, 3], 0, 0, 0]
     rates = np.linalg.pinv(twin.backend.kin.jacobian(twin.state().joint_position)) @ (
         direction / np.linalg.norm(direction))                  # rad per m of path
-    speed = min(0.5 * model.max_tcp_speed_mm_s,
+    speed = min(500.0 * model.max_tcp_speed,                   # mm/s, the request's unit
                 500.0 * float(np.min(model.max_velocity / np.abs(rates))))
-    reply = twin.linear_move(matrix_to_pose_mm(target), speed, model.max_tcp_accel_mm_s2,
+    reply = twin.linear_move(matrix_to_pose_mm(target), speed, model.max_tcp_accel * 1000.0,
                              coord_mode=1)
     assert reply.ok, reply.message
     st = twin.state()

@@ -42,11 +42,10 @@ from std_srvs.srv import Empty, SetBool, Trigger
 from ros_harness import START, go_home, Recorder, wait_until
 from jaka_driver import validation as check
 from jaka_driver.models import load_model
-from jaka_driver.motion.linear_path import (MAX_ANGULAR_ACCEL, MAX_ANGULAR_SPEED,
-                                            ROTATION_RADIUS)
-from jaka_driver.motion.profiles import SyncJointProfile, TrapezoidProfile
+from jaka_driver.motion.linear_path import line_duration
+from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.results import CommandRefused
-from jaka_driver.transforms import matrix_to_rpy, pose_to_matrix, rotation_angle_between
+from jaka_driver.transforms import matrix_to_rpy, pose_to_matrix
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, ServoMove,
                            ServoMoveEnable, SetCollision, SetIO, SetPayload, SetTcpFrame,
@@ -346,9 +345,9 @@ def linear_move_plan(fz: Fuzz, f: dict):
     try:
         pose = check.vector("pose", f["pose"])
         mode = check.integer_in("coord_mode", f["coord_mode"], 0, 2)
-        v = check.speed("mvvelo", f["mvvelo"], MODEL.max_tcp_speed_mm_s, "mm/s") / 1000
-        a = check.speed("mvacc", f["mvacc"], MODEL.max_tcp_accel_mm_s2, "mm/s²",
-                        default=MODEL.max_tcp_accel_mm_s2 / 4) / 1000
+        v = check.speed("mvvelo", f["mvvelo"], MODEL.max_tcp_speed * 1000, "mm/s") / 1000
+        a = check.speed("mvacc", f["mvacc"], MODEL.max_tcp_accel * 1000, "mm/s²",
+                        default=MODEL.default_tcp_accel * 1000) / 1000
         if f["has_ref"]:
             check.joint_targets("ref_joint", f["ref_joint"], MODEL)
     except CommandRefused:
@@ -357,15 +356,7 @@ def linear_move_plan(fz: Fuzz, f: dict):
     target = pose_to_matrix(pose, length_scale=1e-3)
     if mode == 2:
         target = start @ target
-    length = float(np.linalg.norm(target[:3, 3] - start[:3, 3]))
-    angle = float(rotation_angle_between(start[:3, :3], target[:3, :3]))
-    w, dw = min(v / ROTATION_RADIUS, MAX_ANGULAR_SPEED), min(a / ROTATION_RADIUS,
-                                                               MAX_ANGULAR_ACCEL)
-    u_speed = min(v / length if length > 1e-12 else INF, w / angle if angle > 1e-12 else INF)
-    u_accel = min(a / length if length > 1e-12 else INF, dw / angle if angle > 1e-12 else INF)
-    if math.isinf(u_speed) or math.isinf(u_accel):
-        return 0.0
-    return TrapezoidProfile(1.0, u_speed, u_accel).duration
+    return line_duration(start, target, v, a)
 
 
 def move_budget(duration) -> float:

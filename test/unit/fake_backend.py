@@ -70,8 +70,9 @@ class FakeBackend(Backend):
     def start_joint_move(self, q_target, speed, accel, duration=None):
         return self._started("start_joint_move", np.array(q_target), speed, accel, duration)
 
-    def start_linear_move(self, target, speed, accel, ref_q=None):
-        return self._started("start_linear_move", np.array(target), speed, accel, ref_q)
+    def start_linear_move(self, target, speed, accel, ref_q=None, duration=None):
+        return self._started("start_linear_move", np.array(target), speed, accel, ref_q,
+                             duration)
 
     def start_trajectory(self, trajectory):
         return self._started("start_trajectory", trajectory)

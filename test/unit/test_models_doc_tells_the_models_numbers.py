@@ -49,8 +49,8 @@ def test_speeds_accelerations_and_tcp_bounds_are_the_models(name):
     expected = np.degrees(m.max_velocity)
     np.testing.assert_allclose(deg * (6 if len(deg) == 1 else 1), expected, atol=0.6)
     np.testing.assert_allclose(_numbers(accel), np.degrees(m.max_acceleration[[0, 3]]), atol=0.6)
-    assert _numbers(tcp_speed)[0] == m.max_tcp_speed_mm_s
-    assert _numbers(tcp_accel)[0] == m.max_tcp_accel_mm_s2
+    assert _numbers(tcp_speed)[0] == pytest.approx(m.max_tcp_speed * 1000, rel=1e-12)   # mm/s
+    assert _numbers(tcp_accel)[0] == pytest.approx(m.max_tcp_accel * 1000, rel=1e-12)
 
 
 def test_the_gallery_shows_every_model():

@@ -189,7 +189,7 @@ def test_yaml_config_is_merged(name):
     assert model.rated_payload_kg == (float(digits) if digits else 1.0)
     assert model.max_acceleration.shape == (6,) and np.all(model.max_acceleration > 0)
     assert np.all(model.max_acceleration <= np.radians(720) + 5e-3)
-    assert model.max_tcp_speed_mm_s >= 1000 and model.max_tcp_accel_mm_s2 > 0
+    assert model.max_tcp_speed >= 1.0 and model.max_tcp_accel > 0       # m/s, m/s²
     assert model.servo_kp.shape == model.servo_kd.shape == (6,)
     assert model.io_sizes[("digital", 0, 0)] == 16 and model.io_sizes[("digital", 0, 1)] == 16
     assert model.io_sizes[("analog", 1, 1)] == 0

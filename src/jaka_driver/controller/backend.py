@@ -40,7 +40,7 @@ from ..backend import Backend
 from ..frames import TOOL, USER_FRAME
 from ..models import RobotModel
 from ..motion.linear_path import line_duration, orientation_limits
-from ..motion.profiles import TrapezoidProfile
+from ..motion.profiles import joint_move_profile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, Field, JogMode
 from ..protocol.status_stream import StatusPacket
@@ -62,6 +62,9 @@ JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
 UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
 MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
 MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
+#: A plan this much (relative) longer than the fastest is stretched; shorter is float noise
+#: between the driver's start and the latest packet's, and the move goes at the speed asked.
+STRETCHED = 1e-6
 #: The highest frame id a controller stores (its tables hold ids 0-10; JAKA's SDK refuses 11).
 MAX_FRAME_ID = TABLE_SIZE - 1
 #: An analog output reads back as set within this (the wire carries 6 decimals).
@@ -300,36 +303,39 @@ class ControllerBackend(Backend):
 
     @answers
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
+        """``joint_move`` taking ``duration`` s (the driver's plan). The wire has no duration:
+        a plan stretched longer than the fastest goes out at its lower peak speed (a stretched
+        trapezoid is the fastest one at its own peak speed), computed by the driver's law
+        (:func:`~jaka_driver.motion.profiles.joint_move_profile`) from the joints the latest
+        packet reports."""
         q_target = np.asarray(q_target, float)
         latest = self.view.latest
-        estimate = UNKNOWN_MOVE_TIME
+        estimate = duration or UNKNOWN_MOVE_TIME
         if latest is not None and np.all(np.isfinite(latest.joint_position)):
-            # The controller synchronises the joints: the longest travel sets the time.
-            longest = float(np.max(np.abs(q_target - latest.joint_position)))
-            estimate = TrapezoidProfile(longest, speed, accel).min_duration
-            if duration:
-                if estimate > duration + 1e-6:
-                    raise CommandRefused(Code.INVALID_PARAMETER,
-                                         f"mvtime {duration:g} s is too short: the move needs "
-                                         f"at least {estimate:.3f} s at the allowed speed")
-                # The wire has no duration: lower the peak speed so the move takes that long.
-                stretched = TrapezoidProfile(longest, speed, accel, duration=duration)
-                speed, estimate = max(stretched.peak_speed, MIN_WIRE_SPEED), duration
+            plan = joint_move_profile(latest.joint_position, q_target,
+                                      np.minimum(speed, self.model.max_velocity),
+                                      np.minimum(accel, self.model.max_acceleration), duration)
+            estimate = plan.duration
+            if plan.duration > plan.predicted_duration * (1.0 + STRETCHED):
+                speed = max(float(np.max(plan.peak_velocity)), MIN_WIRE_SPEED)
         watch = MoveWatch("joint_move", joints_at(q_target), final_error=joint_error(q_target))
         return self._start_move(commands.joint_move(q_target, speed, accel), watch, estimate)
 
     @answers
-    def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
+    def start_linear_move(self, target, speed, accel, ref_q=None, duration=None) -> Result:
         """``moveL`` at ``speed`` m/s and ``accel`` m/s², its orientation at the driver's own
         limits for that speed (``ori_vel``/``ori_acc``, the twin's, so a controller never turns
-        the tool at its own defaults); the estimate is the twin's time law of the same line."""
+        the tool at its own defaults), taking ``duration`` s (the driver's plan; without one,
+        the same law from the TCP the latest packet reports)."""
         pose = matrix_to_pose_mm_rpy(target)
         angular_speed, angular_accel = orientation_limits(speed, accel)
+        estimate = duration
         latest = self.view.latest
-        estimate = UNKNOWN_MOVE_TIME
-        if latest is not None and np.all(np.isfinite(latest.tcp_pose)):
-            estimate = line_duration(pose_mm_rpy_to_matrix(latest.tcp_pose), target, speed,
-                                     accel)
+        if estimate is None:
+            estimate = UNKNOWN_MOVE_TIME
+            if latest is not None and np.all(np.isfinite(latest.tcp_pose)):
+                estimate = line_duration(pose_mm_rpy_to_matrix(latest.tcp_pose), target, speed,
+                                         accel)
         note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
                                            "configuration itself")
         watch = MoveWatch("linear_move", tcp_at(pose), note=note)

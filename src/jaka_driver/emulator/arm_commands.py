@@ -99,7 +99,7 @@ class ArmCommands:
         """A joint-interpolated move's speed and accel (wire deg/s, deg/s² → rad/s, rad/s²).
         Without accel (a fw 1.4.11 client sends none) the joints' own limit is used."""
         speed = math.radians(number(req, Field.SPEED, positive=True))
-        default_accel = math.degrees(float(np.min(self.model.max_acceleration)))
+        default_accel = math.degrees(self.model.default_joint_accel)
         return speed, math.radians(number(req, Field.ACCEL, default=default_accel,
                                           positive=True))
 
@@ -116,7 +116,7 @@ class ArmCommands:
         target = pose(req, Field.CART_POSITION)
         relative = integer(req, Field.REL_FLAG, 0, 1, default=0)
         speed = number(req, Field.SPEED, positive=True) / 1000.0
-        default_accel = self.model.max_tcp_accel_mm_s2 / 4
+        default_accel = self.model.default_tcp_accel * 1000.0      # the wire's mm/s²
         accel = number(req, Field.ACCEL, default=default_accel, positive=True) / 1000.0
         self.c.linear_move((lambda: _relative(self.c.commanded_tcp(), target)) if relative
                            else (lambda: target), speed, accel)

@@ -27,7 +27,7 @@ from typing import Callable, Deque, Optional, Tuple
 import numpy as np
 
 from ..completion import Completion
-from ..constants import SERVO_CYCLE
+from ..constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
 from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, IDENTITY_FIELDS
 from ..results import Code, Result
@@ -50,7 +50,6 @@ NOT_IN_SERVO_MODE = "{} command can only be excuted in servo move mode"
 #: JAKA's SDK reads them; 0 is the flange / the base itself and cannot be set).
 FRAME_IDS = range(0, 11)
 MAX_CLSN_LEVEL = 5
-JOG_ROTATION_SPEED_MAX = np.pi    # rad/s
 QUEUE_SIZE = 64                   # moves the queue holds; one more is refused (queue_full)
 
 #: A queued move: (label, start) where start() returns the twin's Result of a started move.
@@ -299,9 +298,9 @@ class TwinController:
             if coord == 0:
                 speed = min(speed, float(self.model.max_velocity[axis]))
             elif axis < 3:
-                speed = min(speed, self.model.max_tcp_speed_mm_s / 1000.0)
+                speed = min(speed, self.model.max_tcp_speed)
             else:
-                speed = min(speed, JOG_ROTATION_SPEED_MAX)
+                speed = min(speed, MAX_TOOL_ROTATION_SPEED)
             result = self.twin.jog(coord, axis, direction, speed * self.rapid_rate)
             if not result.ok:
                 raise Rejected(f"jog: {result.message}")

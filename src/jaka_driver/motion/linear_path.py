@@ -15,18 +15,16 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ..constants import SERVO_CYCLE
+from ..constants import MAX_TOOL_ROTATION_ACCEL, MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..results import Code, CommandRefused
 from ..transforms import rotation_angle_between, slerp
 from .profiles import TrapezoidProfile
 from .trajectory import MAX_MOTION_DURATION, JointTrajectory, time_grid
 
 # Default orientation limits. A rotation is given the speed a point ROTATION_RADIUS from the
-# axis would have at the linear speed (so a slow move also turns slowly), capped so that a
-# fast move does not whip the tool round.
+# axis would have at the linear speed (so a slow move also turns slowly), capped at the
+# driver's tool rotation limits so that a fast move does not whip the tool round.
 ROTATION_RADIUS = 0.1               # m
-MAX_ANGULAR_SPEED = math.pi         # rad/s
-MAX_ANGULAR_ACCEL = 2.0 * math.pi   # rad/s²
 
 # Translations and rotations below these are "no motion" (float noise of an FK round trip).
 _ZERO_LENGTH = 1e-12                # m
@@ -43,8 +41,8 @@ def orientation_limits(speed: float, accel: float) -> tuple[float, float]:
     speed rad/s, angular acceleration rad/s²). Every backend moves a line's orientation at
     these — the twin in :func:`plan_linear_move`, a controller through ``moveL``'s ``ori_vel``
     and ``ori_acc``."""
-    return (min(speed / ROTATION_RADIUS, MAX_ANGULAR_SPEED),
-            min(accel / ROTATION_RADIUS, MAX_ANGULAR_ACCEL))
+    return (min(speed / ROTATION_RADIUS, MAX_TOOL_ROTATION_SPEED),
+            min(accel / ROTATION_RADIUS, MAX_TOOL_ROTATION_ACCEL))
 
 
 class PlanningError(CommandRefused):
@@ -92,8 +90,7 @@ def plan_linear_move(T_start, T_goal, speed: float, accel: float, q_start, ik: I
     TCP's linear speed / acceleration stay within ``speed`` (m/s) / ``accel`` (m/s²) and its
     angular speed / acceleration within ``angular_speed`` (rad/s) / ``angular_accel``
     (rad/s²); whichever of translation and rotation needs longer sets the time. Defaults:
-    ``speed / ROTATION_RADIUS`` capped at ``MAX_ANGULAR_SPEED``, ``accel / ROTATION_RADIUS``
-    capped at ``MAX_ANGULAR_ACCEL``.
+    :func:`orientation_limits`.
 
     The path is sampled every ``cycle`` s (see :func:`time_grid`). Sample 0 is ``q_start``
     itself (the arm is there; solving IK for it would only add error). Each further sample is

@@ -219,3 +219,16 @@ class SyncJointProfile:
         s, sd, sdd = (np.asarray(x)[..., None] for x in self.law.sample(t))
         q = np.where(t[..., None] >= self.duration, self.q_goal, self.q_start + s * self.delta)
         return q, sd * self.delta, sdd * self.delta
+
+
+def joint_move_profile(q_start, q_goal, v_max, a_max,
+                       duration: Optional[float] = None) -> SyncJointProfile:
+    """The :class:`SyncJointProfile` a backend plays for a joint move the driver planned to take
+    ``duration`` s (``None``: the fastest). The driver planned from where the arm stood when the
+    request came; a backend starts from where it drives the arm now, a tracking error away, so
+    a ``duration`` that this start would need a little more than is taken as the fastest
+    instead of refused (a request's ``mvtime`` that is too short was refused at the door)."""
+    fastest = SyncJointProfile(q_start, q_goal, v_max, a_max)
+    if duration is None or duration <= fastest.duration:
+        return fastest
+    return SyncJointProfile(q_start, q_goal, v_max, a_max, duration=duration)

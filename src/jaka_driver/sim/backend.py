@@ -15,12 +15,12 @@ import numpy as np
 from ..backend import Backend
 from ..clock import make_clock
 from ..completion import Completion
-from ..constants import IN_POSITION, SERVO_CYCLE
+from ..constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..frames import TOOL, USER_FRAME, FrameTable
 from ..kinematics import Kinematics
 from ..models import RobotModel
 from ..motion.linear_path import PlanningError, plan_linear_move
-from ..motion.profiles import SyncJointProfile
+from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
 from ..results import Code, Result
 from ..robot_state import RobotState
@@ -36,7 +36,6 @@ from .servo import JointServo
 from .twin_model import Payload, build_twin_model
 
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
-JOG_ROTATION_ACCEL = 2 * np.pi   # rad/s²
 
 
 class SimBackend(Backend):
@@ -225,19 +224,21 @@ class SimBackend(Backend):
         return Result.success(f"{label} started", (completion, trajectory.duration))
 
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
-        """Plan the synchronised profile and hand it to the physics thread."""
+        """Plan the synchronised profile from the servo setpoint, taking ``duration`` (the
+        driver's plan), and hand it to the physics thread."""
         q0 = self.physics.servo.setpoint.copy()
         v = np.minimum(speed, self.model.max_velocity)
         a = np.minimum(accel, self.model.max_acceleration)
         try:
-            profile = SyncJointProfile(q0, q_target, v, a, duration=duration)
+            profile = joint_move_profile(q0, q_target, v, a, duration)
         except ValueError as exc:
             return Result.failure(Code.INVALID_PARAMETER, str(exc))
         return self._start_run(JointTrajectory.from_profile(profile, SERVO_CYCLE), "joint_move")
 
-    def start_linear_move(self, target, speed, accel, ref_q=None) -> Result:
+    def start_linear_move(self, target, speed, accel, ref_q=None, duration=None) -> Result:
         """Plan the whole line (IK at every cycle, limits, speeds) before anything moves, then
-        hand it to the physics thread."""
+        hand it to the physics thread. The line is timed by the law the driver planned
+        ``duration`` with, from the setpoint's TCP, and sampled every cycle."""
         tool, user = self.frames()
         q0 = self.physics.servo.setpoint.copy()
         start = self.kin.tcp_pose(q0, tool, user)
@@ -262,7 +263,7 @@ class SimBackend(Backend):
             current = self.physics.motion
             label = (coord, axis, direction)
             if isinstance(current, Jog) and current.active and current.label == label:
-                current.target_speed = speed
+                current.command(speed)
                 return Result.success("jogging")
             if current.active and not isinstance(current, Jog):
                 return Result.failure(Code.BUSY, "jog refused: the arm is moving")
@@ -282,7 +283,7 @@ class SimBackend(Backend):
             step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel,
                                         SERVO_CYCLE)
         else:
-            accel = self.model.max_tcp_accel_mm_s2 / 1000.0 if axis < 3 else JOG_ROTATION_ACCEL
+            accel = self.model.max_tcp_accel if axis < 3 else MAX_TOOL_ROTATION_ACCEL
             tool, _ = self.frames()
             step = jog_steps.cartesian_step(self.kin, self.model, axis, direction, coord == 2,
                                             tool, SERVO_CYCLE)

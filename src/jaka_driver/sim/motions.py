@@ -15,6 +15,7 @@ from typing import Callable, Optional, Protocol
 import numpy as np
 
 from ..completion import Completion
+from ..motion.jog import JogVelocity
 from ..motion.trajectory import JointTrajectory
 from ..results import Code, Result
 
@@ -194,36 +195,36 @@ class ServoTarget(Motion):
         return target
 
 
-@dataclass(eq=False)
 class Jog(Motion):
     """Continuous jog: ramp the speed of one axis up to ``speed`` and hold it until told to
-    stop, then ramp down. ``step(q_sp, displacement)`` maps an axis displacement to the next
-    joint setpoint (identity on one joint, or Cartesian + IK); it returns None when the move
-    cannot continue (joint limit, no IK), which ends the jog at once."""
+    stop, then ramp down (the ramp: :class:`~jaka_driver.motion.jog.JogVelocity`).
+    ``step(q_sp, displacement)`` maps an axis displacement to the next joint setpoint (identity
+    on one joint, or Cartesian + IK); it returns None when the move cannot continue (joint
+    limit, no IK), which ends the jog at once. ``label`` (coord, axis, direction): a jog call
+    for the same axis continues it."""
 
-    speed: float                 # rad/s or m/s along the axis
-    accel: float                 # rad/s² or m/s²
-    cycle: float                 # s
-    step: Callable[[np.ndarray, float], Optional[np.ndarray]]
-    label: tuple                 # (coord, axis, direction): a jog call for the same axis continues it
-    v: float = field(default=0.0, init=False)
-    target_speed: float = field(init=False)
-    stop_reason: Optional[str] = field(default=None, init=False)
+    def __init__(self, speed: float, accel: float, cycle: float,
+                 step: Callable[[np.ndarray, float], Optional[np.ndarray]], label: tuple):
+        self.ramp = JogVelocity(accel)       # rad/s or m/s along the axis; rad/s² or m/s²
+        self.ramp.command(speed)
+        self.cycle = cycle                   # s
+        self.step = step
+        self.label = label
+        self.stop_reason: Optional[str] = None
 
-    def __post_init__(self):
-        self.target_speed = self.speed
+    def command(self, speed: float) -> None:
+        """Ramp to ``speed`` (≥ 0) instead: the same axis jogged again."""
+        self.ramp.command(speed)
 
     def stop(self) -> None:
-        self.target_speed = 0.0
+        self.ramp.stop()
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
-        dv = self.accel * self.cycle
-        self.v = min(self.v + dv, self.target_speed) if self.v < self.target_speed \
-            else max(self.v - dv, self.target_speed)
-        if self.v <= 0.0 and self.target_speed == 0.0:
+        v = self.ramp.update(self.cycle)
+        if self.ramp.at_rest:
             self.active = self.moving = False
             return q_sp
-        q = self.step(q_sp, self.v * self.cycle)
+        q = self.step(q_sp, v * self.cycle)
         if q is None:
             self.stop_reason = "limit"
             self.active = self.moving = False
