@@ -89,7 +89,7 @@ def _startup(run: Run) -> None:
 
 
 def _sim(run: Run) -> None:
-    from jaka_driver.models import load_model
+    from jaka_driver.common.models import load_model
 
     from . import joint_move_timing, linear_move_accuracy, node_suite, ros_session
     from sensor_msgs.msg import JointState

@@ -21,8 +21,8 @@ import time
 import numpy as np
 import PyKDL as kdl
 
+from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.kinematics import Kinematics
-from jaka_driver.models import MODEL_NAMES, load_model
 
 from .profiling import describe, hot_functions
 from .kdl_chain import chain_from_urdf, frame_from_matrix, jnt_array

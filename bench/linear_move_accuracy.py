@@ -16,9 +16,9 @@ import numpy as np
 from geometry_msgs.msg import TwistStamped
 
 from jaka_msgs.srv import ClearErr, Move
+from jaka_driver.common.transforms import matrix_to_pose_mm
 from jaka_driver.kinematics import Kinematics
 from jaka_driver.motion.linear_path import PlanningError, plan_linear_move
-from jaka_driver.transforms import matrix_to_pose_mm
 
 from . import ros_session
 from .poses import HOME, PoseSampler

@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from jaka_driver.constants import SERVO_CYCLE  # noqa: E402
+from jaka_driver.common.constants import SERVO_CYCLE  # noqa: E402
 
 from .servo_latency import OBSERVED_P99_MS, observed_latency  # noqa: E402
 from .state_topics import INTERARRIVAL_P99_MS  # noqa: E402

@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from jaka_driver.constants import SERVO_CYCLE  # the twin's cycle, the topics' period
+from jaka_driver.common.constants import SERVO_CYCLE  # the twin's cycle, the topics' period
 
 from .report import REPORT, Row
 from .stats import fmt, summary

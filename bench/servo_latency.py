@@ -25,7 +25,7 @@ from jaka_msgs.srv import ServoMove, ServoMoveEnable
 from . import ros_session
 from .report import REPORT, Row, judged
 from .stats import fmt, summary
-from jaka_driver.constants import SERVO_CYCLE
+from jaka_driver.common.constants import SERVO_CYCLE
 
 ROUND_TRIP_P99_MS = 1.0
 OBSERVED_P99_MS = 16.0

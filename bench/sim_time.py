@@ -64,8 +64,8 @@ def speed_through_ros(stack) -> dict:
 def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
     """Joint samples of every cycle of one run (the client holds the clock from the start)."""
     from jaka_driver.driver import RobotDriver
-    from jaka_driver.models import load_model
-    from jaka_driver.constants import SERVO_CYCLE as CYCLE
+    from jaka_driver.common.models import load_model
+    from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
     from jaka_driver.sim.backend import SimBackend
 
     load = BusyLoad(2).__enter__() if loaded else None

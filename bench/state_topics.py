@@ -88,7 +88,7 @@ def _late_note(s: dict, what: str, value: float, machine_percent: float | None) 
             "publisher, the subscriber's receive thread. The bare timer loop's row (same "
             "load, right after this window) shows what one wake-up at the default priority "
             "gets from this machine. The node asks the kernel for a short time slice for "
-            "its threads (jaka_driver.latency_hint); the subscriber here runs at the "
+            "its threads (jaka_driver.host.latency_hint); the subscriber here runs at the "
             "default, as a user's would. What closes the rest is real-time priority "
             "(SCHED_FIFO) for the node's and the receiving thread: measured here, the "
             "node's threads at SCHED_FIFO took ~0.6 ms off this p99 while the subscriber "

@@ -27,7 +27,7 @@ import time
 import mujoco
 import numpy as np
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim.backend import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 

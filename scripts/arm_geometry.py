@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from arm_catalogue import Arm
-from jaka_driver.transforms import rotvec_to_matrix, rpy_to_matrix
+from jaka_driver.common.transforms import rotvec_to_matrix, rpy_to_matrix
 
 FLANGE_T = 0.012        # m, flange disc thickness
 MIN_TUBE = 0.005        # m, shorter connections are not drawn

@@ -357,7 +357,7 @@ def backend(fake):
 def start_backend(fake: "FakeController", model="zu5", source: str = "stream"):
     """A ControllerBackend connected to ``fake`` (status from ``source``), started."""
     from jaka_driver.controller import ControllerBackend
-    from jaka_driver.models import load_model
+    from jaka_driver.common.models import load_model
     backend = ControllerBackend(load_model(model), "127.0.0.1", fake.command_port,
                                 fake.status_port, status_source=source,
                                 data_port=fake.data_port, call_timeout=2.0, stall_timeout=2.0)

@@ -2,8 +2,8 @@
 (which is what waits in the driver: RobotDriver._run_move)."""
 from __future__ import annotations
 
-from jaka_driver.constants import move_deadline
-from jaka_driver.results import Result
+from jaka_driver.common.constants import move_deadline
+from jaka_driver.common.results import Result
 
 
 def run_move(started: Result) -> Result:

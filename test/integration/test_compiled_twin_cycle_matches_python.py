@@ -10,7 +10,7 @@ last bit. Real MuJoCo; the cycles are stepped one by one here (no real-time thre
 import numpy as np
 import pytest
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim import native_drives
 from jaka_driver.sim.backend import SimBackend
 from jaka_driver.sim.motions import ServoTarget

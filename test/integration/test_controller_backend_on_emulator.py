@@ -11,14 +11,14 @@ import pytest
 
 from ros_harness import wait_until
 
+from jaka_driver.backend.robot_state import MotionState
+from jaka_driver.common.results import Code
+from jaka_driver.common.transforms import pose_mm_to_matrix
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
 from jaka_driver.emulator import Emulator
 from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.motion.trajectory import JointTrajectory
-from jaka_driver.results import Code
-from jaka_driver.robot_state import MotionState
-from jaka_driver.transforms import pose_mm_to_matrix
 from move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])

@@ -17,8 +17,8 @@ from fake_controller import FakeController, load_status_packet, load_transcript,
 from move_helpers import run_move
 from ros_harness import wait_until
 
-from jaka_driver.results import Code
-from jaka_driver.transforms import pose_to_matrix, rpy_to_matrix
+from jaka_driver.common.results import Code
+from jaka_driver.common.transforms import pose_to_matrix, rpy_to_matrix
 
 START_DEG = json.loads(load_status_packet())["joint_actual_position"]
 

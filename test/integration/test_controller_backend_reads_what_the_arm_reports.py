@@ -21,10 +21,10 @@ from fake_controller import FakeController, load_status_packet, load_transcript,
 from move_helpers import run_move
 from ros_harness import wait_until
 
+from jaka_driver.common.results import Code
+from jaka_driver.common.transforms import pose_mm_rpy_to_matrix, pose_to_matrix
 from jaka_driver.kinematics.controller_dh import CALIBRATION_TOLERANCE
 from jaka_driver.motion.linear_path import line_duration
-from jaka_driver.results import Code
-from jaka_driver.transforms import pose_mm_rpy_to_matrix, pose_to_matrix
 
 PACKET = json.loads(load_status_packet())
 

@@ -13,12 +13,12 @@ import pytest
 
 from ros_harness import free_port, wait_until
 
+from jaka_driver.backend.robot_state import MotionState
+from jaka_driver.common.models import load_model
+from jaka_driver.common.results import Code
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.process import EmulatorProcess
-from jaka_driver.models import load_model
-from jaka_driver.results import Code
-from jaka_driver.robot_state import MotionState
 from move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])

@@ -16,8 +16,8 @@ import pytest
 from fake_controller import backend, fake  # noqa: F401 - fixtures
 from ros_harness import wait_until
 
-from jaka_driver.results import Code
-from jaka_driver.transforms import pose_to_matrix
+from jaka_driver.common.results import Code
+from jaka_driver.common.transforms import pose_to_matrix
 
 
 def names_after(fake, count):

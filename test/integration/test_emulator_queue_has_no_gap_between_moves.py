@@ -11,8 +11,8 @@ import threading
 
 import numpy as np
 
+from jaka_driver.common.models import load_model
 from jaka_driver.emulator.twin_controller import TwinController
-from jaka_driver.models import load_model
 from jaka_driver.sim.backend import SimBackend
 
 

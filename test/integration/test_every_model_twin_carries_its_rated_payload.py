@@ -14,10 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.driver import RobotDriver
-from jaka_driver.models import MODEL_NAMES, load_model
 from jaka_driver.sim.backend import SimBackend
-from jaka_driver.transforms import matrix_to_pose_mm, pose_mm_to_matrix, rotation_angle_between
+from jaka_driver.common.transforms import (matrix_to_pose_mm, pose_mm_to_matrix,
+                                          rotation_angle_between)
 
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "jaka_chains" / "flange_poses.json"
 POSES = json.loads(FIXTURE.read_text())

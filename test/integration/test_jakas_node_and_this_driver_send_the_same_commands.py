@@ -25,8 +25,8 @@ import pytest
 from ros_harness import wait_until
 from fake_controller import FakeController, start_backend
 
+from jaka_driver.common.transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
 from jaka_driver.driver import RobotDriver
-from jaka_driver.transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
 
 # ---- the conventions in which the two may differ, and why ----------------------------------------
 CONVENTIONS = {

@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim.backend import SimBackend
 
 STEP_RAD = 0.0005       # every joint, from rest: reached within one cycle (~0.06 rad/s)

@@ -11,11 +11,11 @@ import pytest
 
 from ros_harness import wait_until
 
-from jaka_driver.clock import SimClock
+from jaka_driver.backend.clock import SimClock
+from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
+from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
-from jaka_driver.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
-from jaka_driver.constants import SERVO_CYCLE as CYCLE
 from jaka_driver.sim.backend import SimBackend
 
 MODEL = load_model("zu5")

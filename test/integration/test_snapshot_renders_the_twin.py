@@ -10,7 +10,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from jaka_driver.models import MODEL_NAMES, load_model
+from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.sim.snapshot import BACKGROUND, TwinCamera, write_png
 from jaka_driver.sim.twin_model import build_twin_model
 from pictures import arm_pixels, read_png

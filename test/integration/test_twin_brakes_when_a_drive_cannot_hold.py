@@ -14,7 +14,7 @@ import time
 import numpy as np
 import pytest
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim.backend import SimBackend
 from jaka_driver.sim.overload import FOLLOWING_ERROR_LIMIT, holding_torque
 from move_helpers import run_move

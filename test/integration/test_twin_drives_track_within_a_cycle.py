@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim.backend import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 

@@ -17,8 +17,8 @@ import pytest
 
 from ros_harness import LaunchProcess, Services, position
 
-from jaka_driver.models import MODEL_NAMES, load_model
-from jaka_driver.transforms import pose_mm_to_matrix, rotation_angle_between
+from jaka_driver.common.models import MODEL_NAMES, load_model
+from jaka_driver.common.transforms import pose_mm_to_matrix, rotation_angle_between
 
 pytestmark = pytest.mark.ros
 

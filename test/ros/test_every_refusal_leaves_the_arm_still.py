@@ -308,7 +308,7 @@ def refused(service: str, reply) -> bool:
 
 
 def servo_p_target_100_mm_away(tcp) -> list:
-    from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
+    from jaka_driver.common.transforms import matrix_to_rpy, rotvec_to_matrix
     msg = wait_until(tcp.latest, 2.0)
     p = [msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z + 0.1]
     a = msg.twist.angular

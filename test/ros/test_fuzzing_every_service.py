@@ -40,12 +40,12 @@ from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty, SetBool, Trigger
 
 from ros_harness import START, go_home, Recorder, wait_until
-from jaka_driver import validation as check
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
+from jaka_driver.common.results import CommandRefused
+from jaka_driver.common.transforms import matrix_to_rpy, pose_to_matrix
+from jaka_driver.driver import checks as check
 from jaka_driver.motion.linear_path import line_duration
 from jaka_driver.motion.profiles import SyncJointProfile
-from jaka_driver.results import CommandRefused
-from jaka_driver.transforms import matrix_to_rpy, pose_to_matrix
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, ServoMove,
                            ServoMoveEnable, SetCollision, SetIO, SetPayload, SetTcpFrame,
@@ -398,7 +398,7 @@ def joint_move(fz: Fuzz, data):
 
 
 def linear_move(fz: Fuzz, data):
-    from jaka_driver.transforms import matrix_to_pose
+    from jaka_driver.common.transforms import matrix_to_pose
     clean = data.draw(st.booleans(), label="clean")
     coord_mode = field(data, clean, "coord_mode", st.sampled_from([2, 0, 1]), int16)
     if coord_mode == 2:
@@ -576,7 +576,7 @@ def get_fk(fz: Fuzz, data):
 
 
 def get_ik(fz: Fuzz, data):
-    from jaka_driver.transforms import matrix_to_pose
+    from jaka_driver.common.transforms import matrix_to_pose
     ref = data.draw(st.sampled_from(["current", "empty", "wild"]), label="ref")
     ref_joint = (fz.joints() + 0.05).tolist() if ref == "current" else [] if ref == "empty" \
         else data.draw(wild_vector, label="ref_joint")

@@ -117,7 +117,7 @@ def test_calling_again_keeps_the_jog_alive(call, joints):
 
 @pytest.mark.parametrize("coord", [0, 1, 2])
 def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
-    from jaka_driver.transforms import rotvec_to_matrix
+    from jaka_driver.common.transforms import rotvec_to_matrix
     for index in range(12):
         axis, sign = index // 2, (-1 if index % 2 else 1)
         # where the arm rests before the jog, joints and TCP of one sample; 0.4 s of sim
@@ -146,7 +146,7 @@ def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
             assert sign * moved[axis] > 0.01, (coord, index, moved)
             assert np.max(np.abs(np.delete(moved, axis))) < 1e-3
         else:
-            from jaka_driver.transforms import matrix_to_rotvec
+            from jaka_driver.common.transforms import matrix_to_rotvec
             turn = matrix_to_rotvec(r1 @ r0.T) if coord == 1 else matrix_to_rotvec(r0.T @ r1)
             assert sign * turn[axis - 3] > 0.03, (coord, index, turn)
             assert np.linalg.norm(b - a) < 1e-3      # rotation about the TCP: it stays put

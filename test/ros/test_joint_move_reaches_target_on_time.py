@@ -8,7 +8,7 @@ import pytest
 from ros_harness import START, at_rest, go_home, position
 from jaka_msgs.srv import Move
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
 
 pytestmark = pytest.mark.ros

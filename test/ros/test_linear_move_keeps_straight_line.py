@@ -51,7 +51,7 @@ def test_tcp_deviates_less_than_half_a_millimetre_at_100_mm_s(call, joints, tcp)
     final = current_pose_mm(call, joints)
     assert np.linalg.norm(final[:3] - target[:3]) <= 0.1
     # compare rotations, not vectors: at 180° a rotation vector and its negative are equal
-    from jaka_driver.transforms import rotation_angle_between, rotvec_to_matrix
+    from jaka_driver.common.transforms import rotation_angle_between, rotvec_to_matrix
     assert rotation_angle_between(rotvec_to_matrix(final[3:]), rotvec_to_matrix(target[3:])) <= 1e-3
 
 
@@ -73,7 +73,7 @@ def test_coord_mode_2_moves_relative_to_the_tool(call, joints):
     reply = linear(call, [0, 0, 50.0, 0, 0, 0], coord_mode=2)
     assert reply.ret == 1, reply.message
     end = current_pose_mm(call, joints)
-    from jaka_driver.transforms import rotvec_to_matrix
+    from jaka_driver.common.transforms import rotvec_to_matrix
     tool_z = rotvec_to_matrix(start[3:])[:, 2]
     assert np.allclose(end[:3] - start[:3], 50.0 * tool_z, atol=0.1)
 

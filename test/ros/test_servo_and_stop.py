@@ -54,7 +54,7 @@ def test_servo_p_follows_a_cartesian_target_in_metres_and_rpy(call, sim_driver, 
     try:
         assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
         msg = wait_until(tcp.latest, 2.0)
-        from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
+        from jaka_driver.common.transforms import matrix_to_rpy, rotvec_to_matrix
         p = np.array([msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z])
         rpy = matrix_to_rpy(rotvec_to_matrix([msg.twist.angular.x, msg.twist.angular.y,
                                               msg.twist.angular.z]))
@@ -113,7 +113,7 @@ def test_a_second_motion_during_a_blocking_move_is_busy(call, joints):
 
 
 def test_servo_j_may_follow_servo_p_in_one_stream(call, sim_driver, rospy_node, tcp, joints):
-    from jaka_driver.transforms import matrix_to_rpy, rotvec_to_matrix
+    from jaka_driver.common.transforms import matrix_to_rpy, rotvec_to_matrix
     assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
     msg = wait_until(tcp.latest, 2.0)
     p = [msg.twist.linear.x, msg.twist.linear.y, msg.twist.linear.z + 0.001]

@@ -38,7 +38,7 @@ def test_tool_frame_moves_the_reported_tcp_along_the_flange_axes(call):
     assert call("set_toolframe", SetTcpFrame, pose=[0, 0, 100.0, 0, 0, 0], tool_num=1).ret == 1
     try:
         tool = fk(call, START)
-        from jaka_driver.transforms import rotvec_to_matrix
+        from jaka_driver.common.transforms import rotvec_to_matrix
         z = rotvec_to_matrix(flange[3:])[:, 2]
         assert np.allclose(tool[:3] - flange[:3], 100.0 * z, atol=1e-3)
     finally:

@@ -11,7 +11,7 @@ from ros_harness import (START, Recorder, go_home, sample_at, sim_sleep, start_s
                          stamp, wait_until)
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.motion.profiles import SyncJointProfile
 
 pytestmark = pytest.mark.ros

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from jaka_driver.models import load_model
+from jaka_driver.common.models import load_model
 from jaka_driver.sim.snapshot import TwinCamera
 from pictures import read_png
 from ros_harness import at_rest

@@ -100,7 +100,7 @@ def _kernel_has_custom_slices() -> bool:
 
 def test_every_node_thread_asks_the_kernel_for_a_short_time_slice(sim_driver):
     """Set once in the main thread before rospy and the twin start theirs, so the physics,
-    publisher and service threads all wake as latency-sensitive (jaka_driver.latency_hint)."""
+    publisher and service threads all wake as latency-sensitive (jaka_driver.host.latency_hint)."""
     slices = {}
     for task in Path(f"/proc/{sim_driver.proc.pid}/task").iterdir():
         sched = (task / "sched").read_text()

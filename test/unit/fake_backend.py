@@ -8,10 +8,10 @@ import time
 import numpy as np
 
 from jaka_driver.backend import Backend
-from jaka_driver.completion import Completion
-from jaka_driver.models import load_model
-from jaka_driver.results import Code, Result
-from jaka_driver.robot_state import RobotState
+from jaka_driver.backend.completion import Completion
+from jaka_driver.backend.robot_state import RobotState
+from jaka_driver.common.models import load_model
+from jaka_driver.common.results import Code, Result
 
 START = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 

@@ -11,7 +11,7 @@ import pytest
 from jaka_driver.kinematics.controller_dh import (CALIBRATION_TOLERANCE, DHParameters,
                                                   chain_difference, dh_of_model, fit_chain,
                                                   flange_pose)
-from jaka_driver.models import MODEL_NAMES, load_model
+from jaka_driver.common.models import MODEL_NAMES, load_model
 
 RNG = np.random.default_rng(7)
 Q = RNG.uniform(-np.pi, np.pi, (100, 6))

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from jaka_driver.common.models import MODEL_NAMES, load_model
+from jaka_driver.common.transforms import rotation_angle_between
 from jaka_driver.kinematics import Kinematics
 from jaka_driver.kinematics.chain import axes_at_zero, joint_frames
-from jaka_driver.models import MODEL_NAMES, load_model
-from jaka_driver.transforms import rotation_angle_between
 
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "jaka_chains" / "flange_poses.json"
 POSES = json.loads(FIXTURE.read_text())

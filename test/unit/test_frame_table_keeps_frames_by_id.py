@@ -2,8 +2,8 @@
 never stored reads as the identity and is reported once, what is read is a copy."""
 import numpy as np
 
-from jaka_driver.frames import TOOL, USER_FRAME, FrameTable
-from jaka_driver.transforms import pose_mm_to_matrix
+from jaka_driver.common.frames import TOOL, USER_FRAME, FrameTable
+from jaka_driver.common.transforms import pose_mm_to_matrix
 
 TOOL_1 = pose_mm_to_matrix([0, 0, 100, 0, 0, np.pi / 2])
 USER_3 = pose_mm_to_matrix([300, -200, 50, 0, 0, 0.3])

@@ -11,9 +11,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from jaka_driver.common.models import load_model
+from jaka_driver.common.transforms import pose_to_matrix
 from jaka_driver.kinematics import Kinematics
-from jaka_driver.models import load_model
-from jaka_driver.transforms import pose_to_matrix
 
 Q = np.array([0.2, 1.0, -1.2, 0.8, 1.0, 0.3])
 

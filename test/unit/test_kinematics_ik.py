@@ -5,9 +5,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from jaka_driver.common.models import MODEL_NAMES, load_model
+from jaka_driver.common.transforms import pose_to_matrix, rotation_angle_between, rotvec_to_matrix
 from jaka_driver.kinematics import IkResult, Kinematics
-from jaka_driver.models import MODEL_NAMES, load_model
-from jaka_driver.transforms import pose_to_matrix, rotation_angle_between, rotvec_to_matrix
 
 
 @pytest.fixture(scope="module", params=MODEL_NAMES)

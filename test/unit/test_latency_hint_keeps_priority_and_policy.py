@@ -9,11 +9,11 @@ import sys
 
 import pytest
 
-from jaka_driver.latency_hint import SLICE_S
+from jaka_driver.host.latency_hint import SLICE_S
 
 CHILD = """
 import os, threading
-from jaka_driver import latency_hint
+from jaka_driver.host import latency_hint
 message = latency_hint.request_short_slice()
 seen = []
 t = threading.Thread(target=lambda: seen.append(latency_hint.current_slice_s()))

@@ -11,8 +11,8 @@ import re
 import numpy as np
 import pytest
 
+from jaka_driver.common.results import CommandRefused
 from jaka_driver.motion.linear_path import PlanningError, line_duration, plan_linear_move
-from jaka_driver.results import CommandRefused
 
 LOWER, UPPER = np.full(6, -2.0), np.full(6, 2.0)
 V_MAX = np.full(6, 3.14)

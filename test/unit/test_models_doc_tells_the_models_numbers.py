@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from jaka_driver.models import MODEL_NAMES, load_model
+from jaka_driver.common.models import MODEL_NAMES, load_model
 
 DOC = (Path(__file__).resolve().parents[2] / "docs" / "models.md").read_text()
 

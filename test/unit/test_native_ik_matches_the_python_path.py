@@ -10,9 +10,9 @@ refusal. ``make setup`` builds the library, so the suite requires it to be loade
 import numpy as np
 import pytest
 
+from jaka_driver.common.models import MODEL_NAMES, load_model
+from jaka_driver.common.transforms import pose_to_matrix
 from jaka_driver.kinematics import Kinematics
-from jaka_driver.models import MODEL_NAMES, load_model
-from jaka_driver.transforms import pose_to_matrix
 
 N = 400
 

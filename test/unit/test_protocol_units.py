@@ -1,6 +1,7 @@
 """The unit edge of the protocol: deg ⇄ rad, wire poses (mm, RPY deg) ⇄ the protocol API's poses
 (mm, RPY rad), and the chain the callers use to reach driver poses (mm, rotation vector rad,
-through jaka_driver.transforms, R = Rz·Ry·Rx), including angle 0, angle π and pitch ±90°."""
+through jaka_driver.common.transforms, R = Rz·Ry·Rx), including angle 0, angle π and pitch
+±90°."""
 import math
 
 import numpy as np
@@ -8,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jaka_driver import transforms
+from jaka_driver.common import transforms
 from jaka_driver.protocol import units
 
 

@@ -14,7 +14,7 @@ without depending on how the threads happen to be scheduled:
 import threading
 import time
 
-from jaka_driver.clock import SimClock
+from jaka_driver.backend.clock import SimClock
 
 CYCLE = 0.008
 IN_CYCLE_S = 0.3          # wall time a cycle stays "being stepped": 6 wall slices

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from fake_backend import START, FakeBackend
+from jaka_driver.common.results import Result
+from jaka_driver.common.transforms import pose_mm_to_matrix
 from jaka_driver.driver import RobotDriver
 from jaka_driver.motion.linear_path import line_duration
 from jaka_driver.motion.profiles import SyncJointProfile, joint_move_profile
-from jaka_driver.results import Result
-from jaka_driver.transforms import pose_mm_to_matrix
 from ros_harness import wait_until
 
 TARGET = START + np.array([0.3, -0.2, 0.1, 0, 0, 0.4])

@@ -4,7 +4,7 @@ import pinocchio as pin
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from jaka_driver.transforms import (matrix_to_pose, matrix_to_quat, matrix_to_rotvec,
+from jaka_driver.common.transforms import (matrix_to_pose, matrix_to_quat, matrix_to_rotvec,
                                     matrix_to_rpy, pose_to_matrix, quat_to_matrix,
                                     rotation_angle_between, rotvec_to_matrix, rpy_to_matrix,
                                     slerp)

@@ -17,9 +17,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from jaka_driver.models import MODEL_NAMES, load_model, repo_root
+from jaka_driver.common.models import MODEL_NAMES, load_model, repo_root
+from jaka_driver.common.transforms import matrix_to_rpy, rpy_to_matrix
 from jaka_driver.sim.overload import HOLDING_SHARE
-from jaka_driver.transforms import matrix_to_rpy, rpy_to_matrix
 
 ROOT = Path(__file__).resolve().parents[2]
 

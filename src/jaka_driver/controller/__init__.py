@@ -3,7 +3,7 @@
 * :mod:`.backend` — :class:`ControllerBackend`, the :class:`~jaka_driver.backend.Backend`
   contract on the protocol library.
 * :mod:`.connection` — :class:`ControllerLink`, both connections and the reconnect supervisor.
-* :mod:`.status_view` — status packets → :class:`~jaka_driver.robot_state.RobotState`.
+* :mod:`.status_view` — status packets → :class:`~jaka_driver.backend.robot_state.RobotState`.
 * :mod:`.move_watch` — when an accepted move has ended, from the status stream.
 * :mod:`.servo_stream` — trajectories as a ``servo_j`` stream.
 """

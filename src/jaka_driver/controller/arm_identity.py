@@ -17,10 +17,10 @@ from typing import Callable, Dict, Optional
 
 from ..kinematics.controller_dh import (CALIBRATION_TOLERANCE, DHParameters, chain_difference,
                                         dh_of_model)
-from ..models import RobotModel
+from ..common.models import RobotModel
+from ..common.results import CommandRefused
 from ..protocol import commands
 from ..protocol.fields import Field
-from ..results import CommandRefused
 
 log = logging.getLogger(__name__)
 

@@ -37,16 +37,16 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..backend import Backend
-from ..frames import TOOL, USER_FRAME
-from ..models import RobotModel
+from ..backend.robot_state import RobotState
+from ..common.frames import TOOL, USER_FRAME
+from ..common.models import RobotModel
+from ..common.results import Code, CommandRefused, Result
+from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..motion.linear_path import line_duration, orientation_limits
 from ..motion.profiles import joint_move_profile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, Field, JogMode
 from ..protocol.status_stream import StatusPacket
-from ..results import Code, CommandRefused, Result
-from ..robot_state import RobotState
-from ..transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from .arm_identity import ArmIdentity
 from .commander import Commander, answers
 from .connection import ControllerLink

@@ -1,7 +1,7 @@
 """Requests to the controller, answered in the contract's terms.
 
 :class:`Commander` sends one request over a :class:`~.connection.ControllerLink` and turns what
-can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the contract's code
+can go wrong into a :class:`~jaka_driver.common.results.CommandRefused` carrying the contract's code
 (docs/interface.md, "Result codes"):
 
 * link down, or lost during the call → -1 at once (nothing waits for a link that is not there);
@@ -12,7 +12,7 @@ can go wrong into a :class:`~jaka_driver.results.CommandRefused` carrying the co
 * a setting the controller acknowledged but does not report within :data:`SETTLE_TIMEOUT`
   (:meth:`Commander.settled`) → 2: it did not do it.
 
-:func:`answers` turns such a refusal back into the method's :class:`~jaka_driver.results.Result`,
+:func:`answers` turns such a refusal back into the method's :class:`~jaka_driver.common.Result`,
 so backend methods never raise.
 """
 from __future__ import annotations
@@ -21,10 +21,10 @@ import functools
 import time
 from typing import Any, Callable, Mapping, Optional, TypeVar
 
+from ..common.results import Code, CommandRefused, Result
 from ..protocol import errors
 from ..protocol.replies import Reply
 from ..protocol.status_stream import StatusPacket
-from ..results import Code, CommandRefused, Result
 from .connection import ControllerLink
 from .status_view import StatusView
 

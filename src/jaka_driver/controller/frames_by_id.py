@@ -4,7 +4,7 @@ A controller stores tools and user frames by id — 11 of each, ids 0–10, id 0
 the base itself — and answers ``get_tool_offsets`` / ``get_user_offsets`` with the whole table,
 row = id, [x, y, z mm, rx, ry, rz deg RPY] (docs/protocol.md, "Frames"). So a frame defined on
 the teach pendant can be read back. :class:`ControllerFrames` keeps the driver's copy in a
-:class:`~jaka_driver.frames.FrameTable`:
+:class:`~jaka_driver.common.frames.FrameTable`:
 
 * both tables are read at every connection (:meth:`ControllerFrames.read_all`);
 * a table is read again, in a thread of its own, when the status stream shows its active id
@@ -24,10 +24,10 @@ from typing import Callable, Dict, Optional
 
 import numpy as np
 
-from ..frames import TOOL, USER_FRAME, FrameTable
+from ..common.frames import TOOL, USER_FRAME, FrameTable
+from ..common.results import CommandRefused
+from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol import commands
-from ..results import CommandRefused
-from ..transforms import pose_mm_rpy_to_matrix
 
 log = logging.getLogger(__name__)
 

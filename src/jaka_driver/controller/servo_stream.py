@@ -19,10 +19,10 @@ from typing import Callable, Iterator, Optional, Tuple
 
 import numpy as np
 
-from ..completion import Completion
-from ..constants import SERVO_CYCLE
+from ..backend.completion import Completion
+from ..common.constants import SERVO_CYCLE
+from ..common.results import Code, Result
 from ..protocol import commands, errors
-from ..results import Code, Result
 from .move_watch import MoveWatch, joints_at
 
 log = logging.getLogger(__name__)

@@ -27,9 +27,9 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
+from ..backend.robot_state import RobotState
+from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.status_stream import StatusPacket
-from ..robot_state import RobotState
-from ..transforms import pose_mm_rpy_to_matrix
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
 

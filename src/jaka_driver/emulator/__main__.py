@@ -14,8 +14,8 @@ import signal
 import sys
 import threading
 
-from .. import latency_hint
-from ..models import MODEL_NAMES
+from ..common.models import MODEL_NAMES
+from ..host import latency_hint
 from .handlers import EMULATOR_COMMANDS
 from .profiles import DEFAULT_PROFILE, PROFILES, START_STATES
 

@@ -19,7 +19,7 @@ import dataclasses
 import logging
 from typing import Optional, Union
 
-from ..models import RobotModel, load_model
+from ..common.models import RobotModel, load_model
 from ..sim.backend import SimBackend
 from .handlers import CommandHandlers
 from .profiles import DEFAULT_PROFILE, START_STATES, ControllerProfile, profile_named
@@ -32,7 +32,7 @@ log = logging.getLogger(__name__)
 
 class Emulator:
     """A JAKA controller emulated on the twin of ``model`` (a name such as ``"zu5"`` or a
-    :class:`~jaka_driver.models.RobotModel`), serving ``host`` on the three ports.
+    :class:`~jaka_driver.common.models.RobotModel`), serving ``host`` on the three ports.
 
     ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default the
     recorded Zu 5s on fw 1.5.14); ``period`` (s between status packets) and ``start``

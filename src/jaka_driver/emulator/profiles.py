@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping, Tuple
 
-from ..constants import SERVO_CYCLE
+from ..common.constants import SERVO_CYCLE
 
 #: Start states and what they are.
 START_WORDS = {"off": "powered off and disabled", "on": "powered on, disabled",

@@ -29,7 +29,7 @@ import threading
 import time
 from typing import Callable, Dict, List
 
-from ..constants import SERVO_CYCLE
+from ..common.constants import SERVO_CYCLE
 from ..protocol.fields import DATA_REQUEST_MAX_BYTES, ERROR_CODE_FAILED, Cmd, Field
 from ..protocol.status_stream import encode_data_reply, encode_status
 from .framing import RequestSplitter

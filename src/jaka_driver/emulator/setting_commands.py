@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
-from ..frames import TOOL, USER_FRAME
+from ..common.frames import TOOL, USER_FRAME
 from ..kinematics.controller_dh import dh_of_model
 from ..protocol.fields import Cmd, Field
 from .replies import Answer, done

@@ -29,9 +29,9 @@ from typing import Any, Dict, List, Tuple
 
 import numpy as np
 
+from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import units
 from ..protocol.fields import InterpState, IOType, StatusField as S, TaskState
-from ..transforms import matrix_to_pose_mm_rpy
 from .twin_controller import TwinController
 
 ERRCODE_COLLISION = 0xE001

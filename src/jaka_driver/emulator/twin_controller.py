@@ -26,13 +26,13 @@ from typing import Callable, Deque, Optional, Tuple
 
 import numpy as np
 
-from ..completion import Completion
-from ..constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
-from ..frames import TOOL, USER_FRAME, FrameTable
+from ..backend.completion import Completion
+from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
+from ..common.frames import TOOL, USER_FRAME, FrameTable
+from ..common.joint_limits import fastest_step, outside_limits
+from ..common.results import Code, Result
 from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, IDENTITY_FIELDS
-from ..results import Code, Result
 from ..sim.backend import SimBackend
-from ..validation import fastest_step, outside_limits
 from .profiles import DEFAULT_PROFILE, ControllerProfile, profile_named
 from .torque_sensor import TorqueSensorSettings
 

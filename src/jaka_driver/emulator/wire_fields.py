@@ -10,11 +10,11 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
+from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol import units
 from ..protocol.errors import ProtocolError
 from ..protocol.fields import Field
 from ..protocol.wire import as_flag, float_vector
-from ..transforms import pose_mm_rpy_to_matrix
 from .twin_controller import ERROR_REQUEST, Rejected
 
 _SHOWN = 80   # characters of a bad value quoted in a refusal

@@ -16,7 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..transforms import rotvec_to_matrix
+from ..common.transforms import rotvec_to_matrix
 from .chain import Axis, snapped
 
 _Y = np.array([0.0, 1.0, 0.0])

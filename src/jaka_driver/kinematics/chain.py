@@ -1,6 +1,6 @@
 """The arm's nominal chain as geometry: joint frames, joint axes at q = 0, the flange at q = 0.
 
-Plain numpy on :attr:`jaka_driver.models.RobotModel.chain` (the URDF's joints as written), so
+Plain numpy on :attr:`jaka_driver.common.models.RobotModel.chain` (the URDF's joints as written), so
 the same geometry can be read without Pinocchio and compared with any other description of
 the arm — DH parameters, a controller's own — by the lines its joints turn about at q = 0 and
 the flange pose there, which do not depend on how a file chooses its link frames. The IK
@@ -15,8 +15,8 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-from ..models import Placement
-from ..transforms import rotvec_to_matrix, rpy_to_matrix
+from ..common.models import Placement
+from ..common.transforms import rotvec_to_matrix, rpy_to_matrix
 
 
 class Axis(NamedTuple):

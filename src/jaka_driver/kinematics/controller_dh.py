@@ -27,7 +27,7 @@ from typing import Iterable, NamedTuple, Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..models import RobotModel
+from ..common.models import RobotModel
 
 #: Worst flange-position difference (m) between two parameter sets, over :data:`_SAMPLES`, that
 #: a calibration of one arm can explain. A calibrated Zu 5 (parameters read from a real

@@ -21,7 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..transforms import rotvec_to_matrix
+from ..common.transforms import rotvec_to_matrix
 from .arm_plane import ArmPlane, angle_about
 from .branches import Branches
 from .chain import axes_at_zero, closest_points, joint_frames, snapped

@@ -28,14 +28,14 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ..models import RobotModel
+from ..common.models import RobotModel
 from . import native
 from .branches import Branches
 from .chain import z_axis_placements
 from .closed_form import ClosedForm, zu_geometry
 from .forearm_roll import ForearmRoll
-from .spherical_wrist import SLACK, SphericalWrist
 from .numeric import FINISH_DLS_STEPS, NumericIk
+from .spherical_wrist import SLACK, SphericalWrist
 
 _I4 = np.eye(4)
 _I4.setflags(write=False)

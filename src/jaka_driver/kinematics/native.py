@@ -22,7 +22,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .. import native_library
+from ..host import native_library
 
 LIBRARY = "libjaka_ik.so"
 _DoubleP = ctypes.POINTER(ctypes.c_double)
@@ -44,7 +44,7 @@ class _Chain(ctypes.Structure):
 
 
 def library_path() -> Path:
-    """``$JAKA_IK_LIB``, else where :func:`jaka_driver.native_library.path` finds it."""
+    """``$JAKA_IK_LIB``, else where :func:`jaka_driver.host.native_library.path` finds it."""
     return native_library.path(LIBRARY, "JAKA_IK_LIB")
 
 

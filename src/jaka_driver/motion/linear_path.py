@@ -15,9 +15,9 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ..constants import MAX_TOOL_ROTATION_ACCEL, MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
-from ..results import Code, CommandRefused
-from ..transforms import rotation_angle_between, slerp
+from ..common.constants import MAX_TOOL_ROTATION_ACCEL, MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
+from ..common.results import Code, CommandRefused
+from ..common.transforms import rotation_angle_between, slerp
 from .profiles import TrapezoidProfile
 from .trajectory import MAX_MOTION_DURATION, JointTrajectory, time_grid
 

@@ -7,7 +7,7 @@ being roll/pitch/yaw with ``R = Rz(rz) · Ry(ry) · Rx(rx)``.
 The protocol library's API speaks the units of JAKA's own SDK: joints in **radians**, Cartesian
 poses ``[x, y, z mm, rx, ry, rz rad]`` (the same RPY, in radians). So the only conversion here
 is degrees ⇄ radians; rotation vectors and 4×4 matrices are the business of the callers (the
-controller backend and the emulator convert through ``jaka_driver.transforms``). The protocol
+controller backend and the emulator convert through ``jaka_driver.common.transforms``). The protocol
 package imports nothing else from the driver, so it can be used on its own.
 """
 from __future__ import annotations

@@ -9,8 +9,8 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import TransformStamped
 
+from ..common.transforms import matrix_to_quat
 from ..driver import RobotDriver
-from ..transforms import matrix_to_quat
 
 
 def _transform(parent: str, child: str, pose, stamp) -> TransformStamped:

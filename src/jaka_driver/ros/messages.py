@@ -16,8 +16,8 @@ from sensor_msgs.msg import JointState
 
 from jaka_msgs.msg import RobotMsg
 
-from ..robot_state import RobotState
-from ..transforms import matrix_to_rotvec
+from ..backend.robot_state import RobotState
+from ..common.transforms import matrix_to_rotvec
 
 
 def user_frame_id(user_id: int) -> str:

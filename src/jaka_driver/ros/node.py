@@ -45,10 +45,10 @@ from sensor_msgs.msg import JointState
 
 from jaka_msgs.msg import RobotMsg
 
-from .. import latency_hint
+from ..backend.robot_state import RobotState
+from ..common.models import MODEL_NAMES, load_model
 from ..driver import RobotDriver
-from ..models import MODEL_NAMES, load_model
-from ..robot_state import RobotState
+from ..host import latency_hint
 from . import messages, sim_time
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster

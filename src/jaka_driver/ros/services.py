@@ -14,9 +14,9 @@ from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
 
 from jaka_msgs import srv as jaka
 
+from ..common.results import Result
 from ..driver import RobotDriver
-from ..results import Result
-from ..servo_increment import ServoIncrements
+from ..driver.servo_increment import ServoIncrements
 
 log = logging.getLogger(__name__)
 
@@ -45,7 +45,7 @@ def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.
     """Advertise every service of docs/interface.md; returns them so the node can shut them down.
 
     ``servo_increment``: servo_j / servo_p take increments as JAKA's driver code does
-    (:mod:`jaka_driver.servo_increment`), not the document's absolute targets."""
+    (:mod:`jaka_driver.driver.servo_increment`), not the document's absolute targets."""
     d = driver
     move = _ret(jaka.MoveResponse)
     servo = _ret(jaka.ServoMoveResponse)
@@ -134,8 +134,8 @@ def advertise_faults(backend) -> list[rospy.Service]:
     ``set_input`` (jaka_msgs/SetIO on inputs: signal, type, index, value)."""
     from std_srvs.srv import Trigger, TriggerResponse
 
-    from .. import validation as check
-    from ..results import CommandRefused
+    from ..driver import checks as check
+    from ..common.results import CommandRefused
 
     if not hasattr(backend, "press_emergency_stop"):
         return []

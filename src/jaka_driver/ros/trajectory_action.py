@@ -18,7 +18,7 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
                               FollowJointTrajectoryResult)
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from ..constants import SERVO_CYCLE
+from ..common.constants import SERVO_CYCLE
 from ..driver import RobotDriver
 from ..motion.spline import Waypoint, sample_waypoints
 from ..motion.trajectory import MAX_MOTION_DURATION, JointTrajectory

@@ -13,19 +13,19 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
-from ..clock import make_clock
-from ..completion import Completion
-from ..constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
-from ..frames import TOOL, USER_FRAME, FrameTable
+from ..backend.clock import make_clock
+from ..backend.completion import Completion
+from ..backend.robot_state import RobotState
+from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
+from ..common.frames import TOOL, USER_FRAME, FrameTable
+from ..common.joint_limits import fastest_step, outside_limits
+from ..common.models import RobotModel
+from ..common.results import Code, Result
+from ..common.transforms import matrix_to_pose_mm
 from ..kinematics import Kinematics
-from ..models import RobotModel
 from ..motion.linear_path import PlanningError, plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
-from ..results import Code, Result
-from ..robot_state import RobotState
-from ..transforms import matrix_to_pose_mm
-from ..validation import fastest_step, outside_limits
 from . import jog_steps, native_drives
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
@@ -44,7 +44,7 @@ class SimBackend(Backend):
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0):
-        """``sim_time``: the twin owns time (jaka_driver.clock.SimClock, paced at
+        """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)

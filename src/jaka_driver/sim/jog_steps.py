@@ -11,9 +11,9 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..common.models import RobotModel
+from ..common.transforms import rotvec_to_matrix
 from ..kinematics import Kinematics
-from ..models import RobotModel
-from ..transforms import rotvec_to_matrix
 
 Step = Callable[[np.ndarray, float], Optional[np.ndarray]]
 

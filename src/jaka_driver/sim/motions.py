@@ -14,10 +14,10 @@ from typing import Callable, Optional, Protocol
 
 import numpy as np
 
-from ..completion import Completion
+from ..backend.completion import Completion
+from ..common.results import Code, Result
 from ..motion.jog import JogVelocity
 from ..motion.trajectory import JointTrajectory
-from ..results import Code, Result
 
 #: rad/s; with the position inside its tolerance, slower than this counts as arrived
 SETTLED_SPEED = 0.05

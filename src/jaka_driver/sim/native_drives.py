@@ -18,7 +18,7 @@ from typing import Optional
 
 import mujoco
 
-from .. import native_library
+from ..host import native_library
 
 LIBRARY = "libjaka_drives.so"
 JOINTS = 6
@@ -37,7 +37,7 @@ class Drives(ctypes.Structure):
 
 
 def library_path() -> Path:
-    """``$JAKA_DRIVES_LIB``, else where :func:`jaka_driver.native_library.path` finds it."""
+    """``$JAKA_DRIVES_LIB``, else where :func:`jaka_driver.host.native_library.path` finds it."""
     return native_library.path(LIBRARY, "JAKA_DRIVES_LIB")
 
 

@@ -1,5 +1,5 @@
 """The twin's real-time loop: MuJoCo stepped in its own thread, paced to wall-clock time
-(or, with a simulated clock, whenever ``jaka_driver.clock.SimClock`` lets a cycle start).
+(or, with a simulated clock, whenever ``jaka_driver.backend.clock.SimClock`` lets a cycle start).
 
 Every ``cycle`` (8 ms, the JAKA controller period) the active motion source gives the next
 setpoint; the joint drives that follow it between setpoints are MuJoCo actuators
@@ -28,7 +28,7 @@ from typing import Callable, NamedTuple, Optional
 import mujoco
 import numpy as np
 
-from ..constants import SERVO_CYCLE, STALL_CYCLES
+from ..common.constants import SERVO_CYCLE, STALL_CYCLES
 from .motions import Hold, Motion
 from .servo import JointServo
 
@@ -79,7 +79,7 @@ class PhysicsLoop:
         # Checks at each cycle's end, before the next setpoint is chosen (contacts, overload).
         self.on_cycle: list[Callable[[mujoco.MjData], None]] = []
         #: None: paced to the wall clock, samples stamped in wall time; a
-        #: :class:`jaka_driver.clock.SimClock`: the twin owns time, samples stamped in it
+        #: :class:`jaka_driver.backend.clock.SimClock`: the twin owns time, samples stamped in it
         self.clock = clock
         self.wall0 = 0.0 if self.simulated else time.time()
         self._start = time.monotonic()
@@ -197,7 +197,7 @@ class PhysicsLoop:
 
     def _run_in_sim_time(self) -> None:
         """One cycle whenever the clock lets the next one start (its pacing and holds,
-        jaka_driver.clock); sample stamps are sim time (``d.time``)."""
+        jaka_driver.backend.clock); sample stamps are sim time (``d.time``)."""
         clock = self.clock
         while clock.wait_for_cycle(self._quit):
             with self.lock:

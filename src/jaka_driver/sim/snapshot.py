@@ -24,7 +24,7 @@ from typing import Optional, Sequence
 import mujoco
 import numpy as np
 
-from ..models import RobotModel
+from ..common.models import RobotModel
 from .twin_model import build_twin_model
 
 GRID_STEP = 0.1            # m between floor grid lines: a scale bar in every picture
@@ -214,7 +214,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     """``rosrun jaka_driver snapshot --model zu5 --joints 0 1.57 -1.57 1.57 1.57 0 -o arm.png``"""
     import argparse
 
-    from ..models import MODEL_NAMES, load_model
+    from ..common.models import MODEL_NAMES, load_model
 
     parser = argparse.ArgumentParser(
         prog="snapshot", description="Render the MuJoCo twin of a JAKA arm at given joint "

@@ -13,7 +13,7 @@ from typing import Optional
 import mujoco
 import numpy as np
 
-from ..models import RobotModel
+from ..common.models import RobotModel
 from .collisions import ARM_BODIES, add_environment
 from .servo import add_drives
 

@@ -5,8 +5,8 @@ A jog runs only while its client keeps calling: 3.0 s after the last call it is 
 (docs/interface.md, "jog"). A servo stream that stops leaves the arm holding its last target,
 and the next servo call is told how long the stream had stopped.
 
-Both keep time on the backend's clock (jaka_driver.clock): wall time, or the twin's sim time,
-in which the jog stops exactly ``timeout`` after the cycle of its last call.
+Both keep time on the backend's clock (:mod:`jaka_driver.backend.clock`): wall time, or the
+twin's sim time, in which the jog stops exactly ``timeout`` after the cycle of its last call.
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import threading
 from dataclasses import dataclass
 from typing import Callable, Optional
 
-from .clock import SimClock, WallClock
+from ..backend.clock import SimClock, WallClock
 
 
 @dataclass

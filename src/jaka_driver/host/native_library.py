@@ -18,7 +18,7 @@ def path(name: str, variable: str) -> Path:
     explicit = os.environ.get(variable)
     if explicit:
         return Path(explicit)
-    from .models import repo_root
+    from ..common.models import repo_root
     made = repo_root() / "devel" / "lib" / name
     if made.is_file():
         return made

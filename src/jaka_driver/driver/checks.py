@@ -1,8 +1,8 @@
 """Checks at the door, in one place: each raises :class:`CommandRefused` (-2) with a message that
 names the field, the value and the limit, and returns the value converted to numpy / Python
-types. RobotDriver calls them before anything moves; the twin, the emulator and the controller
-backend share :func:`outside_limits` and :func:`fastest_step` for the checks they repeat
-in their own terms.
+types. RobotDriver calls them before anything moves; the joint-limit and joint-speed tests they
+share with the backends (which repeat them in their own terms) are
+:mod:`jaka_driver.common.joint_limits`.
 
 Units: joints rad, speeds rad/s or mm/s, accelerations rad/s² or mm/s², poses 4x4 in m unless a
 name says mm, durations s.
@@ -23,13 +23,14 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
-from .models import IO_PATHS, IO_SIGNALS, IO_TYPES, RobotModel
-from .motion.linear_path import line_duration
-from .motion.profiles import SyncJointProfile
-from .motion.trajectory import MAX_MOTION_DURATION
-from .results import invalid
-from .transforms import pose_mm_to_matrix
+from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
+from ..common.joint_limits import fastest_step, outside_limits
+from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, RobotModel
+from ..common.results import invalid
+from ..common.transforms import pose_mm_to_matrix
+from ..motion.linear_path import line_duration
+from ..motion.profiles import SyncJointProfile
+from ..motion.trajectory import MAX_MOTION_DURATION
 
 #: A requested speed or acceleration above this many times the model's limit is taken for a
 #: unit mistake (deg for rad, m for mm) and refused instead of silently clamped.
@@ -130,23 +131,7 @@ def analog_value(value: float) -> float:
     return v
 
 
-# ---- joints: limits and servo steps (shared with the backends) ------------------------------
-def outside_limits(model: RobotModel, q: np.ndarray, tolerance: float = 0.0) -> Optional[int]:
-    """The first joint of ``q`` (rad) outside the model's position limits widened by
-    ``tolerance`` (rad; a wire in degrees needs ~1e-9 for its round trip), or None."""
-    outside = (q < model.lower - tolerance) | (q > model.upper + tolerance)
-    return int(np.argmax(outside)) if outside.any() else None
-
-
-def fastest_step(model: RobotModel, q_from: np.ndarray, q_to: np.ndarray,
-                 seconds: float = SERVO_CYCLE) -> Optional[tuple[int, float]]:
-    """(joint, speed rad/s) of the joint that most exceeds its speed limit when going from
-    ``q_from`` to ``q_to`` (rad) in ``seconds``, or None when every joint is within its limit."""
-    step = np.abs(np.asarray(q_to) - np.asarray(q_from)) / seconds
-    worst = int(np.argmax(step / model.max_velocity))
-    return (worst, float(step[worst])) if step[worst] > model.max_velocity[worst] else None
-
-
+# ---- joints: servo steps -------------------------------------------------------------------
 def servo_step(model: RobotModel, q: np.ndarray, reference: np.ndarray) -> None:
     """A servo_j target (rad) reachable from ``reference`` within one cycle."""
     too_fast = fastest_step(model, reference, q)

@@ -22,13 +22,13 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
+from ..common.models import RobotModel
+from ..common.results import Result
 from .clock import WallClock
-from .models import RobotModel
-from .results import Result
 from .robot_state import RobotState
 
 if TYPE_CHECKING:
-    from .motion.trajectory import JointTrajectory
+    from ..motion.trajectory import JointTrajectory
 
 
 class Backend(ABC):
@@ -54,7 +54,7 @@ class Backend(ABC):
     def state(self) -> RobotState:
         """The latest sample; never blocks."""
 
-    #: The backend's time (jaka_driver.clock): every timeout the driver keeps runs on it. The
+    #: The backend's time (:mod:`.clock`): every timeout the driver keeps runs on it. The
     #: wall clock, unless a twin owns time (sim_time; then ``RobotState.stamp`` is sim time).
     clock = WallClock()
 
@@ -91,12 +91,12 @@ class Backend(ABC):
                          duration: Optional[float] = None) -> Result:
         """Start a synchronised joint move to ``q_target`` (rad) with peak speed ``speed``
         (rad/s) and acceleration ``accel`` (rad/s²), both already clamped to the model, taking
-        ``duration`` s: the driver's plan of it (:func:`jaka_driver.validation.
+        ``duration`` s: the driver's plan of it (:func:`jaka_driver.driver.checks.
         joint_move_duration`, the law of :func:`jaka_driver.motion.profiles.joint_move_profile`
         from where the arm stands, stretched to ``mvtime``); None: the fastest by the same
         law. A backend never refuses a duration: the driver did. Returns at once;
         ``Result.value`` is
-        ``(completion, planned_duration_s)``: the :class:`jaka_driver.completion.Completion`
+        ``(completion, planned_duration_s)``: the :class:`jaka_driver.backend.completion.Completion`
         finishes with success once in position (``constants.IN_POSITION``), or -12 if stopped.
         :class:`jaka_driver.driver.RobotDriver` does the waiting (and stops an overrun)."""
 
@@ -116,7 +116,7 @@ class Backend(ABC):
         """Start following ``trajectory`` (joint samples every 8 ms from the current setpoint,
         :class:`jaka_driver.motion.trajectory.JointTrajectory`) and return at once;
         ``Result.value`` is ``(completion, duration_s)`` where ``completion``
-        (:class:`jaka_driver.completion.Completion`) finishes with success once in position,
+        (:class:`jaka_driver.backend.completion.Completion`) finishes with success once in position,
         or -12 if stopped. :meth:`stop_move` stops it."""
 
     @abstractmethod

@@ -43,7 +43,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Optional
 
-from .constants import STALL_CYCLES
+from ..common.constants import STALL_CYCLES
 
 log = logging.getLogger(__name__)
 

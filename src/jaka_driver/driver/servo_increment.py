@@ -21,9 +21,9 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import validation as check
-from .results import CommandRefused, Result
-from .transforms import matrix_to_pose, pose_to_matrix
+from ..common.results import CommandRefused, Result
+from ..common.transforms import matrix_to_pose, pose_to_matrix
+from . import checks as check
 
 
 class ServoIncrements:

@@ -16,12 +16,12 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from . import validation as check
-from .backend import Backend
-from .constants import move_deadline
-from .results import Code, CommandRefused, Result, invalid
-from .robot_state import RobotState
-from .transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
+from ..backend import Backend
+from ..backend.robot_state import RobotState
+from ..common.constants import move_deadline
+from ..common.results import Code, CommandRefused, Result, invalid
+from ..common.transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
+from . import checks as check
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
@@ -30,7 +30,7 @@ log = logging.getLogger(__name__)
 def _answers(method: Callable | None = None, *, react: bool = True) -> Callable:
     """Turn a refusal into its Result and any other exception into a -3 answer: a request may
     be refused, but it never takes the driver down. Simulated time stands still while a
-    request is in the driver (jaka_driver.clock): it acts at the sim time it arrived.
+    request is in the driver (jaka_driver.backend.clock): it acts at the sim time it arrived.
     ``react=False`` for requests a client streams once per cycle (servo_j, servo_p): their
     reply does not keep time waiting for the next call (the twin's clock waits for the next
     target instead). Use as ``@_answers`` or ``@_answers(react=False)``."""

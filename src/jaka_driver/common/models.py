@@ -110,7 +110,7 @@ def repo_root() -> Path:
     env = os.environ.get("JAKA_DRIVER_ROOT")
     if env:
         return Path(env)
-    source = Path(__file__).resolve().parent.parent.parent
+    source = Path(__file__).resolve().parents[3]
     if (source / "urdf").is_dir():
         return source
     import rospkg

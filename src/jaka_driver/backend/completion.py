@@ -5,7 +5,7 @@ from __future__ import annotations
 import threading
 from typing import Optional
 
-from .results import Result
+from ..common.results import Result
 
 
 class Completion:
@@ -22,7 +22,7 @@ class Completion:
 
     def wait(self, timeout: float, clock=None) -> Optional[Result]:
         """The result, or None after ``timeout`` s (of ``clock``'s time, default the wall
-        clock: jaka_driver.clock)."""
+        clock: jaka_driver.backend.clock)."""
         done = self._event.wait(timeout) if clock is None else clock.wait(self._event, timeout)
         return self.result if done else None
 

@@ -1,0 +1,15 @@
+"""The backend contract: what the MuJoCo twin and the controller backend both implement, in SI
+units (:mod:`.contract`), and what travels across it.
+
+* :mod:`.contract` — :class:`Backend`: one robot, twin or controller connection;
+* :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
+* :mod:`.completion` — :class:`Completion`, the end of a started motion;
+* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
+"""
+from .clock import SimClock, WallClock, make_clock
+from .completion import Completion
+from .contract import Backend
+from .robot_state import MotionState, RobotState
+
+__all__ = ["Backend", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
+           "make_clock"]

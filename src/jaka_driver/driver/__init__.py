@@ -1,0 +1,10 @@
+"""The door of the driver: every request of the node passes :class:`RobotDriver`.
+
+* :mod:`.robot_driver` — :class:`RobotDriver`: order of checks, motion lock, the one wait loop;
+* :mod:`.checks` — field checks (-2 naming field, value and limit) and a move's planned
+  duration;
+* :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
+"""
+from .robot_driver import RobotDriver
+
+__all__ = ["RobotDriver"]
