@@ -66,7 +66,7 @@ def _in_process_run(loaded: bool, seconds: float) -> tuple[np.ndarray, float]:
     from jaka_driver.driver import RobotDriver
     from jaka_driver.common.models import load_model
     from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
-    from jaka_driver.sim.backend import SimBackend
+    from jaka_driver.sim import SimBackend
 
     load = BusyLoad(2).__enter__() if loaded else None
     driver = RobotDriver(SimBackend(load_model("zu5"), sim_time=True, real_time_factor=0))

@@ -28,7 +28,7 @@ import mujoco
 import numpy as np
 
 from jaka_driver.common.models import load_model
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 
 from .profiling import describe, hot_functions
@@ -68,7 +68,7 @@ def sine_tracking(model_name: str = "zu5", seconds: float = SINE_S) -> dict:
     cycle's setpoint, streaming a sine of ``SINE_PEAK_RAD_S`` peak at ``SINE_HZ`` on every
     joint (the first second, while the stream starts from rest, is left out)."""
     backend = SimBackend(load_model(model_name))
-    physics = backend.physics
+    physics = backend._physics
     cycle = physics.cycle
     center = physics.servo.setpoint.copy()
     amplitude = SINE_PEAK_RAD_S / (2 * np.pi * SINE_HZ)
@@ -89,7 +89,7 @@ def sine_tracking(model_name: str = "zu5", seconds: float = SINE_S) -> dict:
 
 def run(model_name: str = "zu5", seconds: float = SECONDS) -> dict:
     backend = SimBackend(load_model(model_name))
-    physics = backend.physics
+    physics = backend._physics
     dt = physics.m.opt.timestep
     steps = physics.steps_per_cycle
     # MuJoCo alone on copies of the twin's model and data, a few cycles in (the drives' gains,

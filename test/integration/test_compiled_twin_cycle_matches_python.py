@@ -12,20 +12,20 @@ import pytest
 
 from jaka_driver.common.models import load_model
 from jaka_driver.sim import native_drives
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 
 
 def _twin(compiled: bool) -> SimBackend:
     twin = SimBackend(load_model("zu5"))
     if not compiled:
-        twin.physics.servo._native = None
+        twin._physics.servo._native = None
     return twin
 
 
 def _trace(twin: SimBackend) -> list[np.ndarray]:
     """Every cycle's joints (rad), velocities (rad/s), torques (N·m) and following error."""
-    physics, servo = twin.physics, twin.physics.servo
+    physics, servo = twin._physics, twin._physics.servo
     center = servo.setpoint.copy()
     target = ServoTarget(center, physics)
     physics.switch(target)
@@ -58,7 +58,7 @@ def _trace(twin: SimBackend) -> list[np.ndarray]:
 def test_the_compiled_library_is_built_and_steps_the_twin():
     assert native_drives.load() is not None, (
         f"{native_drives.library_path()} missing or refused: make setup builds it")
-    assert SimBackend(load_model("zu5")).physics.servo.compiled
+    assert SimBackend(load_model("zu5"))._physics.servo.compiled
 
 
 def test_compiled_and_numpy_cycles_agree_to_the_last_bit():

@@ -39,7 +39,7 @@ def backend(emu):
 
 
 def twin_q(emu) -> np.ndarray:
-    return emu.twin.state().joint_position
+    return emu.backend.state().joint_position
 
 
 def go_home(backend):
@@ -52,23 +52,23 @@ def test_state_follows_the_status_stream(emu, backend):
     assert st.connected and st.powered and st.enabled and not st.servo_mode
     assert st.motion_state == MotionState.STOP
     np.testing.assert_allclose(st.joint_position, twin_q(emu), atol=1e-4)
-    np.testing.assert_allclose(st.tcp_pose, emu.twin.state().tcp_pose, atol=1e-5)
+    np.testing.assert_allclose(st.tcp_pose, emu.backend.state().tcp_pose, atol=1e-5)
     assert time.time() - st.stamp < 0.1
     # effort is the joint torque of each monitor_data row: the twin's drives holding the arm
-    held = emu.twin.state().joint_effort
+    held = emu.backend.state().joint_effort
     assert abs(st.joint_effort[1]) > 1.0
     np.testing.assert_allclose(st.joint_effort, held, rtol=0.05, atol=0.5)
 
 
 def test_start_powers_on_and_enables_like_jakas_driver(emu):
     emu.controller.set_power(False)
-    assert not emu.twin.powered
+    assert not emu.backend.state().powered
     fresh = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
     try:
         fresh.start()
         st = fresh.state()
         assert st.powered and st.enabled
-        assert emu.twin.powered and emu.twin.enabled
+        assert emu.backend.state().powered and emu.backend.state().enabled
     finally:
         fresh.shutdown()
 
@@ -110,7 +110,7 @@ def test_linear_move_reaches_the_pose(emu, backend):
     target[:3, 3] += [0.05, -0.03, 0.02]
     result = run_move(backend.start_linear_move(target, 0.2, 1.0))
     assert result.ok, result.message
-    reached = emu.twin.state().tcp_pose
+    reached = emu.backend.state().tcp_pose
     assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) < 1e-3
     go_home(backend)
 
@@ -127,12 +127,12 @@ def test_jog_moves_until_jog_stop(emu, backend):
     q1 = twin_q(emu)
     time.sleep(0.2)
     assert np.max(np.abs(twin_q(emu) - q1)) < 1e-3, "stopped for good"
-    x0 = emu.twin.state().tcp_pose[0, 3]
+    x0 = emu.backend.state().tcp_pose[0, 3]
     assert backend.jog(1, 0, -1, 0.05).ok      # ROS coord 1 = base X, negative
     time.sleep(0.5)
     assert backend.jog_stop().ok
     assert wait_until(lambda: not backend.state().moving, 2.0)
-    assert emu.twin.state().tcp_pose[0, 3] < x0 - 0.01
+    assert emu.backend.state().tcp_pose[0, 3] < x0 - 0.01
     go_home(backend)
 
 
@@ -165,7 +165,7 @@ def test_servo_p_follows_a_pose(emu, backend):
             pose[2, 3] += 0.0005
             assert backend.servo_p(pose).ok
             time.sleep(0.008)
-        assert wait_until(lambda: abs(emu.twin.state().tcp_pose[2, 3] - pose[2, 3]) < 2e-4, 1.0)
+        assert wait_until(lambda: abs(emu.backend.state().tcp_pose[2, 3] - pose[2, 3]) < 2e-4, 1.0)
     finally:
         backend.servo_enable(False)
     go_home(backend)
@@ -218,9 +218,9 @@ def test_frames_collision_and_kinematics(emu, backend):
     try:
         assert backend.set_tool_frame(2, tool).ok
         assert backend.set_user_frame(3, user).ok
-        assert (emu.twin.tool_id, emu.twin.user_id) == (2, 3)
-        np.testing.assert_allclose(emu.twin.frames()[0], tool, atol=1e-9)
-        np.testing.assert_allclose(emu.twin.frames()[1], user, atol=1e-9)
+        assert (emu.backend.state().tool_id, emu.backend.state().user_id) == (2, 3)
+        np.testing.assert_allclose(emu.backend.frames()[0], tool, atol=1e-9)
+        np.testing.assert_allclose(emu.backend.frames()[1], user, atol=1e-9)
         assert wait_until(lambda: (backend.state().tool_id, backend.state().user_id) == (2, 3),
                           2.0)
         got_tool, got_user = backend.frames()
@@ -230,7 +230,7 @@ def test_frames_collision_and_kinematics(emu, backend):
         q = HOME + np.array([0.1, -0.1, 0.2, 0.0, 0.1, 0.3])
         fk = backend.forward_kinematics(q)
         assert fk.ok
-        np.testing.assert_allclose(fk.value, emu.twin.forward_kinematics(q).value, atol=1e-6)
+        np.testing.assert_allclose(fk.value, emu.backend.forward_kinematics(q).value, atol=1e-6)
         ik = backend.inverse_kinematics(fk.value, HOME)
         assert ik.ok
         np.testing.assert_allclose(ik.value, q, atol=1e-5)
@@ -238,13 +238,13 @@ def test_frames_collision_and_kinematics(emu, backend):
         far[:3, 3] = [5.0, 0, 0]
         assert backend.inverse_kinematics(far, HOME).code == Code.IK_FAILED
 
-        assert backend.set_collision_level(3).ok and emu.twin.collision_level == 3
-        assert backend.set_collision_level(0).ok and emu.twin.collision_level == 0
+        assert backend.set_collision_level(3).ok and emu.backend.twin.collision_level == 3
+        assert backend.set_collision_level(0).ok and emu.backend.twin.collision_level == 0
     finally:
         backend.set_tool_frame(0, np.eye(4))
         backend.set_user_frame(0, np.eye(4))
         backend.set_collision_level(2)
-    assert (emu.twin.tool_id, emu.twin.user_id) == (0, 0)
+    assert (emu.backend.state().tool_id, emu.backend.state().user_id) == (0, 0)
 
 
 def test_io_set_and_get(emu, backend):
@@ -274,10 +274,10 @@ def test_io_set_and_get(emu, backend):
 def test_drag_mode_goes_on_and_off(emu, backend):
     result = backend.set_drag_mode(True)
     assert result.ok, result.message
-    assert emu.twin.drag_mode and wait_until(lambda: backend.state().drag_mode, 1.0)
+    assert emu.backend.state().drag_mode and wait_until(lambda: backend.state().drag_mode, 1.0)
     assert backend.state().motion_state == MotionState.RUNNING   # hand guiding: not at rest
     assert backend.set_drag_mode(False).ok
-    assert not emu.twin.drag_mode and wait_until(lambda: not backend.state().drag_mode, 1.0)
+    assert not emu.backend.state().drag_mode and wait_until(lambda: not backend.state().drag_mode, 1.0)
     assert backend.set_drag_mode(False).message == "drag mode already off"
 
 
@@ -294,7 +294,7 @@ def test_trajectory_is_streamed_with_servo_j(emu, backend):
     result = completion.wait(duration + 3.0)
     assert result is not None and result.ok, result
     assert np.max(np.abs(twin_q(emu) - goal)) <= 1e-3
-    assert not backend.state().servo_mode and not emu.twin.servo_mode
+    assert not backend.state().servo_mode and not emu.backend.state().servo_mode
     assert emu.handlers.counts["servo_j"] >= int(duration / 0.008)
     go_home(backend)
 
@@ -319,7 +319,7 @@ def test_payload_reaches_the_controller(emu, backend):
     try:
         result = backend.set_payload(2, 2.5, np.array([0.0, 0.01, 0.05]))
         assert result.ok, result.message
-        assert emu.controller.payload_mass == 2.5 and emu.twin.tool_id == 2
+        assert emu.controller.payload_mass == 2.5 and emu.backend.state().tool_id == 2
         np.testing.assert_allclose(emu.controller.payload_centroid_mm, [0, 10, 50])
         too_heavy = backend.set_payload(0, 50.0, np.zeros(3))
         assert too_heavy.code == Code.CONTROLLER_REJECTED and "mass" in too_heavy.message

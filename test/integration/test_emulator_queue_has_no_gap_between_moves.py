@@ -13,7 +13,7 @@ import numpy as np
 
 from jaka_driver.common.models import load_model
 from jaka_driver.emulator.twin_controller import TwinController
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 
 
 def test_the_queue_is_not_done_while_its_next_move_is_being_started():
@@ -24,7 +24,7 @@ def test_the_queue_is_not_done_while_its_next_move_is_being_started():
     def slow_start():
         starting.set()
         release.wait(5.0)                # planning, as long as the test wants
-        goal = twin.commanded_joints() + np.radians([10.0, 0, 0, 0, 0, 0])
+        goal = twin.twin.commanded_joints() + np.radians([10.0, 0, 0, 0, 0, 0])
         return twin.start_joint_move(goal, 1.0, 4.0)
 
     try:

@@ -16,7 +16,7 @@ import pytest
 
 from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.driver import RobotDriver
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 from jaka_driver.common.transforms import (matrix_to_pose_mm, pose_mm_to_matrix,
                                           rotation_angle_between)
 
@@ -41,8 +41,8 @@ def twin(request):
     driver = RobotDriver(backend)
     driver.start()
     lags = []
-    servo = backend.physics.servo
-    backend.physics.on_cycle.append(lambda d: lags.append(servo.following_error(d)[1]))
+    servo = backend._physics.servo
+    backend._physics.on_cycle.append(lambda d: lags.append(servo.following_error(d)[1]))
     driver.lags = lags
     yield driver
     driver.shutdown()
@@ -58,7 +58,7 @@ def test_get_fk_is_jaka_chain_and_get_ik_returns_the_reference_configuration(kin
         T = pose_mm_to_matrix(fk.value)
         assert np.linalg.norm(T[:3, 3] - rec["position_m"]) <= 0.05e-3
         assert rotation_angle_between(T[:3, :3], np.array(rec["rotation"])) <= 1e-6
-        if np.linalg.svd(twin.backend.kin.jacobian(q), compute_uv=False)[-1] < 0.01:
+        if np.linalg.svd(twin.backend._kin.jacobian(q), compute_uv=False)[-1] < 0.01:
             continue        # next to a singularity the reference's branch is not well defined
         ik = twin.get_ik(np.clip(q + 0.02, model.lower, model.upper), fk.value)
         assert ik.ok, ik.message
@@ -95,7 +95,7 @@ def test_fast_linear_move_with_the_rated_payload(twin):
     # along this line where it starts, if less: at the full TCP limit a small arm's joints
     # could not follow the line (the MiniCobo's turn at 90 °/s), and the planner refuses that
     direction = np.r_[target[:3, 3] - start[:3, 3], 0, 0, 0]
-    rates = np.linalg.pinv(twin.backend.kin.jacobian(twin.state().joint_position)) @ (
+    rates = np.linalg.pinv(twin.backend._kin.jacobian(twin.state().joint_position)) @ (
         direction / np.linalg.norm(direction))                  # rad per m of path
     speed = min(500.0 * model.max_tcp_speed,                   # mm/s, the request's unit
                 500.0 * float(np.min(model.max_velocity / np.abs(rates))))

@@ -31,7 +31,7 @@ def emu():
 def node(emu):
     sdk = JakaSdk("127.0.0.1", emu.command_port, emu.data_port)
     ros = JakaRosNode(sdk, power_wait=0.2, enable_wait=0.2)   # the node sleeps 8 s and 4 s
-    assert not emu.twin.powered
+    assert not emu.backend.state().powered
     ros.identity = ros.start_up()
     ros.start_polling()
     yield ros
@@ -46,7 +46,7 @@ def test_start_up_logs_in_powers_on_enables_and_sets_the_servo_filter(emu, node)
     assert set(node.identity) == {"version", "controller_id", "controller_guarantee",
                                   "robot_id", "robot_name", "scb_version", "servo_version"}
     assert node.identity["version"] == "1.5.14_13_X64" and "emulator" in node.identity["robot_name"]
-    assert emu.twin.powered and emu.twin.enabled
+    assert emu.backend.state().powered and emu.backend.state().enabled
     assert emu.controller.servo_filter == (5, {"mmf_max_buf": 15, "mmf_kp": 0.03})
     motion, status = node.robot_state()
     assert motion == 0, "idle: errcode 0, in position, program idle, not dragging"
@@ -58,7 +58,7 @@ def test_joint_move_fk_ik_and_linear_move(emu, node):
     start = np.array(status.joint_position)
     target = start + np.array([0.2, -0.1, 0.15, 0.1, 0.0, 0.2])
     assert node.joint_move(target, 1.0, 3.0) == RC_OK
-    assert np.max(np.abs(emu.twin.state().joint_position - target)) < 1e-3
+    assert np.max(np.abs(emu.backend.state().joint_position - target)) < 1e-3
     rc, pose = node.get_fk(target)
     assert rc == RC_OK
     rc, q = node.get_ik(target, pose)
@@ -72,28 +72,28 @@ def test_joint_move_fk_ik_and_linear_move(emu, node):
 
 
 def test_jog_and_stop_move(emu, node):
-    before = emu.twin.state().joint_position.copy()
+    before = emu.backend.state().joint_position.copy()
     assert node.jog(1, 0, 0.2) == RC_OK                      # joint 1, negative, 0.2 rad/s
     time.sleep(0.5)
-    assert emu.twin.state().joint_position[0] < before[0] - 0.03
+    assert emu.backend.state().joint_position[0] < before[0] - 0.03
     assert node.stop_move() == RC_OK
     time.sleep(0.4)
-    assert not emu.controller.moving and not emu.twin.motion_active
+    assert not emu.controller.moving and not emu.backend.twin.motion_active
 
 
 def test_servo_mode_servo_j_servo_p_and_the_sdks_own_disable_timeout(emu, node):
-    assert node.servo_move_enable(True) == RC_OK and emu.twin.servo_mode
-    q0 = emu.twin.state().joint_position.copy()
+    assert node.servo_move_enable(True) == RC_OK and emu.backend.state().servo_mode
+    q0 = emu.backend.state().joint_position.copy()
     for _ in range(50):
         assert node.servo_j([0.001, 0, 0, 0, 0, 0.001]) == RC_OK
         time.sleep(0.008)
     assert node.servo_p([0.5, 0, 0, 0, 0, 0]) == RC_OK
     time.sleep(0.3)
-    moved = emu.twin.state().joint_position - q0
+    moved = emu.backend.state().joint_position - q0
     assert abs(moved[0] - 0.05) < 5e-3 and abs(moved[5] - 0.05) < 5e-3
     # the SDK waits for in_servomove true also when it disables: -61, and servo mode is left
     assert node.servo_move_enable(False) == RC_TIMEOUT
-    assert not emu.twin.servo_mode
+    assert not emu.backend.state().servo_mode
 
 
 def test_frames_payload_collision_and_drag(emu, node):
@@ -104,13 +104,13 @@ def test_frames_payload_collision_and_drag(emu, node):
     rc, user = node.sdk.get_user_frame_data(1)
     assert rc == RC_OK and np.allclose(user, [300, -200, 50, 0, 0, 0.3], atol=1e-6)
     assert node.set_payload(1, 1.0, 0.0, 0.0, 50.0) == RC_OK
-    assert emu.controller.payload_mass == 1.0 and emu.twin.tool_id == 1
-    assert node.set_payload(0, 0.0, 0.0, 0.0, 0.0) == RC_OK and emu.twin.tool_id == 0
-    assert node.set_collisionlevel(50) == RC_OK and emu.twin.collision_level == 2
-    assert node.drag_move(True) == RC_OK and emu.twin.drag_mode
+    assert emu.controller.payload_mass == 1.0 and emu.backend.state().tool_id == 1
+    assert node.set_payload(0, 0.0, 0.0, 0.0, 0.0) == RC_OK and emu.backend.state().tool_id == 0
+    assert node.set_collisionlevel(50) == RC_OK and emu.backend.twin.collision_level == 2
+    assert node.drag_move(True) == RC_OK and emu.backend.state().drag_mode
     motion, status = node.robot_state()
     assert status.drag_status and motion == 3
-    assert node.drag_move(False) == RC_OK and not emu.twin.drag_mode
+    assert node.drag_move(False) == RC_OK and not emu.backend.state().drag_mode
 
 
 def test_set_io_and_get_io(emu, node):

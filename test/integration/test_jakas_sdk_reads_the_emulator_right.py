@@ -17,6 +17,7 @@ from jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, J
 from ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
+from jaka_driver.kinematics import Kinematics
 from jaka_driver.kinematics.controller_dh import DHParameters, dh_of_model, flange_pose
 
 
@@ -69,9 +70,9 @@ def test_get_robot_status_reads_io_with_the_count_in_element_0(emu, sdk):
 
 def test_get_robot_status_reads_joints_tcp_monitor_data_and_instvel(emu, sdk):
     # the drives hold the arm against gravity once the twin has run a few cycles
-    assert wait_until(lambda: abs(emu.twin.state().joint_effort[1]) > 5.0, 5.0)
+    assert wait_until(lambda: abs(emu.backend.state().joint_effort[1]) > 5.0, 5.0)
     _, st = sdk.get_robot_status()
-    twin = emu.twin.state()
+    twin = emu.backend.state()
     assert np.allclose(st.joint_position, emu.controller.commanded_joints(), atol=1e-6)
     tcp = st.cartesiantran_position
     assert np.allclose(tcp[:3], twin.tcp_pose[:3, 3] * 1000, atol=0.05)
@@ -79,7 +80,7 @@ def test_get_robot_status_reads_joints_tcp_monitor_data_and_instvel(emu, sdk):
     assert st.rapidrate == 1.0 and (st.current_tool_id, st.current_user_id) == (0, 0)
     # at rest: the drives hold the arm against gravity (N·m at [9]), on the 48 V bus
     torques = [j.torque for j in st.joints]
-    assert np.allclose(torques, emu.twin.state().joint_effort, atol=1.0)
+    assert np.allclose(torques, emu.backend.state().joint_effort, atol=1.0)
     assert abs(torques[1]) > 5.0 and all(j.voltage == 48.0 for j in st.joints)
     assert all(abs(j.current - j.torque / 10.0) < 1e-9 for j in st.joints)
     # moving: instVel is the joint speed (deg/s)
@@ -201,10 +202,10 @@ def test_login_reads_seven_strings_and_dh_param_is_the_twins_chain(emu, sdk):
     params = DHParameters.from_sdk(dh["alpha"], dh["a"], dh["d"], dh["joint_homeoff"])
     own = dh_of_model(emu.model)
     assert np.allclose(params.a, own.a, atol=1e-9) and np.allclose(params.d, own.d, atol=1e-9)
+    kin = Kinematics(emu.model)
     for q in ([0.0] * 6, [0.3, 1.2, -1.1, 1.4, 1.6, 0.2]):
         # the parameters reproduce the twin's own flange pose
-        assert np.allclose(flange_pose(params, q)[:3, 3], emu.twin.kin.flange_pose(q)[:3, 3],
-                           atol=1e-5)
+        assert np.allclose(flange_pose(params, q)[:3, 3], kin.flange_pose(q)[:3, 3], atol=1e-5)
 
 
 def test_torque_sensor_settings_round_trip_and_what_needs_a_sensor_is_refused(sdk, other):

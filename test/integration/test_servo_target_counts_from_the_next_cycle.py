@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from jaka_driver.common.models import load_model
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 
 STEP_RAD = 0.0005       # every joint, from rest: reached within one cycle (~0.06 rad/s)
 AFTER_START_S = 50e-6
@@ -29,7 +29,7 @@ def test_a_target_sent_just_after_a_cycle_starts_waits_for_the_next_cycle():
     twin.start()
     try:
         assert twin.servo_enable(True).ok
-        physics, cycle = twin.physics, twin.physics.cycle
+        physics, cycle = twin._physics, twin._physics.cycle
         time.sleep(0.1)
         q = physics.servo.setpoint.copy()     # where the drives hold the arm
         early_window = 0

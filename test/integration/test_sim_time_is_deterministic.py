@@ -16,7 +16,7 @@ from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
 from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
 from jaka_driver.motion.profiles import SyncJointProfile
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
 HOME = MODEL.home

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from jaka_driver.common.models import load_model
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 from jaka_driver.sim.overload import FOLLOWING_ERROR_LIMIT, holding_torque
 from move_helpers import run_move
 
@@ -45,15 +45,15 @@ def test_a_payload_the_wrist_cannot_hold_here_is_refused_and_changes_nothing(twi
     assert reply.code == -2
     assert "mass 7.5 kg" in reply.message and "joint_4" in reply.message
     assert f"{twin.model.max_effort[3]:g} N·m limit" in reply.message
-    assert twin.payload.mass == 0.0 and twin.tool_id == 0
+    assert twin._payload.mass == 0.0 and twin.state().tool_id == 0
     assert still_for(twin, 0.3) < 1e-3
     assert np.max(np.abs(twin.state().joint_position - before)) < 1e-4
 
 
 def test_predicted_holding_torque_is_what_the_drives_apply(twin):
     centroid = np.array([0.05, 0.0, 0.1])
-    with twin.physics.lock:
-        predicted = holding_torque(twin.mj_model, twin.physics.d.qpos[:6].copy(), twin.payload,
+    with twin._physics.lock:
+        predicted = holding_torque(twin._mj_model, twin._physics.d.qpos[:6].copy(), twin._payload,
                                    4.0, centroid)
     assert twin.set_payload(1, 4.0, centroid).ok
     time.sleep(0.4)
@@ -69,14 +69,14 @@ def test_overload_on_the_way_is_a_protective_stop_on_brakes(twin):
     assert reply.code == -12 and "joint_5" in reply.message and "brakes" in reply.message
     assert f"limit {FOLLOWING_ERROR_LIMIT:g} rad" in reply.message
     st = twin.state()
-    assert st.protective_stop and twin.physics.braked
+    assert st.protective_stop and twin._physics.braked
     braked_at = st.joint_position.copy()
     assert still_for(twin, 0.5) == 0.0
     np.testing.assert_array_equal(twin.state().joint_position, braked_at)
 
     # brakes open only for an arm the drives can hold
     assert twin.set_payload(1, 1.0, np.array([0.0, 0.0, 0.1])).ok
-    assert twin.clear_error().ok and not twin.physics.braked
+    assert twin.clear_error().ok and not twin._physics.braked
     assert still_for(twin, 0.3) < 0.01
     back = run_move(twin.start_joint_move(braked_at - np.array([0, 0, 0, 0, 0.5, 0]), 1.0, 2.0))
     assert back.ok, back.message
@@ -86,11 +86,11 @@ def test_clear_err_keeps_the_brakes_on_an_arm_it_could_not_hold(twin):
     assert twin.set_payload(1, 7.5, np.array([0.0, 0.0, 1.0])).ok
     run_move(twin.start_joint_move(twin.state().joint_position + np.array([0, 0, 0, 0, 1.2, 0]),
                                    1.0, 2.0))
-    assert twin.physics.braked
+    assert twin._physics.braked
     # heavier still, as if the payload were changed on a braked arm: the brakes stay closed
-    with twin.physics.lock:
-        twin.payload.set(9.0, np.array([0.0, 0.0, 1.0]))
+    with twin._physics.lock:
+        twin._payload.set(9.0, np.array([0.0, 0.0, 1.0]))
     reply = twin.clear_error()
     assert reply.code == -12 and "protective stop stands" in reply.message
-    assert twin.physics.braked and twin.state().protective_stop
+    assert twin._physics.braked and twin.state().protective_stop
     assert still_for(twin, 0.3) == 0.0

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from jaka_driver.common.models import load_model
-from jaka_driver.sim.backend import SimBackend
+from jaka_driver.sim import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 
 
@@ -23,12 +23,12 @@ from jaka_driver.sim.motions import ServoTarget
 def twin():
     backend = SimBackend(load_model("zu5"))
     for _ in range(5):
-        backend.physics.step_cycle()
+        backend._physics.step_cycle()
     return backend
 
 
 def test_a_servo_target_moves_the_arm_in_the_cycle_after_it_arrived(twin):
-    physics = twin.physics
+    physics = twin._physics
     q0 = physics.sample().q.copy()
     target = ServoTarget(q0, physics)
     physics.switch(target)
@@ -46,7 +46,7 @@ def test_a_servo_target_moves_the_arm_in_the_cycle_after_it_arrived(twin):
 
 
 def test_a_moving_setpoint_is_tracked_within_a_cycle(twin):
-    physics = twin.physics
+    physics = twin._physics
     center = physics.sample().q.copy()
     target = ServoTarget(center, physics)
     physics.switch(target)
@@ -62,7 +62,7 @@ def test_a_moving_setpoint_is_tracked_within_a_cycle(twin):
 
 
 def test_at_rest_the_efforts_are_the_gravity_torques(twin):
-    physics = twin.physics
+    physics = twin._physics
     d = mujoco.MjData(physics.m)
     d.qpos[:6] = physics.sample().q
     mujoco.mj_forward(physics.m, d)                  # qvel = 0: the bias is gravity alone

@@ -1,7 +1,8 @@
 """The real node with ``_backend:=controller`` against the emulator subprocess: joint_move
 through ROS reaches its target, the state topics come from the controller's status stream —
-one message per status packet, at the emulator's recorded 30 ms, none twice — and drag mode
-goes on and off through ROS (torque_control_enable on the wire)."""
+one message per status packet, at the emulator's recorded 30 ms, none twice — drag mode goes
+on and off through ROS (torque_control_enable on the wire), and nothing of the twin's own
+(``~sim/``) is offered."""
 from __future__ import annotations
 
 import time
@@ -80,3 +81,12 @@ def test_drag_mode_goes_on_and_off_through_ros(call, emulator):
     reply = call("drag_mode", SetBool, data=False)
     assert reply.success, reply.message
     assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
+
+
+def test_the_twin_s_services_are_offered_only_by_a_twin(sim_driver):
+    """~sim/ (faults, inputs, the snapshot) comes from the twin's capability, which a
+    controller backend does not offer: the node advertises none of it here."""
+    import rosservice
+    services = rosservice.get_service_list()
+    assert sim_driver.name("joint_move") in services
+    assert not [s for s in services if s.startswith(sim_driver.name("sim/"))], services

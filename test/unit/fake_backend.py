@@ -19,8 +19,6 @@ START = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 class FakeBackend(Backend):
     """Powered, enabled and at START. ``planned`` (s) is the duration its moves report."""
 
-    kind = "fake"
-
     def __init__(self, planned: float = 0.05):
         super().__init__(load_model("zu5"))
         self.planned = planned

@@ -2,6 +2,8 @@
 units (:mod:`.contract`), and what travels across it.
 
 * :mod:`.contract` — :class:`Backend`: one robot, twin or controller connection;
+* :mod:`.twin` — :class:`Twin`: what only a digital twin can do, the one capability a backend
+  may offer besides the contract (``backend.twin``);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -10,6 +12,7 @@ from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
 from .robot_state import MotionState, RobotState
+from .twin import Camera, Twin
 
-__all__ = ["Backend", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
+__all__ = ["Backend", "Twin", "Camera", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
            "make_clock"]

@@ -26,6 +26,7 @@ from ..common.models import RobotModel
 from ..common.results import Result
 from .clock import WallClock
 from .robot_state import RobotState
+from .twin import Twin
 
 if TYPE_CHECKING:
     from ..motion.trajectory import JointTrajectory
@@ -34,8 +35,10 @@ if TYPE_CHECKING:
 class Backend(ABC):
     """One robot: a twin or a controller connection."""
 
-    #: "sim" or "controller"
-    kind: str = ""
+    #: What only a digital twin can do (:class:`~.twin.Twin`: faults, simulated inputs, the
+    #: camera, what a controller built on the twin reads), or None: the one capability a backend
+    #: offers besides this contract. Ask for it; never ask which backend this is.
+    twin: Optional[Twin] = None
 
     def __init__(self, model: RobotModel):
         self.model = model
@@ -73,8 +76,9 @@ class Backend(ABC):
         return [st] if st.stamp > after else []
 
     def describe(self) -> dict:
-        """Facts for diagnostics (version, connection, rates). Backends add their own."""
-        return {"backend": self.kind, "model": self.model.name}
+        """Facts for diagnostics: ``backend`` (what it is, for people), the model, and each
+        backend's own (version, connection, rates)."""
+        return {"model": self.model.name}
 
     # ---- power --------------------------------------------------------------------------
     @abstractmethod

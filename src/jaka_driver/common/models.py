@@ -12,6 +12,7 @@ them.
 from __future__ import annotations
 
 import functools
+import logging
 import os
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -21,6 +22,8 @@ from typing import Mapping
 
 import numpy as np
 import yaml
+
+log = logging.getLogger(__name__)
 
 #: Every model the driver serves, by family: Zu, C, Pro, S, A, MiniCobo (docs/models.md).
 MODEL_NAMES = ("zu3", "zu5", "zu7", "zu12", "zu18", "zu20", "zu30", "c5", "c7", "c12", "pro5",
@@ -192,6 +195,7 @@ def load_model(name: str) -> RobotModel:
     config_path = root / "config" / f"{name}.yaml"
     xml = urdf_path.read_text()
     cfg = yaml.safe_load(config_path.read_text())
+    log.info("URDF %s", urdf_path)       # where it came from: source tree, devel or install
     joints = _urdf_joints(xml, urdf_path)
     names, lower, upper, vel, effort = zip(*joints)
     where = str(config_path)

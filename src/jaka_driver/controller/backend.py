@@ -87,8 +87,6 @@ class ControllerBackend(Backend):
     ``trajectory_step_num`` × 8 ms).
     """
 
-    kind = "controller"
-
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
                  status_port: int = 10000, *, status_source: str = "stream",
                  data_port: int = 10004, connect_timeout: float = 1.0,
@@ -143,7 +141,7 @@ class ControllerBackend(Backend):
         return self.view.state(self.link.connected, self._servo_mode)
 
     def describe(self) -> dict:
-        info = super().describe()
+        info = {"backend": "controller", **super().describe()}
         info.update({"controller": self.host, "command port": self.link.command_port,
                      "status port": self.link.status_port,
                      "status source": self.link.status_source,

@@ -20,7 +20,7 @@ import logging
 from typing import Optional, Union
 
 from ..common.models import RobotModel, load_model
-from ..sim.backend import SimBackend
+from ..sim import SimBackend
 from .handlers import CommandHandlers
 from .profiles import DEFAULT_PROFILE, START_STATES, ControllerProfile, profile_named
 from .server import EmulatorServer
@@ -53,8 +53,9 @@ class Emulator:
         self.model = load_model(model) if isinstance(model, str) else model
         # The twin gets the IO of the profile's controller cabinet, as its packets show it.
         self.model = dataclasses.replace(self.model, io_sizes=self.profile.io_sizes)
-        self.twin = SimBackend(self.model, scene=scene, io_loopback=io_loopback)
-        self.controller = TwinController(self.twin, self.profile)
+        #: the arm: the MuJoCo twin, through its face (the contract and ``backend.twin``)
+        self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback)
+        self.controller = TwinController(self.backend, self.profile)
         if data_port is None:   # free ports for tests stay free ports: no fixed 10004 then
             data_port = 0 if command_port == 0 else 10004
         self.handlers = CommandHandlers(self.controller)
@@ -83,12 +84,12 @@ class Emulator:
         return self.server.period
 
     def start(self) -> "Emulator":
-        self.twin.start()
+        self.backend.start()
         self.controller.apply_start(self.start_state)
         try:
             self.server.start()
         except OSError:
-            self.twin.shutdown()
+            self.backend.shutdown()
             raise
         log.info("%s on %s: commands %d, status %d, data_request %d; profile %s (%s); "
                  "started %s, a packet every %g ms", self.controller.identity, self.host,
@@ -99,7 +100,7 @@ class Emulator:
     def stop(self) -> None:
         self.server.stop()
         self.controller.close()
-        self.twin.shutdown()
+        self.backend.shutdown()
 
     def drop_clients(self) -> None:
         """Close every client connection (the ports keep listening)."""

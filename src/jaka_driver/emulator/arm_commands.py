@@ -34,6 +34,11 @@ def _relative(base: np.ndarray, increment: np.ndarray) -> np.ndarray:
     return out
 
 
+def _stopped(st) -> bool:
+    """A protective stop stands (a collision is one, to a controller)."""
+    return st.protective_stop or st.collision
+
+
 class ArmCommands:
     def __init__(self, controller: TwinController):
         self.c = controller
@@ -49,7 +54,7 @@ class ArmCommands:
             Cmd.GET_ROBOT_STATE: self._get_robot_state,
             Cmd.EMERGENCY_STOP_STATUS: self._emergency_stop_status,
             Cmd.PROTECTIVE_STOP_STATUS: lambda r: Answer(
-                {Field.PROTECTIVE_STOP: int(c.twin.protective_stop or c.twin.collision)}),
+                {Field.PROTECTIVE_STOP: int(_stopped(c.state()))}),
             Cmd.CLEAR_ERROR: lambda r: done(c.clear_error()),
             Cmd.JOINT_MOVE: self._joint_move,
             Cmd.MOVE_L: self._move_l,
@@ -62,17 +67,17 @@ class ArmCommands:
             Cmd.IS_ON_LIMIT: lambda r: Answer({Field.ON_LIMIT: int(c.on_limit())}),
             Cmd.SERVO_MOVE: lambda r: done(c.set_servo_mode(
                 integer(r, Field.REL_FLAG, 0, 1) == 1)),
-            Cmd.IS_IN_SERVOMOVE: lambda r: Answer({Field.IN_SERVOMOVE: bool(c.twin.servo_mode)}),
+            Cmd.IS_IN_SERVOMOVE: lambda r: Answer({Field.IN_SERVOMOVE: bool(c.state().servo_mode)}),
             Cmd.SERVO_J: self._servo_j,
             Cmd.SERVO_P: self._servo_p,
             Cmd.GET_JOINT_POS: lambda r: Answer(
-                {Field.JOINT_POS: units.joints_to_wire(c.twin.state().joint_position)}),
-            Cmd.GET_TCP_POS: lambda r: Answer({Field.TCP_POS: wire_pose(c.twin.state().tcp_pose)}),
+                {Field.JOINT_POS: units.joints_to_wire(c.state().joint_position)}),
+            Cmd.GET_TCP_POS: lambda r: Answer({Field.TCP_POS: wire_pose(c.state().tcp_pose)}),
             Cmd.GET_DATA: self._get_data,
             Cmd.KINE_FORWARD: self._kine_forward,
             Cmd.KINE_INVERSE: self._kine_inverse,
-            Cmd.DRAG_STATUS: lambda r: Answer({Field.DRAG_STATUS: int(c.twin.drag_mode)}),
-            Cmd.GET_DRAG_STATUS: lambda r: Answer({Field.STATUS: bool(c.twin.drag_mode)}),
+            Cmd.DRAG_STATUS: lambda r: Answer({Field.DRAG_STATUS: int(c.state().drag_mode)}),
+            Cmd.GET_DRAG_STATUS: lambda r: Answer({Field.STATUS: bool(c.state().drag_mode)}),
             Cmd.TORQUE_CONTROL_ENABLE: self._torque_control_enable,
             Cmd.TORQUE_FEEDFORWARD: lambda r: Answer(),   # the twin's drives have no such input
             Cmd.SET_INSTALLATION_ANGLE: self._set_installation_angle,
@@ -80,14 +85,14 @@ class ArmCommands:
 
     # ---- state ----------------------------------------------------------------------------------
     def _get_robot_state(self, _req) -> Answer:
-        t = self.c.twin
+        t = self.c.state()
         return Answer({Field.ENABLE: "robot_enabled" if t.enabled else "robot_disabled",
                        Field.POWER: "powered_on" if t.powered else "powered_off"})
 
     def _emergency_stop_status(self, _req) -> Answer:
         if self.c.profile.estop_status_fails:
             raise RecordedReply(dict(ESTOP_STATUS_EXCEPTION))
-        return Answer({Field.EMERGENCY_STOP: int(self.c.twin.emergency_stop)})
+        return Answer({Field.EMERGENCY_STOP: int(self.c.state().emergency_stop)})
 
     def _get_data(self, _req) -> Answer:
         fields = status_fields(self.c)
@@ -188,33 +193,24 @@ class ArmCommands:
         self.c.require_servo_mode(Cmd.SERVO_P)
         target = pose(req, Field.SERVO_CART_POSITION)
         if integer(req, Field.REL_FLAG, 0, 1, default=0):
-            here = self.c.twin.forward_kinematics(self.c.servo_reference(Cmd.SERVO_P))
-            if not here.ok:
-                raise Rejected(f"servo_p: {here.message}")
-            target = _relative(here.value, target)
+            here = self.c.forward_kinematics(self.c.servo_reference(Cmd.SERVO_P), "servo_p")
+            target = _relative(here, target)
         self.c.servo_pose(target, self._steps(req))
         return Answer()
 
     # ---- kinematics -----------------------------------------------------------------------------
     def _kine_forward(self, req) -> Answer:
-        result = self.c.twin.forward_kinematics(joints(req))
-        if not result.ok:
-            raise Rejected(f"kine_forward: {result.message}")
-        return Answer({Field.CART_POSITION: wire_pose(result.value)})
+        pose_ = self.c.forward_kinematics(joints(req), "kine_forward")
+        return Answer({Field.CART_POSITION: wire_pose(pose_)})
 
     def _kine_inverse(self, req) -> Answer:
         ref = joints(req)
-        result = self.c.twin.inverse_kinematics(pose(req, Field.CART_POSITION), ref)
-        if not result.ok:
-            raise Rejected(f"kine_inverse: {result.message}")
-        return Answer({Field.JOINT_POSITION: units.joints_to_wire(result.value)})
+        q = self.c.inverse_kinematics(pose(req, Field.CART_POSITION), ref, "kine_inverse")
+        return Answer({Field.JOINT_POSITION: units.joints_to_wire(q)})
 
     # ---- drag mode, mounting -------------------------------------------------------------------
     def _torque_control_enable(self, req) -> Answer:
-        on = flag(req, Field.ENABLE_FLAG)
-        result = self.c.twin.set_drag_mode(on)
-        if not result.ok:
-            raise Rejected(f"torque_control_enable: {result.message}")
+        self.c.set_drag_mode(flag(req, Field.ENABLE_FLAG))
         return Answer()
 
     def _set_installation_angle(self, req) -> Answer:

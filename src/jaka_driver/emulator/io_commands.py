@@ -53,12 +53,12 @@ class IoCommands:
         io_type, index = self._address(req, signal, OUTPUT)
         value = (1.0 if flag(req, Field.VALUE) else 0.0) if signal == "digital" \
             else number(req, Field.VALUE)
-        self.c.twin.set_io(signal, io_type, index, value)
+        self.c.set_output(signal, io_type, index, value)
         return Answer()
 
     def _read(self, req, signal: str, path: int) -> Answer:
         io_type, index = self._address(req, signal, path)
-        value = self.c.twin.get_io(signal, path, io_type, index).value
+        value = self.c.read_io(signal, path, io_type, index)
         return Answer({Field.VALUE: int(value) if signal == "digital" else float(value)})
 
     def _set_input(self, req) -> Answer:

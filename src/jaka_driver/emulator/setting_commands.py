@@ -53,8 +53,8 @@ class SettingCommands:
             Cmd.SET_TOOL_ID: lambda r: done(c.activate_tool(self._slot(r, Field.TOOL_ID))),
             Cmd.SET_USER_ID: lambda r: done(c.activate_user(
                 self._slot(r, Field.USER_FRAME_ID))),
-            Cmd.GET_CURR_TOOL_ID: lambda r: Answer({Field.ID: int(c.twin.tool_id)}),
-            Cmd.GET_CURR_USER_ID: lambda r: Answer({Field.ID: int(c.twin.user_id)}),
+            Cmd.GET_CURR_TOOL_ID: lambda r: Answer({Field.ID: int(c.state().tool_id)}),
+            Cmd.GET_CURR_USER_ID: lambda r: Answer({Field.ID: int(c.state().user_id)}),
             Cmd.SET_PAYLOAD: self._set_payload,
             Cmd.GET_PAYLOAD: lambda r: Answer({Field.MASS: float(c.payload_mass),
                                                Field.CENTROID: c.payload_centroid_mm}),

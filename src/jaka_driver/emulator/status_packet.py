@@ -84,14 +84,14 @@ def _io_list(values, key: Tuple[str, int, int]) -> list:
 
 def io_values(controller: TwinController, key: Tuple[str, int, int]) -> list:
     """One IO array as the packet writes it (digital ints, analog floats), index 0 first."""
-    return _io_list(controller.twin.io.snapshot().get(key), key)
+    return _io_list(controller.io_values().get(key), key)
 
 
 def extio(controller: TwinController, io: Dict | None = None) -> Dict[str, Any]:
     """The extension module (IO type 2): ``{"num": 1, "status": [din, dout, ain, aout]}``, or
     ``{"num": 0, "status": []}`` when the profile has none. JAKA's SDK reads it only if
     ``num`` > 0, every value as an int."""
-    io = controller.twin.io.snapshot() if io is None else io
+    io = controller.io_values() if io is None else io
     if not any(controller.io_count(*key) for key in _EXTENSION):
         return {"num": 0, "status": []}
     return {"num": 1, "status": [_io_list(io.get(key), key) for key in _EXTENSION]}
@@ -111,12 +111,11 @@ def _monitor_data(powered: bool, torque: np.ndarray, speed: np.ndarray) -> list:
 def status_fields(controller: TwinController) -> Dict[str, Any]:
     """One packet's fields, in a real packet's key order (without ``len``:
     :func:`~jaka_driver.protocol.encode_status` puts it first)."""
-    twin = controller.twin
-    st = twin.state()
+    st = controller.state()
     inpos = controller.inpos
-    if twin.collision:
+    if st.collision:
         errcode = ERRCODE_COLLISION
-    elif twin.protective_stop:
+    elif st.protective_stop:
         errcode = ERRCODE_PROTECTIVE_STOP
     else:
         errcode = 0
@@ -126,10 +125,8 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         task_state = TaskState.POWER_ON
     else:
         task_state = TaskState.ENABLED
-    io = twin.io.snapshot()
-    tool, _ = twin.frames()
-    tcp_speed = np.linalg.norm(twin.kin.jacobian(st.joint_position, tool)[:3]
-                               @ st.joint_velocity)
+    io = controller.io_values()
+    tcp_speed = controller.tcp_speed(st)
     fields: Dict[str, Any] = {
         S.DRAG_STATUS: bool(st.drag_mode),
         S.EXTIO: extio(controller, io),

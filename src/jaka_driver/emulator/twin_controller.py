@@ -1,16 +1,16 @@
 """What a JAKA controller does, on the MuJoCo twin: the emulator's controller logic in SI units.
 
-The twin (:class:`~jaka_driver.sim.backend.SimBackend`) already moves like the arm; this layer
-adds what a controller has and the twin does not: refusing motion in the wrong state, a motion
-queue (a move is acknowledged at once and runs after the ones before it; ``inpos`` once the
+The twin (a backend that offers :class:`~jaka_driver.backend.Twin`: the MuJoCo twin) already
+moves like the arm; this layer adds what a controller has and the twin does not: refusing motion
+in the wrong state, a motion queue (a move is acknowledged at once and runs after the ones before it; ``inpos`` once the
 queue is done — docs/protocol.md, "Motion queue"), stored frames that are activated separately
 from being set, the servo ``stepNum`` interpolation, the speed override, the payload and
 collision settings to report back. Every method takes SI values (rad, m, 4x4 poses of the active
 tool in the active user frame) and raises :class:`Rejected` with the controller's message when
 the command is refused; wire parsing lives in :mod:`.handlers`.
 
-It uses only the twin's public methods (the Backend contract and the small section of
-:class:`SimBackend` written for it), never the simulation's internals.
+It uses only the backend's face: the contract (commands, ``state()``) and ``backend.twin`` (the
+commanded setpoint, the servo ramp, IO, faults), never the simulation's internals.
 
 Thread-safe: commands are serialised by one lock (a controller executes one at a time); the
 status snapshot reads without it. A queue thread starts each queued move when the one before it
@@ -26,13 +26,12 @@ from typing import Callable, Deque, Optional, Tuple
 
 import numpy as np
 
-from ..backend.completion import Completion
+from ..backend import Backend, Completion, RobotState
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.joint_limits import fastest_step, outside_limits
 from ..common.results import Code, Result
 from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, IDENTITY_FIELDS
-from ..sim.backend import SimBackend
 from .profiles import DEFAULT_PROFILE, ControllerProfile, profile_named
 from .torque_sensor import TorqueSensorSettings
 
@@ -67,18 +66,21 @@ class Rejected(Exception):
 
 
 class TwinController:
-    """A JAKA controller whose arm is ``twin``."""
+    """A JAKA controller whose arm is ``backend``, a twin (``backend.twin`` is not None)."""
 
-    def __init__(self, twin: SimBackend, profile: Optional[ControllerProfile] = None):
+    def __init__(self, backend: Backend, profile: Optional[ControllerProfile] = None):
         """``profile``: the controller generation (default: the recorded Zu 5s, fw 1.5.14)."""
-        self.twin = twin
-        self.model = twin.model
+        if backend.twin is None:
+            raise ValueError("the emulator needs a backend that offers a twin (backend.twin)")
+        self.backend = backend
+        self.twin = backend.twin
+        self.model = backend.model
         self.profile = profile = profile or profile_named(DEFAULT_PROFILE)
         #: what get_version answers: the profile's firmware in a real controller's form, so
         #: clients that parse it work
         self.version = profile.version
         #: where a person reads it (get_version's robot_name, the log): this is the emulator
-        self.identity = f"jaka_driver emulator ({twin.model.name} MuJoCo twin), not a controller"
+        self.identity = f"jaka_driver emulator ({self.model.name} MuJoCo twin), not a controller"
         self.lock = threading.RLock()
         self._pending: Optional[Completion] = None    # the running move, until it ends
         # A move taken from the queue and being started (planned): it counts as moving, so
@@ -97,7 +99,7 @@ class TwinController:
         self.frames = FrameTable()
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
-        self.collision_level = twin.collision_level
+        self.collision_level = self.twin.collision_level
         self.rapid_rate = 1.0
         self.servo_filter: Tuple[int, dict] = (0, {})   # (filter_type, its parameters)
 
@@ -112,8 +114,8 @@ class TwinController:
         """Put the arm in a start state of :data:`~.profiles.START_STATES` (the twin itself
         starts powered on and enabled)."""
         with self.lock:
-            self.twin.set_power(start != "off")
-            self.twin.set_enabled(start == "enabled")
+            self.backend.set_power(start != "off")
+            self.backend.set_enabled(start == "enabled")
 
     def close(self) -> None:
         self._quit.set()
@@ -189,8 +191,12 @@ class TwinController:
         """The queue is done and the arm is not being driven."""
         return not self.moving and not self.twin.motion_active
 
+    def state(self) -> RobotState:
+        """The arm's latest sample, its flags read now."""
+        return self.backend.state()
+
     def require_can_move(self, what: str, servo_ok: bool = False) -> None:
-        t = self.twin
+        t = self.state()
         if t.emergency_stop:
             raise Rejected(f"{what}: emergency stop is pressed")
         if not t.powered:
@@ -228,32 +234,47 @@ class TwinController:
         """The TCP of the servo setpoint (4x4, m)."""
         return self.twin.commanded_tcp()
 
+    def forward_kinematics(self, q: np.ndarray, what: str) -> np.ndarray:
+        """The TCP (4x4, m) at joints ``q`` (rad): the arm's own kinematics, as a controller's."""
+        result = self.backend.forward_kinematics(q)
+        if not result.ok:
+            raise Rejected(f"{what}: {result.message}")
+        return result.value
+
+    def inverse_kinematics(self, pose: np.ndarray, ref: np.ndarray, what: str) -> np.ndarray:
+        """Joints (rad) reaching ``pose`` (4x4, m) nearest ``ref`` (rad)."""
+        result = self.backend.inverse_kinematics(pose, ref)
+        if not result.ok:
+            raise Rejected(f"{what}: {result.message}")
+        return result.value
+
     def on_limit(self) -> bool:
         """A joint within 0.1° of its limit (what ``is_on_limit`` reports)."""
-        q = self.twin.state().joint_position
+        q = self.state().joint_position
         margin = np.radians(0.1)
         return bool(np.any((q <= self.model.lower + margin) | (q >= self.model.upper - margin)))
 
     # ---- power ------------------------------------------------------------------------------
     def set_power(self, on: bool) -> None:
         with self.lock:
-            if on and self.twin.emergency_stop:
+            if on and self.state().emergency_stop:
                 raise Rejected("power_on: emergency stop is pressed; release it first")
-            self.twin.set_power(on)
+            self.backend.set_power(on)
 
     def set_enabled(self, on: bool) -> None:
         with self.lock:
-            if on and self.twin.emergency_stop:
+            st = self.state()
+            if on and st.emergency_stop:
                 raise Rejected("enable_robot: emergency stop is pressed")
-            if on and not self.twin.powered:
+            if on and not st.powered:
                 raise Rejected("enable_robot: robot is powered off (power_on first)")
-            self.twin.set_enabled(on)
+            self.backend.set_enabled(on)
 
     def clear_error(self) -> None:
         with self.lock:
-            if self.twin.emergency_stop:
+            if self.state().emergency_stop:
                 raise Rejected("clear_error: emergency stop is pressed; release it first")
-            self.twin.clear_error()
+            self.backend.clear_error()
 
     # ---- moves ----------------------------------------------------------------------------------
     def joint_move(self, target: Callable[[], np.ndarray], speed: float, accel: float,
@@ -269,13 +290,13 @@ class TwinController:
     def _start_joint_move(self, q: np.ndarray, speed: float, accel: float,
                           what: str) -> Result:
         self.check_limits(q, what)
-        return self.twin.start_joint_move(q, speed * self.rapid_rate, accel)
+        return self.backend.start_joint_move(q, speed * self.rapid_rate, accel)
 
     def end_move(self, pose: np.ndarray, speed: float, accel: float) -> None:
         """Queue a joint-interpolated move to the Cartesian ``pose`` (4x4, m); the joints are
         solved when its turn comes, near where the move before it ended."""
         def target() -> np.ndarray:
-            solution = self.twin.inverse_kinematics(pose, self.commanded_joints())
+            solution = self.backend.inverse_kinematics(pose, self.commanded_joints())
             if not solution.ok:
                 raise Rejected(f"end_move: {solution.message}")
             return solution.value
@@ -288,7 +309,7 @@ class TwinController:
         comes."""
         with self.lock:
             self.require_can_move("moveL")
-            self.enqueue("moveL", lambda: self.twin.start_linear_move(
+            self.enqueue("moveL", lambda: self.backend.start_linear_move(
                 target(), speed * self.rapid_rate, accel))
 
     def jog(self, coord: int, axis: int, direction: int, speed: float) -> None:
@@ -301,7 +322,7 @@ class TwinController:
                 speed = min(speed, self.model.max_tcp_speed)
             else:
                 speed = min(speed, MAX_TOOL_ROTATION_SPEED)
-            result = self.twin.jog(coord, axis, direction, speed * self.rapid_rate)
+            result = self.backend.jog(coord, axis, direction, speed * self.rapid_rate)
             if not result.ok:
                 raise Rejected(f"jog: {result.message}")
 
@@ -309,14 +330,14 @@ class TwinController:
         """``jog_mode`` 0 ends any jog: continuous ones brake, incremental and absolute ones
         (queued moves labelled ``jog``) are stopped with the queue."""
         with self.lock:
-            self.twin.jog_stop()
+            self.backend.jog_stop()
             if self._running_label == "jog" and self.moving:
                 self.stop()
 
     def stop(self) -> None:
         with self.lock:
             self._queue.clear()
-            self.twin.stop_move()
+            self.backend.stop_move()
 
     # ---- servo mode -----------------------------------------------------------------------------
     def set_servo_mode(self, on: bool) -> None:
@@ -324,22 +345,22 @@ class TwinController:
         nothing, as fw 1.5.14 was recorded doing: ``is_in_servomove`` stays false."""
         with self.lock:
             if not on:
-                self.twin.servo_enable(False)
+                self.backend.servo_enable(False)
                 return
-            if self.twin.servo_mode:
+            if self.state().servo_mode:
                 return
             self.require_can_move("servo_move", servo_ok=True)
             if self.moving or self.twin.motion_active:
                 log.info("emulator: servo_move enable while the arm moves: acknowledged, "
                          "servo mode not entered (as recorded on fw 1.5.14)")
                 return
-            result = self.twin.servo_enable(True)
+            result = self.backend.servo_enable(True)
             if not result.ok:
                 raise Rejected(f"servo_move: {result.message}")
 
     def servo_reference(self, what: str) -> np.ndarray:
         """The latest servo target (rad), the base of relative set-points."""
-        goal = self.twin.servo_goal() if self.twin.servo_mode else None
+        goal = self.twin.servo_goal() if self.state().servo_mode else None
         if goal is None:
             raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
         return goal
@@ -347,7 +368,7 @@ class TwinController:
     def require_servo_mode(self, what: str) -> None:
         """servo_j outside servo mode: the recorded errorCode "-1" and text (servo_p answered
         likewise, by analogy: not recorded)."""
-        if not self.twin.servo_mode:
+        if not self.state().servo_mode:
             raise Rejected(NOT_IN_SERVO_MODE.format(what.replace("_", "")),
                            ERROR_NOT_IN_SERVO_MODE)
 
@@ -371,7 +392,7 @@ class TwinController:
         with self.lock:
             self.require_servo_mode("servo_p")
             seed = self.servo_reference("servo_p")
-            solution = self.twin.inverse_kinematics(pose, seed)
+            solution = self.backend.inverse_kinematics(pose, seed)
             if not solution.ok:
                 raise Rejected(f"servo_p: {solution.message}")
             self.servo_joints(solution.value, steps, "servo_p")
@@ -380,40 +401,64 @@ class TwinController:
     def set_tool_offset(self, tool_id: int, pose: np.ndarray) -> None:
         with self.lock:
             self.frames.store(TOOL, tool_id, pose)
-            if self.twin.tool_id == tool_id:
-                self.twin.set_tool_frame(tool_id, pose)   # re-apply the active tool
+            if self.state().tool_id == tool_id:
+                self.backend.set_tool_frame(tool_id, pose)   # re-apply the active tool
 
     def activate_tool(self, tool_id: int) -> None:
         with self.lock:
-            self.twin.set_tool_frame(tool_id, self.frames.get(TOOL, tool_id))
+            self.backend.set_tool_frame(tool_id, self.frames.get(TOOL, tool_id))
 
     def set_user_offset(self, user_id: int, pose: np.ndarray) -> None:
         with self.lock:
             self.frames.store(USER_FRAME, user_id, pose)
-            if self.twin.user_id == user_id:
-                self.twin.set_user_frame(user_id, pose)
+            if self.state().user_id == user_id:
+                self.backend.set_user_frame(user_id, pose)
 
     def activate_user(self, user_id: int) -> None:
         with self.lock:
-            self.twin.set_user_frame(user_id, self.frames.get(USER_FRAME, user_id))
+            self.backend.set_user_frame(user_id, self.frames.get(USER_FRAME, user_id))
 
     def set_payload(self, mass: float, centroid_mm: np.ndarray) -> None:
         with self.lock:
-            self.twin.set_payload(self.twin.tool_id, mass, centroid_mm / 1000.0)
+            self.backend.set_payload(self.state().tool_id, mass, centroid_mm / 1000.0)
             self.payload_mass, self.payload_centroid_mm = mass, centroid_mm.copy()
+
+    def set_drag_mode(self, on: bool) -> None:
+        with self.lock:
+            result = self.backend.set_drag_mode(on)
+            if not result.ok:
+                raise Rejected(f"torque_control_enable: {result.message}")
 
     def set_collision_level(self, level: int) -> None:
         with self.lock:
-            self.twin.set_collision_level(level)
+            self.backend.set_collision_level(level)
             self.collision_level = level
 
     def set_servo_filter(self, filter_type: int, params: dict) -> None:
         """Store the servo filter (JAKA's manual: set outside servo mode). The twin follows
         servo set-points through the stepNum ramp only; the filter is kept, not applied."""
         with self.lock:
-            if self.twin.servo_mode:
+            if self.state().servo_mode:
                 raise Rejected("set_servo_move_filter: not allowed in servo mode")
             self.servo_filter = (filter_type, dict(params))
+
+    def set_output(self, signal: str, io_type: int, index: int, value: float) -> None:
+        """Output ``index`` (from 0; checked with :meth:`check_io`) = ``value``."""
+        with self.lock:
+            self.backend.set_io(signal, io_type, index, value)
+
+    def read_io(self, signal: str, path: int, io_type: int, index: int) -> float:
+        """An input (``path`` 0) or output (1), ``index`` from 0 (checked with
+        :meth:`check_io`)."""
+        return self.backend.get_io(signal, path, io_type, index).value
+
+    def tcp_speed(self, st: RobotState) -> float:
+        """m/s of the active tool's origin in the sample ``st``."""
+        return self.twin.tcp_speed(st)
+
+    def io_values(self) -> dict:
+        """Every IO array as it stands (:meth:`jaka_driver.backend.Twin.io_snapshot`)."""
+        return self.twin.io_snapshot()
 
     def io_count(self, signal: str, io_type: int, path: int) -> int:
         return int(self.model.io_sizes.get((signal, io_type, path), 0))

@@ -7,8 +7,13 @@ does the same work, only slower.
 """
 from __future__ import annotations
 
+import logging
 import os
 from pathlib import Path
+from typing import Callable, Optional, TypeVar
+
+log = logging.getLogger(__name__)
+T = TypeVar("T")
 
 
 def path(name: str, variable: str) -> Path:
@@ -27,3 +32,16 @@ def path(name: str, variable: str) -> Path:
         if built.is_file():
             return built
     return made
+
+
+def opened(path: Path, load: Callable[[Path], Optional[T]], what: str, fallback: str
+           ) -> Optional[T]:
+    """``load(path)`` (the library opened and checked, or None), and a log line saying where
+    ``what`` came from (source tree, devel or install space), or that ``fallback`` does its
+    work: whoever loads a library says so."""
+    lib = load(path)
+    if lib is None:
+        log.info("%s %s not found, or built from other sources: %s", what, path, fallback)
+    else:
+        log.info("%s %s", what, path)
+    return lib

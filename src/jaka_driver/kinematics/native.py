@@ -48,8 +48,7 @@ def library_path() -> Path:
     return native_library.path(LIBRARY, "JAKA_IK_LIB")
 
 
-def _open() -> Optional[ctypes.CDLL]:
-    path = library_path()
+def _open(path: Path) -> Optional[ctypes.CDLL]:
     if not path.is_file():
         return None
     try:
@@ -71,7 +70,8 @@ def _open() -> Optional[ctypes.CDLL]:
     return lib
 
 
-_LIB = _open()
+_LIB = native_library.opened(library_path(), _open, "IK library",
+                             "the Python path solves the IK")
 
 
 class NativeIk:

@@ -62,12 +62,12 @@ def make_backend(kind: str, model_name: str, params: dict):
     for a real controller and vice versa."""
     model = load_model(model_name)
     if kind == "sim":
-        from ..sim.backend import SimBackend
+        from ..sim import SimBackend
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)))
     if kind == "controller":
-        from ..controller.backend import ControllerBackend
+        from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
                                  status_port=params["status_port"],
                                  status_source=params["status_source"],
@@ -230,23 +230,6 @@ def _params() -> dict:
     }
 
 
-def _log_files(model: str, twin: bool) -> None:
-    """Say where the URDF and the compiled libraries came from (source tree, devel or install
-    space), or that the Python path does their work (the twin's cycle: with ``twin`` only)."""
-    from ..kinematics import native
-    from ..sim import native_drives
-    lib = native.library_path()
-    rospy.loginfo(f"URDF {load_model(model).urdf_path}; IK library "
-                  + (str(lib) if lib.is_file() else "not found, the Python path solves the IK"))
-    if not twin:
-        return
-    drives = native_drives.library_path()
-    rospy.loginfo("twin cycle library "
-                  + (str(drives) if native_drives.load() is not None else
-                     f"{drives} not found or built for another MuJoCo: the twin steps its "
-                     "cycle in numpy"))
-
-
 def main() -> int:
     scheduling = latency_hint.request_short_slice()     # done already by the script
     requested = sim_time.requested(sys.argv, NODE_NAME)
@@ -298,13 +281,14 @@ def main() -> int:
     rospy.on_shutdown(driver.shutdown)
     publisher.start()
     advertise(driver, servo_increment=p["servo_increment"])
-    advertise_faults(backend)
-    advertise_snapshot(backend)
+    twin = backend.twin                 # what only a twin can do, when the backend offers it
+    if twin is not None:
+        advertise_faults(twin, driver.model)
+        advertise_snapshot(driver, twin)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     Diagnostics(driver, publisher.measured_rate)
-    _log_files(p["model"], twin=p["backend"] == "sim")
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "

@@ -10,12 +10,15 @@ from __future__ import annotations
 import logging
 
 import rospy
-from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
+from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger, TriggerResponse
 
 from jaka_msgs import srv as jaka
 
-from ..common.results import Result
+from ..backend import Twin
+from ..common.models import RobotModel
+from ..common.results import CommandRefused, Result
 from ..driver import RobotDriver
+from ..driver import checks as check
 from ..driver.servo_increment import ServoIncrements
 
 log = logging.getLogger(__name__)
@@ -128,36 +131,28 @@ def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.
     return services
 
 
-def advertise_faults(backend) -> list[rospy.Service]:
-    """Fault injection under ``~sim/`` for backends that can fake the world (the twin):
+def advertise_faults(twin: Twin, model: RobotModel) -> list[rospy.Service]:
+    """Fault injection under ``~sim/``, on what only a twin can do (``backend.twin``):
     ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop`` (Trigger),
-    ``set_input`` (jaka_msgs/SetIO on inputs: signal, type, index, value)."""
-    from std_srvs.srv import Trigger, TriggerResponse
-
-    from ..driver import checks as check
-    from ..common.results import CommandRefused
-
-    if not hasattr(backend, "press_emergency_stop"):
-        return []
-
+    ``set_input`` (jaka_msgs/SetIO on inputs of ``model``: signal, type, index, value)."""
     def emergency_stop(req):
-        result = backend.press_emergency_stop() if req.data else backend.release_emergency_stop()
+        result = twin.press_emergency_stop() if req.data else twin.release_emergency_stop()
         rospy.logwarn("sim: %s", result.message)
         return SetBoolResponse(success=result.ok, message=result.message)
 
     def protective_stop(_req):
-        result = backend.trigger_protective_stop()
+        result = twin.trigger_protective_stop()
         rospy.logwarn("sim: %s", result.message)
         return TriggerResponse(success=result.ok, message=result.message)
 
     def set_input(req):
         try:
             signal = check.io_signal(req.signal)
-            check.io_address(backend.model, signal, 0, req.type, req.index)
+            check.io_address(model, signal, 0, req.type, req.index)
             value = check.finite("value", req.value)
             if signal == "digital":
                 value = 1.0 if value else 0.0
-            result = backend.set_input(signal, req.type, req.index, value)
+            result = twin.set_input(signal, req.type, req.index, value)
         except CommandRefused as refusal:
             result = refusal.result()
         return jaka.SetIOResponse(ret=int(result.code), message=result.message)

@@ -3,7 +3,7 @@
 The picture goes to the file named by the private parameter ``~snapshot_path``, read at every
 call (``rosparam set /jaka_driver/snapshot_path /tmp/arm.png`` redirects the next one); by
 default ``$ROS_HOME/<node name>_snapshot.png``. The answer's ``message`` is the path written, or
-why nothing was. 800 × 600 px, the camera of :class:`jaka_driver.sim.snapshot.TwinCamera`.
+why nothing was. 800 × 600 px, the twin's camera (:meth:`jaka_driver.backend.Twin.camera`).
 
 A picture takes ~0.1 s of CPU in Mesa's software rasteriser. It is made in one worker thread at
 a lower scheduling priority (Mesa's own threads inherit it) so that the 125 Hz state publisher
@@ -21,6 +21,9 @@ from pathlib import Path
 import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 
+from ..backend import Twin
+from ..driver import RobotDriver
+
 RENDER_NICE = 10            # nice increment of the render thread (Linux: per thread)
 RENDER_TIMEOUT = 30.0       # s a call waits for its picture, first call included
 WIDTH, HEIGHT = 800, 600    # px
@@ -35,10 +38,12 @@ def default_path() -> str:
 
 
 class SnapshotWorker:
-    """Renders pictures of ``backend``'s arm in its own thread, one at a time."""
+    """Renders pictures of the arm in its own thread, one at a time: ``twin``'s camera, the
+    joints of ``driver.state()``."""
 
-    def __init__(self, backend):
-        self._backend = backend
+    def __init__(self, driver: RobotDriver, twin: Twin):
+        self._driver = driver
+        self._twin = twin
         self._requests: queue.Queue = queue.Queue()
         self._camera = None
         threading.Thread(target=self._run, name="twin-snapshot", daemon=True).start()
@@ -65,10 +70,8 @@ class SnapshotWorker:
     def _render(self, path: str) -> tuple[bool, str]:
         try:
             if self._camera is None:
-                from ..sim.snapshot import TwinCamera
-                self._camera = TwinCamera(self._backend.model, self._backend.scene,
-                                          width=WIDTH, height=HEIGHT)
-            q = self._backend.state().joint_position
+                self._camera = self._twin.camera(WIDTH, HEIGHT)
+            q = self._driver.state().joint_position
             written = self._camera.save(q, path)
         except (ImportError, RuntimeError) as exc:
             return False, (f"offscreen rendering unavailable ({exc}); it needs EGL: Debian "
@@ -76,15 +79,13 @@ class SnapshotWorker:
         except (OSError, ValueError) as exc:
             return False, f"no picture written to {path}: {exc}"
         joints = ", ".join(f"{v:.4f}" for v in q)
-        return True, (f"{written} ({WIDTH}x{HEIGHT} px): {self._backend.model.name} at "
+        return True, (f"{written} ({WIDTH}x{HEIGHT} px): {self._driver.model.name} at "
                       f"[{joints}] rad")
 
 
-def advertise_snapshot(backend) -> list[rospy.Service]:
-    """``~sim/snapshot`` for the twin; nothing for a real controller (it has no twin model)."""
-    if getattr(backend, "kind", None) != "sim":
-        return []
-    worker = SnapshotWorker(backend)
+def advertise_snapshot(driver: RobotDriver, twin: Twin) -> list[rospy.Service]:
+    """``~sim/snapshot``, on the camera of what only a twin can do (``backend.twin``)."""
+    worker = SnapshotWorker(driver, twin)
 
     def snapshot(_req):
         # Absolute in the answer: roslaunch runs nodes in $ROS_HOME, not the caller's folder.

@@ -1,0 +1,19 @@
+"""The ``sim`` backend: the MuJoCo twin of the arm.
+
+Its face is :class:`SimBackend` — the backend contract, and ``backend.twin`` (:class:`SimTwin`:
+what only a twin can do). The rest is how it works inside:
+
+* :mod:`.twin_model` — the MuJoCo model from the URDF, with floor, workcell and payload;
+* :mod:`.physics` — :class:`~.physics.PhysicsLoop`, the real-time loop and its samples;
+* :mod:`.servo` — the joint drives (their cycle compiled in ``joint_drives.c``, loaded by
+  :mod:`.native_drives`);
+* :mod:`.motions` — what the twin's controller does each 8 ms cycle (hold, a trajectory, a jog,
+  servo targets, a stop); :mod:`.jog_steps` — a jog's step on a joint or in Cartesian space;
+* :mod:`.collisions` — contact force → protective stop; :mod:`.overload` — torque limits and
+  following error → brakes; :mod:`.io_board` — the twin's IO;
+* :mod:`.snapshot` — offscreen pictures (also ``scripts/snapshot``).
+"""
+from .backend import SimBackend
+from .twin import SimTwin
+
+__all__ = ["SimBackend", "SimTwin"]

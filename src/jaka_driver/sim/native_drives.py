@@ -58,10 +58,14 @@ class NativeDrives:
 
 @functools.lru_cache(maxsize=None)
 def load() -> Optional[NativeDrives]:
-    """The compiled cycle (opened once per process), or None when the library is not built,
-    does not open, was built from another joint_drives.c or against another MuJoCo (its
-    structures could be laid out otherwise: never guess)."""
-    path = library_path()
+    """The compiled cycle (opened once per process, which says where it came from), or None
+    when the library is not built, does not open, was built from another joint_drives.c or
+    against another MuJoCo (its structures could be laid out otherwise: never guess)."""
+    return native_library.opened(library_path(), _open, "twin cycle library",
+                                 "the twin steps its cycle in numpy")
+
+
+def _open(path: Path) -> Optional[NativeDrives]:
     if not path.is_file():
         return None
     try:
