@@ -22,6 +22,7 @@ from ..common.constants import move_deadline
 from ..common.results import Code, CommandRefused, Result, invalid
 from ..common.transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
 from . import checks as check
+from .servo_increment import ServoIncrements
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
@@ -56,7 +57,10 @@ def _answers(method: Callable | None = None, *, react: bool = True) -> Callable:
 class RobotDriver:
     """Validation, state checks and watchdogs in front of a :class:`Backend`."""
 
-    def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1):
+    def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1,
+                 servo_increment: bool = False):
+        """``servo_increment``: servo_j / servo_p take increments, as JAKA's driver code sends
+        them (:mod:`.servo_increment`), not the interface document's absolute targets."""
         self.backend = backend
         self.model = backend.model
         #: every timeout below runs on the backend's time (wall, or the twin's sim time)
@@ -64,6 +68,9 @@ class RobotDriver:
         self._move_lock = threading.Lock()   # one blocking move at a time
         self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
         self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
+        self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
+                                           backend.forward_kinematics) \
+            if servo_increment else None
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -282,10 +289,19 @@ class RobotDriver:
             self._not_jogging()
             self._ready(allow_servo_mode=True)
         self._servo.reset()
+        if self._increments is not None:
+            self._increments.reset()
         return self.backend.servo_enable(bool(enable))
 
     @_answers(react=False)
     def servo_j(self, pose: Sequence[float]) -> Result:
+        """Joint target for the next 8 ms cycle: absolute (rad), or with ``servo_increment``
+        an increment (rad) of the last target."""
+        if self._increments is not None:
+            return self._increments.servo_j(pose)
+        return self._servo_j(pose)
+
+    def _servo_j(self, pose: Sequence[float]) -> Result:
         """Absolute joint target (rad) for the next 8 ms cycle."""
         q = check.joint_targets("pose", pose, self.model)
         st = self._ready(servo=True)
@@ -298,6 +314,13 @@ class RobotDriver:
 
     @_answers(react=False)
     def servo_p(self, pose: Sequence[float]) -> Result:
+        """TCP target for the next cycle: absolute (m + RPY rad, active user frame), or with
+        ``servo_increment`` an increment (mm, RPY rad) of the last target."""
+        if self._increments is not None:
+            return self._increments.servo_p(pose)
+        return self._servo_p(pose)
+
+    def _servo_p(self, pose: Sequence[float]) -> Result:
         """Absolute TCP target (m + RPY rad, active user frame) for the next cycle."""
         p = check.vector("pose", pose)
         st = self._ready(servo=True)

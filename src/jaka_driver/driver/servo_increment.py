@@ -13,25 +13,37 @@ Units are those of JAKA's driver code, which passes the request straight to the 
 servo_j rad per joint; servo_p mm for x, y, z and rad for the RPY angles, added to the last
 target's position (active user frame) and to its RPY angles component by component.
 The absolute target then takes the driver's ordinary path (limits, speed check, the cycle).
+
+Part of RobotDriver's servo path (``RobotDriver(..., servo_increment=True)``): which reading a
+request gets is the driver's convention, below the node. The reference pose is converted once,
+from the arm's 4x4 (measured, or the FK of the last joint target) to m + RPY.
 """
 from __future__ import annotations
 
 import threading
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from ..common.results import CommandRefused, Result
-from ..common.transforms import matrix_to_pose, pose_to_matrix
+from ..backend import RobotState
+from ..common.results import Result
+from ..common.transforms import matrix_to_pose
 from . import checks as check
+
+#: an absolute target (rad, or m + RPY rad) → the driver's answer; a refusal raises
+Absolute = Callable[[np.ndarray], Result]
 
 
 class ServoIncrements:
-    """Turns increments into the absolute targets :class:`RobotDriver` takes. Thread-safe:
-    one increment at a time, so two callers never add to the same reference."""
+    """Turns increments into absolute targets for ``servo_j`` / ``servo_p`` (the driver's
+    absolute servo path), from the last target or, without one, from ``state()``; the TCP of a
+    joint target is ``forward_kinematics`` (4x4, m). Thread-safe: one increment at a time, so
+    two callers never add to the same reference."""
 
-    def __init__(self, driver):
-        self._driver = driver
+    def __init__(self, servo_j: Absolute, servo_p: Absolute, state: Callable[[], RobotState],
+                 forward_kinematics: Callable[[np.ndarray], Result]):
+        self._servo_j, self._servo_p = servo_j, servo_p
+        self._state, self._fk = state, forward_kinematics
         self._lock = threading.Lock()
         self._joints: Optional[np.ndarray] = None   # rad, last joint target
         self._tcp: Optional[np.ndarray] = None      # m + RPY rad, last TCP target (user frame)
@@ -42,40 +54,36 @@ class ServoIncrements:
             self._joints = self._tcp = None
 
     def servo_j(self, pose: Sequence[float]) -> Result:
-        """Joint increment (rad) → absolute target → ``driver.servo_j``."""
+        """Joint increment (rad) → absolute target → the driver's servo_j."""
         with self._lock:
-            try:
-                delta = check.vector("pose", pose)
-            except CommandRefused as refusal:
-                return refusal.result()
-            reference = (self._joints if self._joints is not None
-                         else self._driver.state().joint_position)
+            delta = check.vector("pose", pose)
+            reference = self._joints if self._joints is not None \
+                else self._state().joint_position
             target = np.asarray(reference, dtype=float) + delta
-            result = self._driver.servo_j(target.tolist())
+            self._joints = self._tcp = None   # the next servo_p starts from the arm's TCP
+            result = self._servo_j(target)
             self._joints = target if result.ok else None
-            self._tcp = None            # the next servo_p starts from the arm's TCP
             return result
 
     def servo_p(self, pose: Sequence[float]) -> Result:
-        """TCP increment (mm, RPY rad) → absolute target (m + RPY) → ``driver.servo_p``."""
+        """TCP increment (mm, RPY rad) → absolute target (m + RPY) → the driver's servo_p."""
         with self._lock:
-            try:
-                delta = check.vector("pose", pose)
-            except CommandRefused as refusal:
-                return refusal.result()
-            if self._tcp is not None:
-                reference = self._tcp
-            elif self._joints is not None:
-                fk = self._driver.get_fk(self._joints.tolist())      # mm + rotvec
-                reference = (matrix_to_pose(pose_to_matrix(fk.value, length_scale=1e-3),
-                                            rotation="rpy") if fk.ok else self._measured_tcp())
-            else:
-                reference = self._measured_tcp()
-            target = reference + np.concatenate([delta[:3] * 1e-3, delta[3:]])
-            result = self._driver.servo_p(target.tolist())
+            delta = check.vector("pose", pose)
+            target = self._tcp_reference() + np.concatenate([delta[:3] * 1e-3, delta[3:]])
+            self._joints = self._tcp = None   # the next servo_j starts from the arm's joints
+            result = self._servo_p(target)
             self._tcp = target if result.ok else None
-            self._joints = None         # the next servo_j starts from the arm's joints
             return result
 
-    def _measured_tcp(self) -> np.ndarray:
-        return matrix_to_pose(self._driver.state().tcp_pose, rotation="rpy")
+    def _tcp_reference(self) -> np.ndarray:
+        """m + RPY rad: the last TCP target, else the TCP of the last joint target, else the
+        arm's."""
+        if self._tcp is not None:
+            return self._tcp
+        pose = None
+        if self._joints is not None:
+            fk = self._fk(self._joints)
+            pose = fk.value if fk.ok else None
+        if pose is None:
+            pose = self._state().tcp_pose
+        return matrix_to_pose(pose, rotation="rpy")

@@ -275,12 +275,13 @@ def main() -> int:
     except ValueError as exc:
         rospy.logfatal(str(exc))
         return 2
-    driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"])
+    driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"],
+                         servo_increment=p["servo_increment"])
     publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     driver.start()
     rospy.on_shutdown(driver.shutdown)
     publisher.start()
-    advertise(driver, servo_increment=p["servo_increment"])
+    advertise(driver)
     twin = backend.twin                 # what only a twin can do, when the backend offers it
     if twin is not None:
         advertise_faults(twin, driver.model)

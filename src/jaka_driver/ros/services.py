@@ -19,7 +19,6 @@ from ..common.models import RobotModel
 from ..common.results import CommandRefused, Result
 from ..driver import RobotDriver
 from ..driver import checks as check
-from ..driver.servo_increment import ServoIncrements
 
 log = logging.getLogger(__name__)
 
@@ -44,22 +43,13 @@ def _logged(name: str, handler):
     return serve
 
 
-def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.Service]:
+def advertise(driver: RobotDriver) -> list[rospy.Service]:
     """Advertise every service of docs/interface.md; returns them so the node can shut them down.
-
-    ``servo_increment``: servo_j / servo_p take increments as JAKA's driver code does
-    (:mod:`jaka_driver.driver.servo_increment`), not the document's absolute targets."""
+    (servo_j / servo_p read absolute targets or increments as the driver was built to:
+    ``~servo_increment``.)"""
     d = driver
     move = _ret(jaka.MoveResponse)
     servo = _ret(jaka.ServoMoveResponse)
-    increments = ServoIncrements(d) if servo_increment else None
-    servo_j = increments.servo_j if increments else d.servo_j
-    servo_p = increments.servo_p if increments else d.servo_p
-
-    def servo_move_enable(enable):
-        if increments:
-            increments.reset()
-        return d.servo_move_enable(enable)
 
     def get_io(req):
         result = d.get_io(req.signal, req.path, req.type, req.index)
@@ -100,9 +90,9 @@ def advertise(driver: RobotDriver, servo_increment: bool = False) -> list[rospy.
             r.pose, r.mvvelo, r.mvacc, r.coord_mode, r.has_ref, r.ref_joint))),
         ("jog", jaka.Move, lambda r: move(d.jog(r.coord_mode, r.index, r.mvvelo, r.mvacc))),
         ("servo_move_enable", jaka.ServoMoveEnable,
-         lambda r: _ret(jaka.ServoMoveEnableResponse)(servo_move_enable(r.enable))),
-        ("servo_j", jaka.ServoMove, lambda r: servo(servo_j(r.pose))),
-        ("servo_p", jaka.ServoMove, lambda r: servo(servo_p(r.pose))),
+         lambda r: _ret(jaka.ServoMoveEnableResponse)(d.servo_move_enable(r.enable))),
+        ("servo_j", jaka.ServoMove, lambda r: servo(d.servo_j(r.pose))),
+        ("servo_p", jaka.ServoMove, lambda r: servo(d.servo_p(r.pose))),
         ("set_toolframe", jaka.SetTcpFrame,
          lambda r: _ret(jaka.SetTcpFrameResponse)(d.set_toolframe(r.pose, r.tool_num))),
         ("set_userframe", jaka.SetUserFrame,
