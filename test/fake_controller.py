@@ -40,6 +40,8 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import pytest
 
+from jaka_driver.protocol.tcp_server import TcpServer
+
 DATA = Path(__file__).parent / "data"
 PERIOD = 0.008   # s between two status packets
 
@@ -103,8 +105,7 @@ class FakeController:
         self.requests: List[Dict[str, Any]] = []                    # every request decoded
         self.lock = threading.RLock()
         self._quit = threading.Event()
-        self._threads: List[threading.Thread] = []
-        self._socks: List[socket.socket] = []
+        self._servers: List[TcpServer] = []
         self.command_port = self._serve(self._command_client)
         self.status_port = self._serve(self._status_client) if stream else _closed_port()
         self.data_port = self._serve(self._data_client) if data_port else _closed_port()
@@ -116,14 +117,8 @@ class FakeController:
 
     def close(self) -> None:
         self._quit.set()
-        for s in self._socks:
-            try:
-                s.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            s.close()
-        for t in self._threads:
-            t.join(2.0)
+        for server in self._servers:
+            server.stop()
 
     def __enter__(self) -> "FakeController":
         return self
@@ -256,29 +251,10 @@ class FakeController:
 
     # ---- sockets -------------------------------------------------------------------------------
     def _serve(self, handler) -> int:
-        listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        listener.bind(("127.0.0.1", 0))
-        listener.listen(4)
-        listener.settimeout(0.1)
-        self._socks.append(listener)
-        thread = threading.Thread(target=self._accept, args=(listener, handler), daemon=True)
-        thread.start()
-        self._threads.append(thread)
-        return listener.getsockname()[1]
-
-    def _accept(self, listener: socket.socket, handler) -> None:
-        while not self._quit.is_set():
-            try:
-                conn, _ = listener.accept()
-            except socket.timeout:
-                continue
-            except OSError:
-                return
-            self._socks.append(conn)
-            thread = threading.Thread(target=handler, args=(conn,), daemon=True)
-            thread.start()
-            self._threads.append(thread)
+        """``handler(conn)`` for each connection to a new port on 127.0.0.1; the port."""
+        server = TcpServer(handler, name="fake-controller", nodelay=False).start()
+        self._servers.append(server)
+        return server.port
 
     def _requests(self, conn: socket.socket):
         """Decoded requests from ``conn`` (compact JSON, no delimiter), until it closes."""

@@ -1,62 +1,35 @@
 """A tiny scripted TCP server for the protocol client's tests: real sockets on 127.0.0.1, a
-handler per accepted connection, everything closed and joined at the end."""
+handler per accepted connection, everything closed and joined at the end — on the package's one
+TCP server (jaka_driver.protocol.tcp_server), as the emulator and the fake controller are."""
 from __future__ import annotations
 
 import socket
 import threading
 
+from jaka_driver.protocol.tcp_server import TcpServer
 from jaka_driver.protocol.wire import decode_first_object
 
 
 class ScriptedServer:
-    """Listens on an ephemeral port; serves each accepted connection with ``serve(conn)`` in its
-    own thread. Everything is closed and joined by :meth:`close`."""
+    """Listens on an ephemeral port; serves each accepted connection with ``serve(conn, self)``
+    in its own thread. Everything is closed and joined by :meth:`close`."""
 
     def __init__(self, serve):
         self._serve = serve
-        self.stopping = threading.Event()
-        self.listener = socket.create_server(("127.0.0.1", 0))
-        self.listener.settimeout(0.05)
-        self.port = self.listener.getsockname()[1]
         self.connections = []
-        self.threads = []
         self.accepted = threading.Event()
-        self._accept_thread = threading.Thread(target=self._accept, daemon=True)
-        self._accept_thread.start()
-
-    def _accept(self):
-        while not self.stopping.is_set():
-            try:
-                conn, _ = self.listener.accept()
-            except socket.timeout:
-                continue
-            except OSError:
-                return
-            self.connections.append(conn)
-            t = threading.Thread(target=self._run, args=(conn,), daemon=True)
-            self.threads.append(t)
-            t.start()
-            self.accepted.set()
+        self._server = TcpServer(self._run, name="scripted-server", nodelay=False).start()
+        self.port = self._server.port
+        self.stopping = self._server.stopping
 
     def _run(self, conn):
-        try:
-            self._serve(conn, self)
-        except OSError:
-            pass
+        self.connections.append(conn)
+        self.accepted.set()
+        self._serve(conn, self)
 
     def close(self):
-        self.stopping.set()
-        self._accept_thread.join(2)
-        self.listener.close()
-        for conn in self.connections:
-            try:
-                conn.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            conn.close()
-        for t in self.threads:
-            t.join(2)
-        assert not any(t.is_alive() for t in [self._accept_thread, *self.threads])
+        self._server.stop()
+        assert not self._server.threads_alive()
 
 
 def requests_of(conn, server):

@@ -14,7 +14,8 @@ without hardware. No ROS needed.
 * :mod:`.twin_controller` — controller behaviour on the twin, SI units;
   :mod:`.torque_sensor` — the torque sensor's stored settings.
 * :mod:`.status_packet` — the status packet's fields.
-* :mod:`.process` — :class:`EmulatorProcess`, the emulator as a subprocess (tests).
+* :mod:`.process` — :class:`EmulatorProcess`, the emulator as a subprocess (tests), waiting
+  for the line :mod:`.ready_line` describes.
 * ``python -m jaka_driver.emulator`` / ``rosrun jaka_driver jaka_emulator`` — :mod:`.__main__`.
 """
 from .app import Emulator

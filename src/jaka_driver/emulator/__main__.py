@@ -2,9 +2,9 @@
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]``
 — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
-Prints one line ``jaka_emulator ready: model zu5, host 127.0.0.1, command port P, status port Q``
-on stdout once both ports accept connections (port 0 picks free ports; the line says which),
-then serves until SIGINT or SIGTERM.
+Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
+port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
+picks free ports; the line says which), then serves until SIGINT or SIGTERM.
 """
 from __future__ import annotations
 
@@ -18,8 +18,7 @@ from ..common.models import MODEL_NAMES
 from ..host import latency_hint
 from .handlers import EMULATOR_COMMANDS
 from .profiles import DEFAULT_PROFILE, PROFILES, START_STATES
-
-READY = "jaka_emulator ready:"
+from .ready_line import ready_line
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -74,10 +73,10 @@ def main(argv=None) -> int:
     except OSError as exc:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
-    print(f"{READY} model {args.model}, host {emulator.host}, command port "
-          f"{emulator.command_port}, status port {emulator.status_port}, data port "
-          f"{emulator.data_port}; profile {emulator.profile.name}, started "
-          f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms", flush=True)
+    print(ready_line(args.model, emulator.host, emulator.command_port, emulator.status_port,
+                     emulator.data_port, f"profile {emulator.profile.name}, started "
+                     f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms"),
+          flush=True)
     try:
         while not done.wait(0.5):
             pass

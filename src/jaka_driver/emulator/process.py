@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import queue
-import re
 import signal
 import subprocess
 import sys
@@ -18,10 +17,9 @@ import threading
 from pathlib import Path
 from typing import Optional
 
-from .__main__ import READY
+from .ready_line import ports_of
 
 _SRC = Path(__file__).resolve().parents[2]
-_PORTS = re.compile(r"command port (\d+), status port (\d+), data port (\d+)")
 
 
 class EmulatorProcess:
@@ -70,10 +68,9 @@ class EmulatorProcess:
                 if line is None:
                     raise RuntimeError(f"the emulator exited before it was ready; log:\n"
                                        f"{self.log()}")
-                if line.startswith(READY):
-                    match = _PORTS.search(line)
-                    self.command_port, self.status_port, self.data_port = (
-                        int(match[1]), int(match[2]), int(match[3]))
+                ports = ports_of(line)
+                if ports is not None:
+                    self.command_port, self.status_port, self.data_port = ports
                     return self
         except queue.Empty:
             self.stop()

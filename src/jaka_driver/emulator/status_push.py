@@ -23,6 +23,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
+from ..protocol.tcp_server import close_socket
+
 log = logging.getLogger(__name__)
 
 STALL_LIMIT = 5.0        # s without a byte taken before a subscriber is dropped
@@ -123,12 +125,3 @@ class StatusSubscribers:
         for sub in subscribers:
             close_socket(sub.sock)
         return len(subscribers)
-
-
-def close_socket(sock: socket.socket) -> None:
-    """Shut down and close ``sock``, whatever state it is in."""
-    try:
-        sock.shutdown(socket.SHUT_RDWR)   # wakes a thread blocked in recv on it
-    except OSError:
-        pass
-    sock.close()

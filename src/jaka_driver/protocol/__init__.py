@@ -14,6 +14,8 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.client` — :class:`CommandClient` (port 10001), :class:`StatusReceiver` (port 10000)
   and :class:`StatusPoller` (port 10004).
 * :mod:`.errors` — the :class:`JakaProtocolError` family.
+* :mod:`.tcp_server` — :class:`TcpServer`, the other end: listening, accepting and serving
+  connections for whoever plays the controller (the emulator, the tests' fakes).
 
 Typical use::
 
@@ -33,6 +35,7 @@ from .fields import (COMMAND_PORT, COMMANDS, STATUS_PORT, STATUS_REQUEST_PORT, C
 from .replies import Reply, parse_reply
 from .status_stream import (StatusPacket, StatusStreamDecoder, decode_data_reply,
                             encode_data_reply, encode_status, parse_status)
+from .tcp_server import TcpServer
 
 __all__ = [
     "commands", "fields", "replies", "units",
@@ -42,5 +45,5 @@ __all__ = [
     "InvalidArgument", "CommandRejected",
     "COMMAND_PORT", "STATUS_PORT", "STATUS_REQUEST_PORT", "COMMANDS", "Cmd", "Field",
     "StatusField", "StatusPacket", "StatusStreamDecoder", "encode_status", "parse_status",
-    "encode_data_reply", "decode_data_reply",
+    "encode_data_reply", "decode_data_reply", "TcpServer",
 ]
