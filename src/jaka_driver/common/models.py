@@ -38,6 +38,9 @@ STRUCTURES = ("zu", "forearm_roll", "spherical_wrist")
 #: A linear move asked without an acceleration uses this share of the model's TCP acceleration
 #: (a joint move without one uses its slowest joint's: :attr:`RobotModel.default_joint_accel`).
 DEFAULT_TCP_ACCEL_SHARE = 0.25
+#: A payload may weigh up to this many times the model's rated payload (set_payload, the wire's
+#: payload settings); the twin's drives then still refuse what they cannot hold there.
+PAYLOAD_MARGIN = 1.5
 
 IO_SIGNALS = ("digital", "analog")
 IO_TYPES = ("cabinet", "tool", "extension")
@@ -97,6 +100,11 @@ class RobotModel:
         """rad/s², what a joint move asked without an acceleration uses (``mvacc`` 0, a wire
         request without ``acc``): the slowest joint's limit, which every joint can follow."""
         return float(np.min(self.max_acceleration))
+
+    @property
+    def max_payload_kg(self) -> float:
+        """kg, the heaviest payload a request may set: :data:`PAYLOAD_MARGIN` × the rated one."""
+        return PAYLOAD_MARGIN * self.rated_payload_kg
 
     @property
     def default_tcp_accel(self) -> float:

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.joint_limits import fastest_step, outside_limits
-from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, RobotModel
+from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, PAYLOAD_MARGIN, RobotModel
 from ..common.results import invalid
 from ..common.transforms import pose_mm_to_matrix
 from ..motion.linear_path import line_duration
@@ -183,10 +183,10 @@ def payload(model: RobotModel, mass: float, centroid_mm: Sequence[tuple[str, flo
     """(mass kg, centroid m in the flange frame) of a payload; ``centroid_mm`` is the
     (field name, value mm) of xc, yc, zc. The mass may be up to 1.5 × the rated payload."""
     m = finite("mass", mass, "kg")
-    limit = 1.5 * model.rated_payload_kg
+    limit = model.max_payload_kg
     if not 0 <= m <= limit:
-        raise invalid(f"mass is {m:g} kg, expected 0–{limit:g} kg (1.5 × rated payload "
-                      f"of {model.name})")
+        raise invalid(f"mass is {m:g} kg, expected 0–{limit:g} kg ({PAYLOAD_MARGIN:g} × rated "
+                      f"payload of {model.name})")
     c = np.array([finite(n, v, "mm") for n, v in centroid_mm])
     if np.linalg.norm(c) > CENTROID_REACH_MM:
         raise invalid(f"centroid is {np.linalg.norm(c):.1f} mm from the flange, limit "

@@ -59,7 +59,7 @@ class CommandHandlers:
             **SettingCommands(controller).table(),
             **IoCommands(controller).table(),
             **PROGRAM_COMMANDS,
-            **SensorCommands(controller.sensor, 1.5 * self.model.rated_payload_kg).table(),
+            **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             Cmd.QUIT: lambda r: Answer(then="close"),
             "emulator_emergency_stop": lambda r: self._note(self.c.emergency_stop(
                 flag(r, "pressed"))),

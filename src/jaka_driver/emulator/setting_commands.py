@@ -97,7 +97,7 @@ class SettingCommands:
 
     # ---- payload, speed, tool power, servo filter -----------------------------------------------
     def _set_payload(self, req) -> Answer:
-        mass = number(req, Field.MASS, lo=0.0, hi=1.5 * self.model.rated_payload_kg)
+        mass = number(req, Field.MASS, lo=0.0, hi=self.model.max_payload_kg)
         self.c.set_payload(mass, vector(req, Field.CENTROID, 3))
         return Answer()
 
