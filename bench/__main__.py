@@ -239,7 +239,9 @@ def main(argv=None) -> int:
                                run.extra, quick=args.quick)
     failed = sum(r.status == "FAIL" for r in run.rows)
     missing = sum(r.status == NOT_RUN for r in run.rows)
-    run.log(f"wrote {md_path.relative_to(ROOT)} and {json_path.name}: "
+    shown = md_path.resolve()
+    shown = shown.relative_to(ROOT) if ROOT in shown.parents else shown
+    run.log(f"wrote {shown} and {json_path.name}: "
             f"{failed} targets missed, {missing} rows not run")
     print(md_path.read_text())
     return 0
