@@ -21,12 +21,13 @@ fraction of a mm off that axis — :attr:`ChainFit.base_offset`); frame 6 is the
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Iterable, NamedTuple, Sequence
 
 import numpy as np
 
-from ..common.models import RobotModel
+from ..common.models import MODEL_NAMES, RobotModel, load_model
 from .chain import axes_at_zero
 
 #: Worst flange-position difference (m) between two parameter sets, over :data:`_SAMPLES`, that
@@ -129,6 +130,19 @@ def chain_difference(dh: DHParameters, other: "DHParameters | RobotModel") -> fl
                for q in _SAMPLES)
 
 
+def nearest_models(dh: DHParameters) -> list:
+    """``(name, difference m)`` of every model of :data:`~jaka_driver.common.models.MODEL_NAMES`,
+    nearest chain to ``dh`` first (:func:`chain_difference`). Models JAKA sells with one chain
+    (Zu 5, C5, Pro 5) come out at the same difference."""
+    return sorted(((name, chain_difference(dh, _named_dh(name))) for name in MODEL_NAMES),
+                  key=lambda row: row[1])
+
+
+@functools.lru_cache(maxsize=None)
+def _named_dh(name: str) -> DHParameters:
+    return dh_of_model(load_model(name))
+
+
 def dh_of_model(model: RobotModel) -> DHParameters:
     """``model``'s URDF chain in the controller's convention (see :func:`fit_chain`)."""
     return fit_chain(model).dh
@@ -226,4 +240,4 @@ def _along_normal(o: np.ndarray, x: np.ndarray, p_next: np.ndarray, z_next: np.n
 
 
 __all__ = ["CALIBRATION_TOLERANCE", "ChainFit", "DHParameters", "chain_difference",
-           "dh_frames", "dh_of_model", "fit_chain", "flange_pose"]
+           "dh_frames", "dh_of_model", "fit_chain", "flange_pose", "nearest_models"]
