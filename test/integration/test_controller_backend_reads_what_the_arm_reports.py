@@ -125,7 +125,7 @@ def test_another_arms_parameters_are_named_and_refuse_motion(caplog):
     # one line says what is wrong and what to do: the recorded arm is a (calibrated) Zu 5
     errors = [r.getMessage() for r in caplog.records if r.levelno == logging.ERROR]
     assert any("model:=zu12 does not match the arm" in m and "a zu5's" in m
-               and "restart with model:=zu5" in m and "~kinematics" in m for m in errors), errors
+               and "restart with model:=zu5" in m and "kinematics:=model" in m for m in errors), errors
     # logged beside each other: the controller's parameters and the model's
     assert any("of the controller (get_dh_param)" in m and "d mm [120.150" in m
                for m in messages)

@@ -99,7 +99,7 @@ def test_another_models_arm_is_named_and_nothing_moves_until_told(caplog):
             line = errors[0]
             assert "model:=zu5 does not match the arm" in line
             assert "a zu7's (the same chain as c7, pro7)" in line
-            assert "restart with model:=zu7" in line and "~kinematics" in line
+            assert "restart with model:=zu7" in line and "kinematics:=controller" in line
             q = emu.backend.state().joint_position.copy()
             tool = backend.state().tcp_pose
             step = JointTrajectory.from_profile(

@@ -23,6 +23,8 @@ import logging
 import threading
 from typing import Callable, Dict, Optional
 
+import numpy as np
+
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused
 from ..kinematics.calibrated_chain import with_dh
@@ -130,13 +132,13 @@ class ArmIdentity:
             if self.choice == "auto":
                 refusal = (f"the arm is {looks_like}, not model:={name} (its kinematic "
                            f"parameters are {difference * 1000.0:.1f} mm from {name}'s); restart "
-                           f"with model:={match}, or set ~kinematics to controller or model")
+                           f"with model:={match}, or with kinematics:=controller or kinematics:=model")
                 log.error("model:=%s does not match the arm: the controller's kinematic "
                           "parameters (get_dh_param) are %s, %.1f mm from %s's chain at the "
                           "flange, more than a calibration explains (%.1f mm). Every motion is "
-                          "refused until you restart with model:=%s, or set ~kinematics to "
-                          "controller (the controller's parameters with %s's limits) or to "
-                          "model (%s's chain)", name, looks_like, difference * 1000.0, name,
+                          "refused until you restart with model:=%s, or with "
+                          "kinematics:=controller (the controller's parameters with %s's "
+                          "limits) or kinematics:=model (%s's chain)", name, looks_like, difference * 1000.0, name,
                           CALIBRATION_TOLERANCE * 1000.0, match, name, name)
             else:
                 log.warning("model:=%s does not match the arm (the controller's kinematic "
@@ -145,7 +147,13 @@ class ArmIdentity:
                             looks_like, difference * 1000.0, name, self.choice,
                             "the controller's parameters" if use_controller
                             else f"{name}'s chain")
-        kinematic_model = with_dh(self.model, dh) if use_controller else self.model
+        kinematic_model = self.model
+        if use_controller:
+            try:
+                kinematic_model = with_dh(self.model, dh)
+            except (ValueError, np.linalg.LinAlgError) as exc:
+                log.warning("the controller's kinematic parameters cannot be built into a "
+                            "chain (%s); the driver's kinematics use %s's", exc, name)
         with self._lock:
             self.dh, self.difference = dh, difference
             self.kinematic_model, self.refusal = kinematic_model, refusal
