@@ -71,6 +71,12 @@ def _ik(run: Run) -> None:
         results.append(ik_vs_kdl.run_model(name, n))
     run.rows += ik_vs_kdl.rows(results)
     run.raw["ik"] = results
+    calibrated = []
+    for name in ik_vs_kdl.CALIBRATED:
+        run.log(f"IK vs KDL on a calibrated chain: {name}, {n} targets")
+        calibrated.append(ik_vs_kdl.run_model(name, n, calibrated=True))
+    run.rows += ik_vs_kdl.rows(calibrated, ik_vs_kdl.CALIBRATED_GROUP)
+    run.raw["ik_calibrated"] = calibrated
 
 
 def _twin(run: Run) -> None:

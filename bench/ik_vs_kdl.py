@@ -13,6 +13,12 @@ comparison favours KDL. Success, for both: the solver says so and our FK of the 
 within ``POS_TOL_M`` / ``ROT_TOL_RAD`` of the target, inside the joint limits.
 KDL is configured as MoveIt's KDL plugin and ``kdl_parser`` users do by default:
 ``ChainIkSolverVel_pinv``, 100 iterations, eps 1e-6.
+
+Calibrated chains (``CALIBRATED``): the model rebuilt on a perturbed set of the controller's
+parameters (``kinematics.calibrated_chain``: lengths ±0.4 mm, angles ±0.005°, seed
+``CALIBRATION_SEED``), as the controller backend builds it from a calibrated arm's
+``get_dh_param`` — one model per kinematic structure, so that the IK stays exact and fast off
+the ideal chain. Both solvers get the same rebuilt URDF.
 """
 from __future__ import annotations
 
@@ -23,6 +29,8 @@ import PyKDL as kdl
 
 from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.kinematics import Kinematics
+from jaka_driver.kinematics.calibrated_chain import perturbed, with_dh
+from jaka_driver.kinematics.controller_dh import dh_of_model
 
 from .profiling import describe, hot_functions
 from .kdl_chain import chain_from_urdf, frame_from_matrix, jnt_array
@@ -36,6 +44,12 @@ ROT_TOL_RAD = 1e-5
 MEDIAN_TARGET_US = 50.0
 SPEEDUP_TARGET = 3.0
 RNG_SEED = 6
+#: models benched on a calibrated chain too: one per structure (Zu, forearm roll, spherical
+#: wrist) and the Zu structure's largest
+CALIBRATED = ("zu5", "zu20", "a12", "minicobo")
+CALIBRATION_SEED = 25
+GROUP = "IK: ours vs PyKDL ChainIkSolverPos_NR_JL"
+CALIBRATED_GROUP = "IK on a calibrated chain (get_dh_param ±0.4 mm, ±0.005°): ours vs PyKDL"
 
 
 def _targets(model, kin: Kinematics, n: int):
@@ -63,9 +77,12 @@ def _good(kin, model, q, T) -> bool:
     return pe <= POS_TOL_M and re <= ROT_TOL_RAD
 
 
-def run_model(name: str, n: int = N_TARGETS) -> dict:
-    """Both solvers on ``n`` targets of model ``name``: times (µs) and success flags."""
+def run_model(name: str, n: int = N_TARGETS, calibrated: bool = False) -> dict:
+    """Both solvers on ``n`` targets of model ``name`` (rebuilt on a calibrated chain when
+    ``calibrated``): times (µs) and success flags."""
     model = load_model(name)
+    if calibrated:
+        model = with_dh(model, perturbed(dh_of_model(model), CALIBRATION_SEED))
     kin = Kinematics(model)
     q_true, seeds, poses = _targets(model, kin, n)
 
@@ -145,8 +162,7 @@ def _fix(profile: list[tuple[str, float]]) -> str:
             "no iterative polish is needed.")
 
 
-def rows(results: list[dict]) -> list[Row]:
-    group = "IK: ours vs PyKDL ChainIkSolverPos_NR_JL"
+def rows(results: list[dict], group: str = GROUP) -> list[Row]:
     out = []
     for r in results:
         ours_med = float(np.median(r["ours_us"]))

@@ -107,7 +107,7 @@ def test_the_arms_kinematic_parameters_and_identity_are_read_at_connection(fake,
     assert info["dh difference to the model (mm)"] < CALIBRATION_TOLERANCE * 1000
 
 
-def test_another_arms_parameters_are_warned_about_and_shown(caplog):
+def test_another_arms_parameters_are_named_and_refuse_motion(caplog):
     with FakeController() as fake, caplog.at_level(logging.INFO,
                                                     logger="jaka_driver.controller"):
         backend = start_backend(fake, model="zu12")
@@ -115,11 +115,17 @@ def test_another_arms_parameters_are_warned_about_and_shown(caplog):
             info = backend.describe()
             assert info["arm matches the model"] is False
             assert info["dh difference to the model (mm)"] > 100
+            assert "motion refused" in info["kinematics"]
+            refused = backend.start_joint_move(np.zeros(6), 1.0, 1.0)
+            assert refused.code == Code.WRONG_MODE and "model:=zu5" in refused.message
+            assert not fake.received("joint_move")
         finally:
             backend.shutdown()
     messages = [r.getMessage() for r in caplog.records]
-    assert any(r.levelno == logging.WARNING and "is not a zu12" in r.getMessage()
-               for r in caplog.records), messages
+    # one line says what is wrong and what to do: the recorded arm is a (calibrated) Zu 5
+    errors = [r.getMessage() for r in caplog.records if r.levelno == logging.ERROR]
+    assert any("model:=zu12 does not match the arm" in m and "a zu5's" in m
+               and "restart with model:=zu5" in m and "kinematics:=model" in m for m in errors), errors
     # logged beside each other: the controller's parameters and the model's
     assert any("of the controller (get_dh_param)" in m and "d mm [120.150" in m
                for m in messages)

@@ -22,6 +22,13 @@ packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
 reconnect policy are :mod:`.connection`; frames by id are :mod:`.frames_by_id`; the arm's
 identity and kinematic parameters, read at every connection, are :mod:`.arm_identity`.
 
+Local kinematics: ``linear_move``'s whole path is checked before ``moveL`` goes out (IK every
+8 ms from the joints the latest packet reports, joint limits, no joint jump), on
+the arm's own chain when the controller states it (``get_dh_param``, a calibration of the
+model's) — :attr:`ControllerBackend.kinematics`. ``get_fk`` and ``get_ik`` are the controller's
+own (``kine_forward`` / ``kine_inverse``). While the parameters say the arm is another model's
+(and ``kinematics`` is ``auto``), every motion is refused with -9 (:mod:`.arm_identity`).
+
 The controller queues moves: one sent while another runs is acknowledged and runs after it
 (docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
 move or trajectory runs is refused with -10 (busy) before anything is sent, so the arm never
@@ -41,8 +48,10 @@ from ..backend.robot_state import RobotState
 from ..common.frames import TOOL, USER_FRAME
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
+from ..common.constants import SERVO_CYCLE
 from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
-from ..motion.linear_path import line_duration, orientation_limits
+from ..kinematics import Kinematics
+from ..motion.linear_path import line_duration, orientation_limits, plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, Field, JogMode
@@ -76,6 +85,11 @@ IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands
 SERVO_MODE_OFF_CODE = "-1"
 #: s a confirmed setting waits for a status packet that shows it (a few packet periods)
 PACKET_CATCH_UP = 0.2
+#: A line whose IK needs a joint faster than this many times its speed limit between two 8 ms
+#: samples jumps there (a configuration flip, a singularity passed through): refused before
+#: moveL. Slower steps are the controller's business: it times moveL itself, and a tool turning
+#: at the driver's cap (π rad/s) already asks J6 for its whole 3.14 rad/s.
+LINE_JUMP = 2.0
 
 
 class ControllerBackend(Backend):
@@ -84,14 +98,16 @@ class ControllerBackend(Backend):
     Timeouts, s: ``connect_timeout`` per TCP connect attempt, ``call_timeout`` for a reply,
     ``stall_timeout`` of status silence that counts as a lost link, ``power_timeout`` for
     power-on and enable. ``trajectory_step_num`` decimates trajectory streams (set-points every
-    ``trajectory_step_num`` × 8 ms).
+    ``trajectory_step_num`` × 8 ms). ``kinematics`` says which chain is right when the
+    controller's parameters are another arm's (:data:`.arm_identity.KINEMATICS_CHOICES`).
     """
 
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
                  status_port: int = 10000, *, status_source: str = "stream",
                  data_port: int = 10004, connect_timeout: float = 1.0,
                  call_timeout: float = 1.0, stall_timeout: float = 0.5,
-                 power_timeout: float = 15.0, trajectory_step_num: int = 1):
+                 power_timeout: float = 15.0, trajectory_step_num: int = 1,
+                 kinematics: str = "auto"):
         super().__init__(model)
         self.host = host
         self.trajectory_step_num = int(trajectory_step_num)
@@ -103,7 +119,8 @@ class ControllerBackend(Backend):
                                    on_up=self._on_up, on_down=self._on_down)
         self.send = Commander(self.link, self.view, power_timeout)
         self.frames_by_id = ControllerFrames(self.send.read)
-        self.identity = ArmIdentity(model)
+        self.identity = ArmIdentity(model, kinematics)
+        self._kinematics = (model, None)   # (the model it is of, Kinematics or None)
         self._lock = threading.RLock()
         self._send_lock = threading.Lock()   # orders sending a move against stop_move
         self._watch: Optional[MoveWatch] = None
@@ -139,6 +156,18 @@ class ControllerBackend(Backend):
 
     def state(self) -> RobotState:
         return self.view.state(self.link.connected, self._servo_mode)
+
+    @property
+    def kinematics(self) -> Kinematics:
+        """The driver's local kinematics of the arm: on the controller's own parameters when
+        they are in use (:attr:`.arm_identity.ArmIdentity.kinematic_model`), else the model's
+        chain."""
+        model = self.identity.kinematic_model
+        of, kin = self._kinematics
+        if kin is None or of is not model:
+            kin = Kinematics(model)
+            self._kinematics = (model, kin)
+        return kin
 
     def describe(self) -> dict:
         info = {"backend": "controller", **super().describe()}
@@ -176,6 +205,7 @@ class ControllerBackend(Backend):
             self.view.reset()
             self._servo_mode = self._read_servo_mode()
             self.identity.read(self.send.read)
+            self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
             if first:
                 self._bring_up()
@@ -306,6 +336,7 @@ class ControllerBackend(Backend):
         trapezoid is the fastest one at its own peak speed), computed by the driver's law
         (:func:`~jaka_driver.motion.profiles.joint_move_profile`) from the joints the latest
         packet reports."""
+        self.identity.require_motion("joint_move")
         q_target = np.asarray(q_target, float)
         latest = self.view.latest
         estimate = duration or UNKNOWN_MOVE_TIME
@@ -324,7 +355,10 @@ class ControllerBackend(Backend):
         """``moveL`` at ``speed`` m/s and ``accel`` m/s², its orientation at the driver's own
         limits for that speed (``ori_vel``/``ori_acc``, the twin's, so a controller never turns
         the tool at its own defaults), taking ``duration`` s (the driver's plan; without one,
-        the same law from the TCP the latest packet reports)."""
+        the same law from the TCP the latest packet reports). The whole line is checked first
+        on the local kinematics (:meth:`_check_line`)."""
+        self.identity.require_motion("linear_move")
+        self._check_line(target, speed, accel)
         pose = matrix_to_pose_mm_rpy(target)
         angular_speed, angular_accel = orientation_limits(speed, accel)
         estimate = duration
@@ -341,9 +375,33 @@ class ControllerBackend(Backend):
                                  ori_vel_rad_s=angular_speed, ori_acc_rad_s2=angular_accel)
         return self._start_move(request, watch, estimate)
 
+    def _check_line(self, target, speed: float, accel: float) -> None:
+        """The whole-path check of a line (IK at every cycle, joint limits, no joint faster
+        than :data:`LINE_JUMP` × its limit) from the joints the latest packet reports, on
+        :attr:`kinematics` and the active frames, seeded there as the controller's ``moveL``
+        is (it is not sent ``ref_joint``); a
+        :class:`~jaka_driver.motion.linear_path.PlanningError` (-4) says where it fails.
+        Without a link the move is refused as any other (-1), unchecked."""
+        self.send.require_link()
+        latest = self.view.latest
+        if latest is None or not np.all(np.isfinite(latest.joint_position)):
+            return
+        q0 = np.asarray(latest.joint_position, float)
+        tool, user = self.frames()
+        kin = self.kinematics
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
+            return solution.q if solution.success else None
+
+        plan_linear_move(kin.tcp_pose(q0, tool, user), target, speed, accel, q0, ik,
+                         self.model.lower, self.model.upper,
+                         LINE_JUMP * self.model.max_velocity, cycle=SERVO_CYCLE)
+
     # ---- trajectories ---------------------------------------------------------------------------
     @answers
     def start_trajectory(self, trajectory) -> Result:
+        self.identity.require_motion("trajectory")
         self.send.require_link()
         with self._lock:
             if self._streamer is not None and self._streamer.running:
@@ -379,6 +437,7 @@ class ControllerBackend(Backend):
     # ---- jog ------------------------------------------------------------------------------------
     @answers
     def jog(self, coord, axis, direction, speed) -> Result:
+        self.identity.require_motion("jog")
         coord_map = int(JOG_COORD_MAP[int(coord)])
         angular = coord_map == CoordMap.JOINT or axis >= 3
         jogvel = direction * (speed if angular else speed * 1000.0)   # rad/s, or m/s → mm/s
@@ -406,6 +465,8 @@ class ControllerBackend(Backend):
     # ---- servo ----------------------------------------------------------------------------------
     @answers
     def servo_enable(self, on: bool) -> Result:
+        if on:
+            self.identity.require_motion("servo mode")
         self._set_servo_mode(bool(on))
         return Result.success(f"servo mode {'on' if on else 'off'}")
 
@@ -432,11 +493,13 @@ class ControllerBackend(Backend):
 
     @answers
     def servo_j(self, q_target) -> Result:
+        self.identity.require_motion("servo_j")
         self._servo_target(commands.servo_j(np.asarray(q_target, float)))
         return Result.success("servo_j target sent")
 
     @answers
     def servo_p(self, target) -> Result:
+        self.identity.require_motion("servo_p")
         self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
         return Result.success("servo_p target sent")
 

@@ -1,6 +1,6 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile zu5s-1.5.14] [--host 127.0.0.1]
-[--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]``
-— also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
+[--dh-from MODEL] [--calibration FILE|SEED]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -14,7 +14,7 @@ import signal
 import sys
 import threading
 
-from ..common.models import MODEL_NAMES
+from ..common.models import MODEL_NAMES, load_model
 from ..host import latency_hint
 from .handlers import EMULATOR_COMMANDS
 from .profiles import DEFAULT_PROFILE, PROFILES, START_STATES
@@ -45,6 +45,14 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--period", type=float, default=None,
                         help="s between two status packets on the status port; default the "
                              "profile's")
+    parser.add_argument("--dh-from", default=None, choices=MODEL_NAMES, metavar="MODEL",
+                        help="the arm's chain is MODEL's (a controller whose arm is not "
+                             "--model); the twin moves on it and get_dh_param answers it")
+    parser.add_argument("--calibration", default=None, metavar="FILE|SEED",
+                        help="a calibrated arm: an integer seed perturbs the chain by up to "
+                             "0.4 mm and 0.005 deg per parameter; a file holds get_dh_param's "
+                             "rows (alpha deg, a mm, d mm, joint_homeoff deg). The twin moves "
+                             "on it and get_dh_param answers it")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
@@ -59,11 +67,13 @@ def main(argv=None) -> int:
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     logging.getLogger("jaka_driver.emulator").info("scheduling: %s", scheduling)
     from .app import Emulator   # imports MuJoCo: after argument errors are reported
+    from .calibration import arm_model
     done = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: done.set())
     try:
-        emulator = Emulator(args.model, args.host, args.command_port, args.status_port,
+        model = arm_model(load_model(args.model), args.dh_from, args.calibration)
+        emulator = Emulator(model, args.host, args.command_port, args.status_port,
                             data_port=args.data_port, profile=args.profile, period=args.period,
                             start=args.start, scene=args.scene, io_loopback=args.io_loopback)
         emulator.start()
@@ -74,7 +84,7 @@ def main(argv=None) -> int:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
     print(ready_line(args.model, emulator.host, emulator.command_port, emulator.status_port,
-                     emulator.data_port, f"profile {emulator.profile.name}, started "
+                     emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, started "
                      f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms"),
           flush=True)
     try:
@@ -83,6 +93,16 @@ def main(argv=None) -> int:
     finally:
         emulator.stop()
     return 0
+
+
+def _chain(args) -> str:
+    """The ready line's words on a chain that is not the model's own."""
+    if args.dh_from is None and args.calibration is None:
+        return ""
+    words = [f"{args.dh_from}'s chain" if args.dh_from else "its chain"]
+    if args.calibration is not None:
+        words.append(f"calibrated ({args.calibration})")
+    return " ".join(words) + ", "
 
 
 if __name__ == "__main__":

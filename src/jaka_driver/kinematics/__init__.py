@@ -12,7 +12,9 @@
   compiled (``jaka_ik.c``), through ctypes;
 * :mod:`.numeric` — Newton polish, damped least squares and restarts on the exact model;
 * :mod:`.controller_dh` — the chain as a JAKA controller states it (``get_dh_param``, modified
-  DH), derived from a model and compared with another.
+  DH), derived from a model and compared with another;
+* :mod:`.calibrated_chain` — a model rebuilt on such parameters (a calibrated arm, another
+  arm's chain), and a plausible calibration of a parameter set.
 """
 from .model import IkResult, Kinematics
 

@@ -21,13 +21,14 @@ fraction of a mm off that axis — :attr:`ChainFit.base_offset`); frame 6 is the
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Iterable, NamedTuple, Sequence
 
 import numpy as np
-import pinocchio as pin
 
-from ..common.models import RobotModel
+from ..common.models import MODEL_NAMES, RobotModel, load_model
+from .chain import axes_at_zero
 
 #: Worst flange-position difference (m) between two parameter sets, over :data:`_SAMPLES`, that
 #: a calibration of one arm can explain. A calibrated Zu 5 (parameters read from a real
@@ -95,11 +96,12 @@ def _rot_x(angle: float) -> np.ndarray:
     return np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]])
 
 
-def flange_pose(dh: DHParameters, q: Iterable[float]) -> np.ndarray:
-    """4x4 (m): frame 6 (the flange) in frame 0 at joints ``q`` (rad), by the controller's
-    convention."""
+def dh_frames(dh: DHParameters, q: Iterable[float]) -> list:
+    """4x4 (m): frames 1..6 in frame 0 at joints ``q`` (rad), by the controller's convention;
+    frame i turns about joint i's axis (its z) and frame 6 is the flange."""
     q = np.asarray(q, dtype=float)
     T = np.eye(4)
+    frames = []
     for i in range(6):
         theta = q[i] + dh.joint_homeoff[i]
         ct, st = np.cos(theta), np.sin(theta)
@@ -109,7 +111,14 @@ def flange_pose(dh: DHParameters, q: Iterable[float]) -> np.ndarray:
                          [st * sa, ct * sa, ca, ca * dh.d[i]],
                          [0.0, 0.0, 0.0, 1.0]])
         T = T @ step
-    return T
+        frames.append(T)
+    return frames
+
+
+def flange_pose(dh: DHParameters, q: Iterable[float]) -> np.ndarray:
+    """4x4 (m): frame 6 (the flange) in frame 0 at joints ``q`` (rad), by the controller's
+    convention."""
+    return dh_frames(dh, q)[-1]
 
 
 def chain_difference(dh: DHParameters, other: "DHParameters | RobotModel") -> float:
@@ -119,6 +128,19 @@ def chain_difference(dh: DHParameters, other: "DHParameters | RobotModel") -> fl
     ref = other if isinstance(other, DHParameters) else dh_of_model(other)
     return max(float(np.linalg.norm(flange_pose(dh, q)[:3, 3] - flange_pose(ref, q)[:3, 3]))
                for q in _SAMPLES)
+
+
+def nearest_models(dh: DHParameters) -> list:
+    """``(name, difference m)`` of every model of :data:`~jaka_driver.common.models.MODEL_NAMES`,
+    nearest chain to ``dh`` first (:func:`chain_difference`). Models JAKA sells with one chain
+    (Zu 5, C5, Pro 5) come out at the same difference."""
+    return sorted(((name, chain_difference(dh, _named_dh(name))) for name in MODEL_NAMES),
+                  key=lambda row: row[1])
+
+
+@functools.lru_cache(maxsize=None)
+def _named_dh(name: str) -> DHParameters:
+    return dh_of_model(load_model(name))
 
 
 def dh_of_model(model: RobotModel) -> DHParameters:
@@ -137,14 +159,11 @@ def fit_chain(model: RobotModel) -> ChainFit:
     base's orientation on joint 1's axis; frame 6's x is the flange's x, its origin where the
     flange's origin projects onto joint 6's axis.
     """
-    pm = pin.buildModelFromXML(model.urdf_xml)
-    data = pm.createData()
-    q0 = np.zeros(pm.nq)
-    J = pin.computeJointJacobians(pm, data, q0)
-    pin.updateFramePlacements(pm, data)
-    points = [data.oMi[i].translation.copy() for i in range(1, 7)]
-    axes = [J[3:, i] / np.linalg.norm(J[3:, i]) for i in range(6)]
-    flange = data.oMf[pm.getFrameId("flange")].homogeneous
+    joint_axes, flange = axes_at_zero(model.chain)
+    if len(joint_axes) != 6:
+        raise ValueError(f"{model.name}: {len(joint_axes)} revolute joints, expected 6")
+    points = [axis.point for axis in joint_axes]
+    axes = [axis.direction for axis in joint_axes]
 
     if np.linalg.norm(np.cross(axes[0], [0.0, 0.0, 1.0])) > 1e-6:
         raise ValueError(f"{model.name}: joint 1's axis is not the base's z axis; the "
@@ -221,4 +240,4 @@ def _along_normal(o: np.ndarray, x: np.ndarray, p_next: np.ndarray, z_next: np.n
 
 
 __all__ = ["CALIBRATION_TOLERANCE", "ChainFit", "DHParameters", "chain_difference",
-           "dh_of_model", "fit_chain", "flange_pose"]
+           "dh_frames", "dh_of_model", "fit_chain", "flange_pose", "nearest_models"]

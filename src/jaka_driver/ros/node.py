@@ -13,6 +13,10 @@ Parameters (private, ``~name``):
   ``status_source``  ``stream`` (port 10000, default), ``request`` (port ``data_port``, as JAKA's
                      SDK reads status) or ``both``
   ``data_port``      controller data_request port (default 10004)
+  ``kinematics``     controller: which chain is right when the controller's kinematic
+                     parameters (get_dh_param) are another arm's than ``model``: ``auto``
+                     (default: its parameters when they are a calibration of the model's,
+                     every motion refused when they are another arm's), ``controller``, ``model``
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
@@ -71,7 +75,8 @@ def make_backend(kind: str, model_name: str, params: dict):
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
                                  status_port=params["status_port"],
                                  status_source=params["status_source"],
-                                 data_port=params["data_port"])
+                                 data_port=params["data_port"],
+                                 kinematics=params["kinematics"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -221,6 +226,7 @@ def _params() -> dict:
         "status_port": int(rospy.get_param("~status_port", 10000)),
         "status_source": str(rospy.get_param("~status_source", "stream")),
         "data_port": int(rospy.get_param("~data_port", 10004)),
+        "kinematics": str(rospy.get_param("~kinematics", "auto")).lower(),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
