@@ -66,7 +66,8 @@ def driver(request):
 def at_start(driver):
     driver.servo_move_enable(False)
     driver.stop_move()
-    assert driver.joint_move(Q_START, 1.5, 4.0).ok
+    # a previous test's stop may still be decelerating the arm (-10 until it rests)
+    assert wait_until(lambda: driver.joint_move(Q_START, 1.5, 4.0).ok, 5.0, 0.1)
     return driver
 
 

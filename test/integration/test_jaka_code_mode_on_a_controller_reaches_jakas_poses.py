@@ -51,7 +51,8 @@ def arm():
 def at_start(arm):
     emu, d = arm
     d.servo_move_enable(False)
-    assert d.joint_move(START, 1.5, 4.0).ok
+    # a previous test's stop may still be decelerating the arm (-10 until it rests)
+    assert wait_until(lambda: d.joint_move(START, 1.5, 4.0).ok, 5.0, 0.1)
     return emu, d
 
 
