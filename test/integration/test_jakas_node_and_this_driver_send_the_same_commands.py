@@ -11,12 +11,18 @@ controller backend really sends to the scripted fake controller (test/fake_contr
 They are compared by command name, keys and values (poses as positions and rotations, since
 RPY has more than one spelling of a rotation). The only differences allowed are the named
 conventions in :data:`CONVENTIONS`, each with its reason; any other difference fails.
+
+Twice: with the driver in ``document`` conventions (the requests this driver's document asks
+for: rotation vectors, absolute servo targets), and in ``jaka_code`` conventions with exactly
+the requests JAKA's node is sent (RPY poses, servo increments, the jog speed in mvacc and
+another value in mvvelo), where the servo convention's excuse is gone: the same calls put the
+same commands on the wire.
 """
 from __future__ import annotations
 
 import math
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Dict, List, Sequence
 
 import numpy as np
@@ -26,6 +32,7 @@ from ros_harness import wait_until
 from fake_controller import FakeController, start_backend
 
 from jaka_driver.common.transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
+from jaka_driver.conventions import JAKA_CODE
 from jaka_driver.driver import RobotDriver
 
 # ---- the conventions in which the two may differ, and why ----------------------------------------
@@ -52,6 +59,9 @@ CONVENTIONS = {
               "controller's default",
     "servo off wait": "JAKA's SDK waits for in_servomove true when disabling too (its bug: it "
                       "returns -61); this driver waits for false",
+    "increment check": "jaka_code: before a servo_p increment that follows servo_j increments, "
+                       "this driver reads the TCP of the last joint target (kine_forward) to "
+                       "check the step's speed; JAKA's SDK sends the increment unchecked",
     "frame name": "JAKA's node names every tool 'ToolCoord' and user frame 'BaseCoord'; this "
                   "driver names them by kind and id",
     "frame activated": "this driver activates the frame it stores (set_*_id, read back by "
@@ -204,6 +214,26 @@ CASES = [
 ]
 POSE_KEYS = {"cartPosition", "catPosition", "tooloffset", "userffset"}
 
+# ---- jaka_code: the calls JAKA's node receives, unchanged ------------------------------------
+JAKA_CODE_CALLS = {
+    "linear_move": lambda d: d.linear_move([*LINE_TARGET_MM, *RPY], 50.0, 200.0),
+    # JAKA's code reads the jog speed from mvacc: mvvelo holds another value, never read
+    "jog (joint)": lambda d: d.jog(0, 2, 0.9, 0.2),
+    "jog (linear)": lambda d: d.jog(1, 5, 90.0, 20.0),
+    "jog (rotation)": lambda d: d.jog(2, 10, 0.9, 0.3),
+    "servo_j": lambda d: d.servo_j(SERVO_STEP),
+    "servo_p": lambda d: d.servo_p([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),   # mm + RPY rad
+    "get_ik": lambda d: d.get_ik(Q_TARGET, [*IK_POSE_MM, *RPY]),
+}
+#: the conventions jaka_code mode follows JAKA's code in: no longer differences
+FOLLOWED_IN_JAKA_CODE = {"servo absolute"}
+JAKA_CODE_CASES = [replace(c, ours=JAKA_CODE_CALLS.get(c.service, c.ours),
+                           allowed={**{k: v for k, v in c.allowed.items()
+                                       if k not in FOLLOWED_IN_JAKA_CODE},
+                                    **({"increment check": ["+kine_forward"]}
+                                       if c.service == "servo_p" else {})})
+                   for c in CASES]
+
 
 def same_value(key, ours, jaka) -> bool:
     if key in POSE_KEYS:   # mm + RPY deg: compare positions, and rotations as matrices
@@ -244,19 +274,43 @@ def differences(ours: List[dict], case: Case) -> List[str]:
     return found
 
 
-@pytest.fixture(scope="module")
-def session():
+def _session(**conventions):
     with FakeController(move_time=0.2) as fake:
         backend = start_backend(fake)
-        driver = RobotDriver(backend, jog_timeout=30.0)
+        driver = RobotDriver(backend, jog_timeout=30.0, **conventions)
         try:
             yield fake, driver
         finally:
             driver.shutdown()
 
 
+@pytest.fixture(scope="module")
+def session():
+    yield from _session()
+
+
+@pytest.fixture(scope="module")
+def jaka_code_session():
+    yield from _session(conventions=JAKA_CODE)
+
+
 @pytest.mark.parametrize("case", CASES, ids=[c.service for c in CASES])
 def test_a_service_puts_what_jakas_node_puts_on_the_wire(session, case):
+    _compare(session, case)
+
+
+@pytest.mark.parametrize("case", JAKA_CODE_CASES, ids=[c.service for c in JAKA_CODE_CASES])
+def test_jakas_calls_in_jaka_code_mode_put_what_jakas_node_puts_on_the_wire(jaka_code_session,
+                                                                            case):
+    _compare(jaka_code_session, case)
+
+
+def test_jaka_code_mode_needs_no_servo_or_orientation_excuse():
+    for case in JAKA_CODE_CASES:
+        assert not FOLLOWED_IN_JAKA_CODE & set(case.allowed), case.service
+
+
+def _compare(session, case: Case) -> None:
     fake, driver = session
     # the previous case's move may still have its get_motion_state follower about to poll once
     # more: let it end, so its request is not counted as this service's

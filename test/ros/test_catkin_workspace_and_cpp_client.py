@@ -1,7 +1,9 @@
 """A catkin user's day: the repository in a fresh workspace's src/, `catkin_make`, the node run
 from the devel space and driven by a roscpp client (test/cpp) built in the same workspace
 against the jaka_msgs C++ headers, JAKA's servoj_demo pattern with `servo_increment:=true`,
-then `catkin_make install` and the node run from the install space, finding its URDF in
+the calls of JAKA's two example programs (client.cpp, servoj_demo.cpp: written anew from the
+facts in test/cpp/jaka_driver_cpp_client/README.md) and a PoseStamped tool_position subscriber
+with `conventions:=jaka_code`, then `catkin_make install` and the node run from the install space, finding its URDF in
 share/ and the IK library in lib/.
 
 The commands are the README's ("Using with a catkin workspace", "C++ clients"), run as a shell
@@ -17,6 +19,8 @@ import subprocess
 import time
 from pathlib import Path
 
+import math
+
 import numpy as np
 import pytest
 
@@ -30,9 +34,11 @@ CATKIN_MAKE = "catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3"
 CATKIN_INSTALL = "catkin_make install -DPYTHON_EXECUTABLE=/usr/bin/python3"
 RUN_NODE = "rosrun jaka_driver jaka_driver_node"
 RUN_NODE_INCREMENTS = "rosrun jaka_driver jaka_driver_node _servo_increment:=true"
+RUN_NODE_JAKA_CODE = "rosrun jaka_driver jaka_driver_node _conventions:=jaka_code"
 CPP_DEPENDS = "find_package(catkin REQUIRED COMPONENTS roscpp jaka_msgs)"
 README_LINES = [CATKIN_MAKE, CATKIN_INSTALL, "source devel/setup.bash", "source install/setup.bash",
-                RUN_NODE_INCREMENTS, CPP_DEPENDS, "<depend>jaka_driver</depend>"]
+                RUN_NODE_INCREMENTS, RUN_NODE_JAKA_CODE, CPP_DEPENDS,
+                "<depend>jaka_driver</depend>"]
 POSE = [0.5, 1.9, -1.4, 1.1, 1.57, 0.0]
 TCP_MM_ROTVEC = [209.5, 244.3, 600.1, -2.681, 1.590, -0.024]
 
@@ -170,6 +176,74 @@ def test_servoj_demo_increments_move_the_arm_with_servo_increment(workspace, tmp
         node.stop()
     moved = got["increments_end"] - got["increments_start"]
     assert moved == pytest.approx([0.2, 0, 0, 0, 0, 0.2], abs=2e-3)
+
+
+# JAKA's example client, from the README's facts: the pose is [atof(argv[0]) = 0, arg1..arg5];
+# the sixth argument is never read.
+EXAMPLE_ARGS = ["-460", "350", str(math.pi), "0", str(-math.pi / 2), "999"]
+EXAMPLE_POSE_MM = [0.0, -460.0, 350.0]                # mm
+EXAMPLE_RPY = [math.pi, 0.0, -math.pi / 2]            # rad, R = Rz·Ry·Rx
+EXAMPLE_START = [-1.2, 1.57, -1.57, 1.57, 1.57, 0.0]   # rad, a joint_move before the example
+
+
+def _quaternion_from_rpy(rx, ry, rz):
+    """(x, y, z, w) of R = Rz(rz)·Ry(ry)·Rx(rx), as tf2's setRPY writes it."""
+    cr, sr, cp, sp, cy, sy = (math.cos(rx / 2), math.sin(rx / 2), math.cos(ry / 2),
+                              math.sin(ry / 2), math.cos(rz / 2), math.sin(rz / 2))
+    return np.array([sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                     cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy])
+
+
+def _program(ws: Path, env: dict, name: str, *args: str) -> str:
+    out = subprocess.run([str(ws / "devel" / "lib" / "jaka_driver_cpp_client" / name), *args],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, f"{name}: {out.stdout}\n{out.stderr}"
+    return out.stdout
+
+
+def _tool_position(ws: Path, env: dict):
+    """(position mm, quaternion, frame_id) from the PoseStamped subscriber."""
+    line = next(l for l in _program(ws, env, "jaka_pose_stamped_listener").splitlines()
+                if l.startswith("tool_position"))
+    fields = line.split()
+    return np.array([float(v) for v in fields[1:4]]), np.array([float(v) for v in fields[4:8]]), \
+        fields[8]
+
+
+def test_jakas_example_programs_reach_their_poses_in_jaka_code_mode(workspace, tmp_path,
+                                                                   rospy_node):
+    """client.cpp's linear_move (RPY) and servoj_demo's 200 increments, as their calls are
+    recorded in test/cpp/jaka_driver_cpp_client/README.md, reach the poses they would reach on
+    JAKA's driver; a subscriber written for JAKA's PoseStamped tool_position reads them in
+    mm."""
+    import rospy
+    from jaka_msgs.srv import Move
+    from sensor_msgs.msg import JointState
+    env = _sourced(_clean_env(), workspace / "devel" / "setup.bash")
+    node = Node(RUN_NODE_JAKA_CODE, env, tmp_path / "node.log")
+    try:
+        log = node.log()
+        assert rospy.ServiceProxy("/jaka_driver/joint_move", Move)(
+            pose=EXAMPLE_START, mvvelo=1.5, mvacc=4.0).ret == 1
+        printed = _program(workspace, env, "jaka_example_linear_move", *EXAMPLE_ARGS)
+        assert "ret 1" in printed, printed
+        position, quaternion, frame = _tool_position(workspace, env)
+        before = np.array(rospy.wait_for_message("/jaka_driver/joint_position", JointState,
+                                                 5.0).position)
+        printed = _program(workspace, env, "jaka_example_servoj_demo")
+        after = np.array(rospy.wait_for_message("/jaka_driver/joint_position", JointState,
+                                                5.0).position)
+    finally:
+        node.stop()
+        # rosrun's _conventions:=... stays on the parameter server for the next node
+        rospy.delete_param("/jaka_driver/conventions")
+    assert "conventions jaka_code" in log
+    assert position == pytest.approx(EXAMPLE_POSE_MM, abs=1.0)      # mm, not m
+    expected = _quaternion_from_rpy(*EXAMPLE_RPY)
+    assert min(np.abs(quaternion - expected).max(), np.abs(quaternion + expected).max()) < 2e-3
+    assert frame == "base_link"
+    assert printed.count("servo_j ret 1") == 200, printed[-2000:]
+    assert after - before == pytest.approx([0.2, 0, 0, 0, 0, 0.2], abs=2e-3)
 
 
 def test_install_space_node_finds_urdf_in_share_and_ik_in_lib(workspace, tmp_path, rospy_node):

@@ -84,10 +84,10 @@ class FakeBackend(Backend):
     def servo_enable(self, on):
         return self._called("servo_enable", on)
 
-    def servo_j(self, q_target):
+    def servo_j(self, q_target, increment=None):
         return self._called("servo_j", np.array(q_target))
 
-    def servo_p(self, target):
+    def servo_p(self, target, increment=None):
         return self._called("servo_p", np.array(target))
 
     def stop_move(self):

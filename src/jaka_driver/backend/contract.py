@@ -138,13 +138,17 @@ class Backend(ABC):
         """Enter or leave servo mode."""
 
     @abstractmethod
-    def servo_j(self, q_target: np.ndarray) -> Result:
-        """Absolute joint target (rad) to reach within one 8 ms cycle (already speed-checked)."""
+    def servo_j(self, q_target: np.ndarray, increment: Optional[np.ndarray] = None) -> Result:
+        """Absolute joint target (rad) to reach within one 8 ms cycle (already speed-checked).
+        ``increment`` (rad): when the client sent an increment (servo increments), the one
+        ``q_target`` was computed from; a backend may hand the controller the increment
+        instead, as JAKA's SDK does, or ignore it."""
 
     @abstractmethod
-    def servo_p(self, target: np.ndarray) -> Result:
+    def servo_p(self, target: np.ndarray, increment: Optional[np.ndarray] = None) -> Result:
         """Absolute TCP target (4x4, active tool in active user frame, m) for one cycle;
-        -4 when there is no IK solution, -2 when it implies over-speed."""
+        -4 when there is no IK solution, -2 when it implies over-speed. ``increment``
+        (m + RPY rad): as for :meth:`servo_j`."""
 
     @abstractmethod
     def stop_move(self) -> Result:

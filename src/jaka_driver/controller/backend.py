@@ -492,16 +492,29 @@ class ControllerBackend(Backend):
             return False
 
     @answers
-    def servo_j(self, q_target) -> Result:
+    def servo_j(self, q_target, increment=None) -> Result:
+        """The absolute target, or the client's increment as a relative servo_j (relFlag 1),
+        as JAKA's SDK sends it: the controller adds it to its own command position."""
         self.identity.require_motion("servo_j")
-        self._servo_target(commands.servo_j(np.asarray(q_target, float)))
-        return Result.success("servo_j target sent")
+        if increment is None:
+            self._servo_target(commands.servo_j(np.asarray(q_target, float)))
+            return Result.success("servo_j target sent")
+        self._servo_target(commands.servo_j(np.asarray(increment, float), relative=True))
+        return Result.success("servo_j increment sent")
 
     @answers
-    def servo_p(self, target) -> Result:
+    def servo_p(self, target, increment=None) -> Result:
+        """The absolute target (mm + RPY deg on the wire), or the client's increment (m + RPY
+        rad → mm + RPY) as a relative servo_p, as JAKA's SDK sends it; how the controller
+        composes a relative rotation is its own."""
         self.identity.require_motion("servo_p")
-        self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
-        return Result.success("servo_p target sent")
+        if increment is None:
+            self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
+            return Result.success("servo_p target sent")
+        step = np.asarray(increment, float)
+        self._servo_target(commands.servo_p(np.concatenate([step[:3] * 1e3, step[3:]]),
+                                            relative=True))
+        return Result.success("servo_p increment sent")
 
     def _servo_target(self, request) -> None:
         reply = self.send.call(request)

@@ -3,9 +3,10 @@
 * :mod:`.robot_driver` — :class:`RobotDriver`: order of checks, motion lock, the one wait loop;
 * :mod:`.checks` — field checks (-2 naming field, value and limit) and a move's planned
   duration;
-* :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap;
-* :mod:`.servo_increment` — servo_j / servo_p read as increments (``servo_increment``), as
-  JAKA's driver code sends them: a convention of the driver's servo path.
+* :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
+
+How requests are read where JAKA's document and JAKA's driver code differ (servo increments,
+RPY poses, the jog's speed field) is jaka_driver.conventions, which RobotDriver applies.
 """
 from .robot_driver import RobotDriver
 

@@ -4,8 +4,9 @@ Order of checks (docs/design.md, "The picture"): validate the request → check 
 let the backend plan the whole motion → only then move. A refused command changes nothing.
 
 The methods take the values of the service requests in their own units (docs/interface.md,
-"Units and frames": rad, mm, rotation vectors; servo_p m + RPY) and answer a :class:`Result`;
-they never raise. They are safe to call from many threads at once, as rospy does.
+"Units and frames": rad, mm, rotation vectors; servo_p m + RPY — or, built with
+``conventions=JAKA_CODE``, those of JAKA's driver code: jaka_driver.conventions) and answer a
+:class:`Result`; they never raise. They are safe to call from many threads at once, as rospy does.
 """
 from __future__ import annotations
 
@@ -20,9 +21,10 @@ from ..backend import Backend
 from ..backend.robot_state import RobotState
 from ..common.constants import move_deadline
 from ..common.results import Code, CommandRefused, Result, invalid
-from ..common.transforms import matrix_to_pose_mm, pose_mm_to_matrix, rpy_to_matrix
+from ..common.transforms import rpy_to_matrix
+from ..conventions import DOCUMENT, Conventions, ServoIncrements, cartesian
+from ..conventions.jog_speed import explained, jog_speed_field
 from . import checks as check
-from .servo_increment import ServoIncrements
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
@@ -58,19 +60,21 @@ class RobotDriver:
     """Validation, state checks and watchdogs in front of a :class:`Backend`."""
 
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1,
-                 servo_increment: bool = False):
-        """``servo_increment``: servo_j / servo_p take increments, as JAKA's driver code sends
-        them (:mod:`.servo_increment`), not the interface document's absolute targets."""
+                 servo_increment: bool = False, conventions: Conventions = DOCUMENT):
+        """``conventions``: how requests are read where JAKA's document and JAKA's driver code
+        differ (jaka_driver.conventions); ``servo_increment`` adds servo increments to them
+        (servo_j / servo_p take increments, as JAKA's driver code sends them)."""
         self.backend = backend
         self.model = backend.model
         #: every timeout below runs on the backend's time (wall, or the twin's sim time)
         self.clock = backend.clock
+        self.conventions = conventions.with_servo_increment(servo_increment)
         self._move_lock = threading.Lock()   # one blocking move at a time
         self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
         self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
         self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
                                            backend.forward_kinematics) \
-            if servo_increment else None
+            if self.conventions.servo_increment else None
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -168,12 +172,20 @@ class RobotDriver:
     def linear_move(self, pose: Sequence[float], mvvelo: float, mvacc: float,
                     coord_mode: int = 0, has_ref: bool = False,
                     ref_joint: Sequence[float] = ()) -> Result:
-        """Straight-line move to ``pose`` (mm + rotation vector) at ``mvvelo`` mm/s,
-        ``mvacc`` mm/s²; ``coord_mode`` 0 user frame, 1 base frame, 2 relative in the tool
-        frame. Blocks."""
+        """Straight-line move to ``pose`` (mm + rotation vector, or RPY with ``jaka_code``
+        conventions) at ``mvvelo`` mm/s, ``mvacc`` mm/s²; ``coord_mode`` 0 user frame, 1 base
+        frame, 2 relative in the tool frame (``jaka_code``: always 0, no IK seed, as JAKA's
+        code passes neither on). Blocks."""
         target_mm = check.vector("pose", pose)
-        mode = check.integer_in("coord_mode", coord_mode, 0, 2)
         notes: list[str] = []
+        if not self.conventions.linear_move_frame_fields:
+            if coord_mode or has_ref:
+                notes.append(f"coord_mode {coord_mode} and has_ref {bool(has_ref)} not read "
+                             f"(conventions {self.conventions.name}: the target is absolute, "
+                             "in the active user frame, as JAKA's driver code moves)")
+            coord_mode, has_ref = 0, False
+        mode = check.integer_in("coord_mode", coord_mode, 0, 2)
+        _note(notes, cartesian.reading_note(self.conventions, "pose", target_mm))
         # the request's mm: limits and refusals speak its unit, SI from here on
         v = check.speed("mvvelo", mvvelo, self.model.max_tcp_speed * 1000.0, "mm/s",
                         notes=notes) / 1000.0
@@ -182,7 +194,7 @@ class RobotDriver:
         ref_q = check.joint_targets("ref_joint", ref_joint, self.model) if has_ref else None
 
         def start(st: RobotState) -> Result:
-            target = pose_mm_to_matrix(target_mm)
+            target = cartesian.pose_to_matrix_mm(self.conventions, target_mm)
             if mode == 1:
                 _, user = self.backend.frames()
                 target = np.linalg.inv(user) @ target
@@ -196,18 +208,17 @@ class RobotDriver:
     @_answers
     def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
         """Continuous jog (docs/interface.md, "jog"): coord 0 joint / 1 base / 2 tool; index
-        0–11, odd = negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z). Kept alive by calling
-        again."""
+        0–11, odd = negative; speed ``mvvelo`` (rad/s, or mm/s for X–Z; ``mvacc`` with
+        ``jaka_code`` conventions). Kept alive by calling again."""
         coord = check.integer_in("coord_mode", coord_mode, 0, 2)
         idx = check.integer_in("index", index, 0, 11)
         axis, direction = idx // 2, (-1 if idx % 2 else 1)
         notes: list[str] = []
-        name = "mvvelo"
-        raw = check.finite("mvvelo", mvvelo)
-        if raw == 0 and check.finite("mvacc", mvacc) > 0:
-            raw, name = float(mvacc), "mvacc"
-            notes.append("mvvelo is 0: using mvacc as the speed, like JAKA's driver")
-        label, unit, speed = check.jog_speed(self.model, coord, axis, name, raw, notes)
+        name, raw = jog_speed_field(self.conventions, mvvelo, mvacc, notes)
+        try:
+            label, unit, speed = check.jog_speed(self.model, coord, axis, name, raw, notes)
+        except CommandRefused as refusal:
+            raise explained(refusal, self.conventions) from None
         if self._move_lock.locked():
             raise CommandRefused(Code.BUSY, "jog refused: a blocking move is running")
         self._ready()
@@ -295,19 +306,20 @@ class RobotDriver:
 
     @_answers(react=False)
     def servo_j(self, pose: Sequence[float]) -> Result:
-        """Joint target for the next 8 ms cycle: absolute (rad), or with ``servo_increment``
-        an increment (rad) of the last target."""
+        """Joint target for the next 8 ms cycle: absolute (rad), or with servo increments
+        (``conventions``) an increment (rad) of the last target."""
         if self._increments is not None:
-            return self._increments.servo_j(pose)
+            return self._increments.servo_j(check.vector("pose", pose))
         return self._servo_j(pose)
 
-    def _servo_j(self, pose: Sequence[float]) -> Result:
-        """Absolute joint target (rad) for the next 8 ms cycle."""
+    def _servo_j(self, pose: Sequence[float], increment: np.ndarray | None = None) -> Result:
+        """Absolute joint target (rad) for the next 8 ms cycle (``increment``: the increment it
+        came from, handed on to the backend)."""
         q = check.joint_targets("pose", pose, self.model)
         st = self._ready(servo=True)
         reference, gap = self._servo.reference(st.joint_position)
         check.servo_step(self.model, q, reference)
-        result = self.backend.servo_j(q)
+        result = self.backend.servo_j(q, increment)
         if result.ok:
             self._servo.accepted(q)
         return _with_gap(result, gap, self._servo.timeout)
@@ -315,13 +327,14 @@ class RobotDriver:
     @_answers(react=False)
     def servo_p(self, pose: Sequence[float]) -> Result:
         """TCP target for the next cycle: absolute (m + RPY rad, active user frame), or with
-        ``servo_increment`` an increment (mm, RPY rad) of the last target."""
+        servo increments (``conventions``) an increment (mm, RPY rad) of the last target."""
         if self._increments is not None:
-            return self._increments.servo_p(pose)
+            return self._increments.servo_p(check.vector("pose", pose))
         return self._servo_p(pose)
 
-    def _servo_p(self, pose: Sequence[float]) -> Result:
-        """Absolute TCP target (m + RPY rad, active user frame) for the next cycle."""
+    def _servo_p(self, pose: Sequence[float], increment: np.ndarray | None = None) -> Result:
+        """Absolute TCP target (m + RPY rad, active user frame) for the next cycle
+        (``increment``: m + RPY rad it came from, handed on to the backend)."""
         p = check.vector("pose", pose)
         st = self._ready(servo=True)
         target = np.eye(4)
@@ -330,7 +343,7 @@ class RobotDriver:
         _, gap = self._servo.reference(st.joint_position)
         if gap is None:   # after a gap the arm held still: the step is from where it stands
             check.servo_tcp_step(self.model, target, st.tcp_pose)
-        result = self.backend.servo_p(target)
+        result = self.backend.servo_p(target, increment)
         if result.ok:
             # the joint target, when the backend solved the IK itself (the twin), else the
             # measured joints: the reference for a servo_j that may follow
@@ -427,28 +440,38 @@ class RobotDriver:
     # ---- kinematics ---------------------------------------------------------------------------
     @_answers
     def get_fk(self, joint: Sequence[float]) -> Result:
-        """Pose (mm + rotvec) of the active tool in the active user frame at ``joint``."""
+        """Pose (mm + rotvec, or RPY with ``jaka_code`` conventions) of the active tool in the
+        active user frame at ``joint``."""
         q = check.vector("joint", joint)
         result = self.backend.forward_kinematics(q)
         if not result.ok:
             return result
-        pose = matrix_to_pose_mm(result.value)
-        return Result.success(result.message, [float(x) for x in pose])
+        return Result.success(result.message,
+                              cartesian.matrix_to_pose_mm(self.conventions, result.value))
 
     @_answers
     def get_ik(self, ref_joint: Sequence[float], cartesian_pose: Sequence[float]) -> Result:
-        """Joints (rad) nearest ``ref_joint`` reaching ``cartesian_pose`` (mm + rotvec);
-        an empty ``ref_joint`` seeds from the current joints."""
+        """Joints (rad) nearest ``ref_joint`` reaching ``cartesian_pose`` (mm + rotvec, or RPY
+        with ``jaka_code`` conventions); an empty ``ref_joint`` seeds from the current
+        joints."""
         if len(ref_joint) == 0:
             ref = self.backend.state().joint_position
         else:
             ref = check.vector("ref_joint", ref_joint)
         pose = check.vector("cartesian_pose", cartesian_pose)
-        target = pose_mm_to_matrix(pose)
+        target = cartesian.pose_to_matrix_mm(self.conventions, pose)
+        notes: list[str] = []
+        _note(notes, cartesian.reading_note(self.conventions, "cartesian_pose", pose))
         result = self.backend.inverse_kinematics(target, ref)
         if not result.ok:
-            return result
-        return Result.success(result.message, [float(x) for x in result.value])
+            return _with_notes(result, notes)
+        return _with_notes(Result.success(result.message, [float(x) for x in result.value]),
+                           notes)
+
+
+def _note(notes: list[str], note: str | None) -> None:
+    if note:
+        notes.append(note)
 
 
 def _with_notes(result: Result, notes: list[str]) -> Result:

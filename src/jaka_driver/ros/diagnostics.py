@@ -1,5 +1,6 @@
-"""``/diagnostics`` at 1 Hz: backend, connection, publish rate, last error, servo mode and
-what the backend describes of itself (version, physics steps, ...)."""
+"""``/diagnostics`` at 1 Hz: backend, connection, publish rate, last error, servo mode, the
+conventions the driver reads requests in, and what the backend describes of itself (version,
+physics steps, ...)."""
 from __future__ import annotations
 
 import threading
@@ -34,7 +35,9 @@ class Diagnostics:
         values = {"publish rate (Hz)": f"{rate:.1f}", "connected": str(st.connected),
                   "powered": str(st.powered), "enabled": str(st.enabled),
                   "servo mode": str(st.servo_mode), "drag mode": str(st.drag_mode),
-                  "collision": str(st.collision), "last error": st.error_message or "none"}
+                  "collision": str(st.collision), "last error": st.error_message or "none",
+                  "conventions": self._driver.conventions.name,
+                  "servo increments": str(self._driver.conventions.servo_increment)}
         values.update({k: str(v) for k, v in info.items()})
         return DiagnosticStatus(level=level, name=f"{self._name}: {info.get('backend')}",
                                 message=message, hardware_id=f"JAKA {self._driver.model.name}",

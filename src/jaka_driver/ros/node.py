@@ -20,8 +20,13 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
+                     driver code, for programs written against it: RPY poses, servo
+                     increments, jog speed from mvacc, tool_position a PoseStamped in mm,
+                     servo_state = enabled; jaka_driver.conventions has the table)
   ``servo_increment``  servo_j/servo_p take increments as JAKA's driver code does (default
-                     false: absolute targets, as the interface document says)
+                     false: absolute targets, as the interface document says; implied by
+                     ``conventions:=jaka_code``)
   ``sim_time``       sim: the twin owns time — it publishes ``/clock`` every 8 ms cycle and
                      sets ``/use_sim_time`` (before this node's rospy reads it); every stamp
                      and timeout of the driver is then sim time (default false); refused if
@@ -43,7 +48,6 @@ import warnings
 from contextlib import contextmanager
 
 import rospy
-from geometry_msgs.msg import TwistStamped
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 
@@ -51,6 +55,7 @@ from jaka_msgs.msg import RobotMsg
 
 from ..backend.robot_state import RobotState
 from ..common.models import MODEL_NAMES, load_model
+from ..conventions import conventions_named
 from ..driver import RobotDriver
 from ..host import latency_hint
 from . import messages, sim_time
@@ -123,9 +128,10 @@ class StatePublisher:
         self._driver = driver
         self._clock = driver.clock
         self._period = 1.0 / rate
-        self._msgs = messages.StateMessages(driver.model.joint_names)
-        with _synchronous_publishers():
-            self._tool = rospy.Publisher("~tool_position", TwistStamped, queue_size=None)
+        self._msgs = messages.StateMessages(driver.model.joint_names, driver.conventions)
+        with _synchronous_publishers():     # tool_position's type is the conventions'
+            self._tool = rospy.Publisher("~tool_position", type(self._msgs.tool),
+                                         queue_size=None)
             self._joints = rospy.Publisher("~joint_position", JointState, queue_size=None)
             self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=None)
             self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=None)
@@ -230,6 +236,7 @@ def _params() -> dict:
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
+        "conventions": str(rospy.get_param("~conventions", "document")),
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
@@ -277,12 +284,19 @@ def main() -> int:
         rospy.logfatal(f"~rate {p['rate']} Hz is outside 1–1000 Hz")
         return 2
     try:
+        conventions = conventions_named(p["conventions"]).with_servo_increment(
+            p["servo_increment"])
+    except ValueError as exc:
+        rospy.logfatal(f"~conventions: {exc}")
+        return 2
+    try:
         backend = make_backend(p["backend"], p["model"], p)
     except ValueError as exc:
         rospy.logfatal(str(exc))
         return 2
     driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"],
-                         servo_increment=p["servo_increment"])
+                         conventions=conventions)
+    rospy.loginfo(f"conventions {conventions.describe()}")
     publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     driver.start()
     rospy.on_shutdown(driver.shutdown)
@@ -299,7 +313,7 @@ def main() -> int:
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "
-                  f"{p['rate']:g} Hz{timing}")
+                  f"{p['rate']:g} Hz{timing}, conventions {conventions.name}")
     rospy.spin()
     return 0
 

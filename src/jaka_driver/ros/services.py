@@ -45,8 +45,8 @@ def _logged(name: str, handler):
 
 def advertise(driver: RobotDriver) -> list[rospy.Service]:
     """Advertise every service of docs/interface.md; returns them so the node can shut them down.
-    (servo_j / servo_p read absolute targets or increments as the driver was built to:
-    ``~servo_increment``.)"""
+    (Where JAKA's document and JAKA's driver code differ, requests are read as the driver was
+    built to: ``~conventions``, jaka_driver.conventions.)"""
     d = driver
     move = _ret(jaka.MoveResponse)
     servo = _ret(jaka.ServoMoveResponse)

@@ -295,7 +295,8 @@ class SimBackend(Backend):
         motion = self._physics.motion
         return motion if isinstance(motion, ServoTarget) else None
 
-    def servo_j(self, q_target) -> Result:
+    def servo_j(self, q_target, increment=None) -> Result:
+        # the twin's drives follow absolute targets: an increment's target is already here
         target = self._servo_target()
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
@@ -303,7 +304,7 @@ class SimBackend(Backend):
         self.clock.streamed()
         return Result.success("servo_j target accepted")
 
-    def servo_p(self, target_pose) -> Result:
+    def servo_p(self, target_pose, increment=None) -> Result:
         target = self._servo_target()
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
