@@ -64,11 +64,32 @@ def fresh(recorder, t0: float):
     return got[0][1]
 
 
+def steady_effort(joints, t0: float) -> np.ndarray:
+    """Joint efforts (N·m) of a sample received after ``t0``, once they hold within 0.2 N·m
+    over 0.1 s. The latest sample alone was not enough for the module's first case: it could
+    predate the payload the fixture had just set (~10 N·m on the shoulder) or catch the drives
+    still taking it up."""
+    def steady():
+        got = joints.since(t0)
+        if len(got) < 2:
+            return None
+        last_t, last = got[-1]
+        earlier = [m for t, m in got if t <= last_t - 0.1]
+        if earlier and np.max(np.abs(np.array(earlier[-1].effort)
+                                     - np.array(last.effort))) < 0.2:
+            return [np.array(last.effort)]      # a list: truthy even if every effort is 0
+        return None
+
+    effort = wait_until(steady, 5.0)
+    assert effort, "the joint efforts did not settle within 5 s"
+    return effort[0]
+
+
 def snapshot(call, joints, states, tcp) -> dict:
     """What a refused request must leave as it was; joints measured once at rest."""
     t0 = time.time()
     q = at_rest(joints)
-    effort = np.array(joints.latest().effort)
+    effort = steady_effort(joints, t0)
     outputs = {(sig, t, i): call("get_io", GetIO, signal=sig, path=1, type=t, index=i).value
                for sig, t, n in OUTPUTS for i in range(n)}
     # a message sampled after the last request, not one still in flight from before it
