@@ -68,6 +68,10 @@ class Payload:
         self._inertia = rot @ np.diag(m.body_inertia[self._body]) @ rot.T   # body frame
         self.mass = 0.0
         self.centroid = np.zeros(3)
+        # the flange body as built, restored exactly by reset()
+        self._built = (m.body_mass[self._body], m.body_ipos[self._body].copy(),
+                       m.body_iquat[self._body].copy(), m.body_inertia[self._body].copy())
+        self._changed = False
 
     def set(self, mass: float, centroid: np.ndarray) -> None:
         """``mass`` kg at ``centroid`` (m, flange frame = link_6 frame in our URDFs)."""
@@ -88,6 +92,16 @@ class Payload:
         # mj_setConst evaluates the model at qpos0 in the data it is given: never the live one.
         mujoco.mj_setConst(m, mujoco.MjData(m))
         self.mass, self.centroid = mass, np.asarray(centroid, float).copy()
+        self._changed = True
+
+    def reset(self) -> None:
+        """No payload: the flange body exactly as built (not recomputed, to the bit)."""
+        if not self._changed:
+            return
+        m, b = self._m, self._body
+        m.body_mass[b], m.body_ipos[b], m.body_iquat[b], m.body_inertia[b] = self._built
+        mujoco.mj_setConst(m, mujoco.MjData(m))
+        self.mass, self.centroid, self._changed = 0.0, np.zeros(3), False
 
 
 def _keep_visual(urdf_xml: str) -> str:
