@@ -306,7 +306,9 @@ class RobotDriver:
             raise CommandRefused(Code.BUSY, "velocity jog refused: a blocking move is running")
         if self._jog.session is not None:
             raise CommandRefused(Code.BUSY, "velocity jog refused: a jog is running")
-        self._ready()
+        # a controller follows the twist in servo mode (controller/twist_stream.py), entered
+        # by the jog's first twist: the next ones find it on
+        self._ready(allow_servo_mode=self._twist.session is not None)
         result = self.backend.velocity_jog(np.concatenate([v, w]), bool(in_tool))
         if not result.ok:
             self._twist.clear()

@@ -38,6 +38,8 @@ SINGULAR_STOP = 0.01
 #: Fraction of a joint's speed limit a velocity jog may use: the rest is headroom for the IK's
 #: step-to-step changes near a slowdown.
 JOINT_SPEED_SHARE = 0.9
+#: A joint step this many times its speed limit is another IK configuration, not a speed
+CONFIGURATION_JUMP = 4.0
 #: Distance (rad) kept from a joint limit (the stop lands this short of it).
 LIMIT_MARGIN = 1e-3
 
@@ -127,6 +129,10 @@ class VelocityJog:
         if solution is None:
             return self._held(q, "no IK solution for the next step")
         step = np.asarray(solution, float) - q
+        if np.any(np.abs(step) > CONFIGURATION_JUMP * self.max_step):
+            # not a faster motion but another configuration (a joint wrapped by 2π, the wrist
+            # flipped): no fraction of that step lies on the path
+            return self._held(q, "the next step needs another arm configuration")
         scale, why = self._scale(q, step)
         if scale <= 0.0:
             return self._held(q, why)

@@ -15,6 +15,7 @@ Parameters (private, ``~name``):
   ``data_port``      controller data_request port (default 10004)
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
+  ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
   ``servo_increment``  servo_j/servo_p take increments as JAKA's driver code does (default
                      false: absolute targets, as the interface document says)
@@ -29,6 +30,8 @@ Parameters (private, ``~name``):
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
+``~speed_ratio`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
+``~twist_command``; their refusals and stops on ``~command_status``.
 """
 from __future__ import annotations
 
@@ -50,11 +53,16 @@ from ..common.models import MODEL_NAMES, load_model
 from ..driver import RobotDriver
 from ..host import latency_hint
 from . import messages, sim_time
+from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster
 from .services import advertise, advertise_faults
+from .servo_topics import JointCommandInput
 from .snapshot_service import advertise_snapshot
+from .speed_ratio import SpeedRatio
 from .trajectory_action import TrajectoryActionServer
+from .twin_control import advertise_twin_control
+from .twist_input import TwistInput
 
 
 def make_backend(kind: str, model_name: str, params: dict):
@@ -223,6 +231,7 @@ def _params() -> dict:
         "data_port": int(rospy.get_param("~data_port", 10004)),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
+        "twist_timeout": float(rospy.get_param("~twist_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
         "sim_time": bool(rospy.get_param("~sim_time", False)),
@@ -276,7 +285,8 @@ def main() -> int:
         rospy.logfatal(str(exc))
         return 2
     driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"],
-                         servo_increment=p["servo_increment"])
+                         servo_increment=p["servo_increment"],
+                         twist_timeout=p["twist_timeout"])
     publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     driver.start()
     rospy.on_shutdown(driver.shutdown)
@@ -286,10 +296,15 @@ def main() -> int:
     if twin is not None:
         advertise_faults(twin, driver.model)
         advertise_snapshot(driver, twin)
+    advertise_twin_control(driver)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
-    Diagnostics(driver, publisher.measured_rate)
+    status = CommandStatus()
+    JointCommandInput(driver, status, p["servo_timeout"])
+    TwistInput(driver, status)
+    SpeedRatio(driver)
+    Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "

@@ -7,6 +7,8 @@ with gravity compensation and the URDF's torque limits).
 """
 from __future__ import annotations
 
+import copy
+
 import xml.etree.ElementTree as ET
 from typing import Optional
 
@@ -68,9 +70,9 @@ class Payload:
         self._inertia = rot @ np.diag(m.body_inertia[self._body]) @ rot.T   # body frame
         self.mass = 0.0
         self.centroid = np.zeros(3)
-        # the flange body as built, restored exactly by reset()
-        self._built = (m.body_mass[self._body], m.body_ipos[self._body].copy(),
-                       m.body_iquat[self._body].copy(), m.body_inertia[self._body].copy())
+        # the model as built, restored exactly by reset() (mj_setConst after putting the body
+        # back gives its derived constants only to the last bits)
+        self._built = copy.deepcopy(m)
         self._changed = False
 
     def set(self, mass: float, centroid: np.ndarray) -> None:
@@ -98,9 +100,17 @@ class Payload:
         """No payload: the flange body exactly as built (not recomputed, to the bit)."""
         if not self._changed:
             return
-        m, b = self._m, self._body
-        m.body_mass[b], m.body_ipos[b], m.body_iquat[b], m.body_inertia[b] = self._built
-        mujoco.mj_setConst(m, mujoco.MjData(m))
+        m, built = self._m, self._built
+        for name in dir(built):
+            value = getattr(built, name, None)
+            if isinstance(value, np.ndarray) and not name.startswith("_"):
+                np.copyto(getattr(m, name), value)
+        for name in dir(built.stat):
+            if not name.startswith("_"):
+                try:
+                    setattr(m.stat, name, getattr(built.stat, name))
+                except (AttributeError, TypeError):
+                    pass
         self.mass, self.centroid, self._changed = 0.0, np.zeros(3), False
 
 
