@@ -50,7 +50,8 @@ def advertise_twin_control(driver: RobotDriver) -> list:
                                     f"1–{MAX_STEP}")
         else:
             result = twin.step(req.cycles)
-        sim_time = float(result.value) if result.ok else driver.clock.now()
+        sim_time = float(result.value) if result.ok else \
+            (driver.clock.now() if driver.clock.simulated else 0.0)
         return StepTwinResponse(ret=int(result.code), message=result.message, sim_time=sim_time)
 
     return [rospy.Service("~sim/reset", ResetTwin, reset),
