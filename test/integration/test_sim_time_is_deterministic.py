@@ -231,12 +231,12 @@ def test_after_a_reset_the_same_requests_give_a_fresh_starts_samples_to_the_bit(
         with clock.hold():
             driver.start()                  # the requests arrive before the first cycle
             fresh = samples_from(driver, requests_after(driver), 300)
-            # everything a reset must undo: IO, frames, collision level, speed ratio, and a
-            # move stopped by a collision's protective stop. (A payload set before the reset
-            # leaves differences of ~4e-16 rad: not yet bit-identical, so not asserted here.)
+            # everything a reset must undo: IO, frames, payload, collision level, speed
+            # ratio, and a move stopped by a collision's protective stop
             assert driver.set_io("digital", 0, 2, 1).ok
             assert driver.set_toolframe([0, 0, 120, 0, 0, 0.3], 1).ok
             assert driver.set_userframe([100, 0, 0, 0, 0, 0.2], 2).ok
+            assert driver.set_payload(1, 2.0, 0, 0, 50).ok
             assert driver.set_collisionlevel(True, 90).ok
             assert driver.set_speed_ratio(0.3).ok
             driver.backend.twin.trigger_protective_stop("collision (test)")

@@ -201,9 +201,11 @@ class SimClock:
         return self._paused
 
     def pause(self) -> None:
-        """No cycle starts until :meth:`unpause` (or one of :meth:`step`'s)."""
+        """No cycle starts until :meth:`unpause` (or one of :meth:`step`'s); a cycle being
+        stepped ends first, so that time stands still from the answer on."""
         with self._cond:
             self._paused, self._step_budget = True, 0
+            self._cond.wait_for(lambda: not self._stepping, STEPPING_WAIT)
             self._cond.notify_all()
 
     def unpause(self) -> None:
@@ -297,7 +299,7 @@ class SimClock:
         hold again, if they held, before the next cycle may start)."""
         with self._cond:
             self.cycles += 1
-            if self._paused:
+            if self._paused and self._step_budget > 0:
                 self._step_budget -= 1
             self._stepping = False
             self._gap_started = time.monotonic()

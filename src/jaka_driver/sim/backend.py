@@ -99,8 +99,8 @@ class SimBackend(Backend):
         with self._lock:
             with self._physics.lock:
                 self._physics.servo.released = False
+                self._payload.reset()           # first: the reset's forward pass uses the model
                 self._physics.reset(q).abort(stopped("stopped: the twin was reset"))
-                self._payload.reset()
             self._overload.rearm()
             self._io.reset()
             self._defaults()
