@@ -296,14 +296,13 @@ def main() -> int:
     if twin is not None:
         advertise_faults(twin, driver.model)
         advertise_snapshot(driver, twin)
-    advertise_twin_control(driver)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     status = CommandStatus()
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
-    SpeedRatio(driver)
+    advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

@@ -23,17 +23,18 @@ class SpeedRatio:
         self._published = None
         self._lock = threading.Lock()
         self._service = rospy.Service("~set_speed_ratio", SetSpeedRatio, self._set)
-        self._publish()
+        self.refresh()
         threading.Thread(target=self._run, name="speed-ratio", daemon=True).start()
 
     def _set(self, req) -> SetSpeedRatioResponse:
         result = self._driver.set_speed_ratio(req.ratio)
         if not result.ok:
             rospy.logwarn("set_speed_ratio refused (%d): %s", result.code, result.message)
-        self._publish()
+        self.refresh()
         return SetSpeedRatioResponse(ret=int(result.code), message=result.message)
 
-    def _publish(self) -> None:
+    def refresh(self) -> None:
+        """Publish the ratio if it changed (after a set, a twin's reset)."""
         with self._lock:
             ratio = self._driver.speed_ratio()
             if ratio != self._published:
@@ -43,7 +44,7 @@ class SpeedRatio:
     def _run(self) -> None:
         while not rospy.is_shutdown():
             try:
-                self._publish()
+                self.refresh()
             except Exception as exc:  # noqa: BLE001
                 rospy.logerr_throttle(10.0, f"speed ratio publishing failed: {exc!r}")
             rospy.rostime.wallsleep(1.0)

@@ -27,12 +27,15 @@ NOT_A_TWIN = Result.failure(Code.WRONG_MODE, "refused: this backend is a control
 MAX_STEP = 10000
 
 
-def advertise_twin_control(driver: RobotDriver) -> list:
+def advertise_twin_control(driver: RobotDriver, after_reset=lambda: None) -> list:
+    """``after_reset()``: what the node republishes after a reset (the latched speed ratio)."""
     twin = driver.backend.twin
 
     def reset(req):
         result = driver.reset_twin(list(req.joints))
         rospy.loginfo("sim/reset: %s", result.message)
+        if result.ok:
+            after_reset()
         return ResetTwinResponse(ret=int(result.code), message=result.message)
 
     def pause(req):
