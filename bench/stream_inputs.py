@@ -119,7 +119,8 @@ def twist_rows(group: str, trials: dict, cpu: dict, service_cpu: dict) -> list[R
             "the next cycle's setpoint is the first displaced one, and its sample is the "
             "first that moves (by the ramp's first step, ~0.25 µm at 0.05 m/s and 8 m/s²).",
             data={"latency_ms": lat, "floor_ms": fl, "driver_part_ms": drv}),
-        Row(group, "~twist_command: last twist → arm at rest (every joint under 1e-3 rad/s), p50 / max",
+        Row(group, "~twist_command: last twist → arm at rest (every joint under 1e-3 rad/s), "
+            "p50 / max",
             f"{fmt(stop['p50'])} / {fmt(stop['max'])} ms ({stop['n']} stops)",
             "≤ 200 ms", judged(stop_ok),
             "" if stop_ok else "The watchdog (0.1 s) and the ramp to rest did not end within "
@@ -161,8 +162,6 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
             log(f"  servo sine through the {label}, {seconds:g} s")
             streams[label], cpu[label] = _cpu(driver, lambda: servo_latency.sine_stream(
                 driver, calls, joints, seconds, sender))
-        service = streams["servo_j service"]
-        floor_p99 = servo_latency.floor_text(servo_latency.observed_latency(service))[1]["p99"]
         service_cpu = cpu["servo_j service"]
         for label, stream in streams.items():
             topic = label != "servo_j service"
@@ -184,7 +183,6 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
         log(f"  twist: a teleop stream, {seconds:g} s")
         _, twist_cpu = _cpu(driver, lambda: twist_stream(driver, seconds))
         rows += twist_rows(group, trials_data, twist_cpu, service_cpu)
-        del floor_p99
     finally:
         joints.close()
     return rows

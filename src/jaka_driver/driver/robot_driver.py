@@ -355,19 +355,17 @@ class RobotDriver:
         return float(self.backend.speed_ratio())
 
     # ---- the twin's own controls -------------------------------------------------------------
+    @_answers
     def reset_twin(self, joints: Sequence[float] = ()) -> Result:
         """A twin back to a fresh start (:meth:`jaka_driver.backend.Twin.reset`) at ``joints``
         (rad; empty: home); the driver forgets its jogs and servo stream. -9 without a twin.
-        Not through the door's time hold: it ends whatever waits on the twin."""
+        In sim time it happens between two cycles, at the sim time the request arrived."""
         twin = self.backend.twin
         if twin is None:
             return Result.failure(Code.WRONG_MODE, "reset refused: this backend is a "
                                   "controller, not a twin (reset, pause and step are the "
                                   "twin's own)")
-        try:
-            q = check.joint_targets("joints", joints, self.model) if len(joints) else None
-        except CommandRefused as refusal:
-            return refusal.result()
+        q = check.joint_targets("joints", joints, self.model) if len(joints) else None
         self._jog.clear()
         self._twist.clear()
         self._servo.reset()
