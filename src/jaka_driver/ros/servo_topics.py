@@ -53,8 +53,10 @@ class JointCommandInput:
         self._status = status
         self._names = list(driver.model.joint_names)
         ends = "the stream stopped: the arm holds its last target"
-        self._ends = {topic: StreamEnd(status, rospy.resolve_name(topic), servo_timeout, ends)
-                      for topic in (TRAJECTORY_TOPIC, ARRAY_TOPIC)}
+        self._resolved = {topic: rospy.resolve_name(topic)
+                          for topic in (TRAJECTORY_TOPIC, ARRAY_TOPIC)}
+        self._ends = {topic: StreamEnd(status, name, servo_timeout, ends)
+                      for topic, name in self._resolved.items()}
         # tcp_nodelay: a stream of small messages is sent at once, not batched by Nagle
         self._subs = [
             rospy.Subscriber(TRAJECTORY_TOPIC, JointTrajectory, self._on_trajectory,
@@ -70,7 +72,7 @@ class JointCommandInput:
         self._target(ARRAY_TOPIC, list(msg.data))
 
     def _target(self, topic: str, positions) -> None:
-        name = rospy.resolve_name(topic)
+        name = self._resolved[topic]
         result = positions if isinstance(positions, Result) else \
             self._driver.servo_j_target(positions)
         if result.ok:
