@@ -91,3 +91,31 @@ def test_servo_targets_are_not_scaled():
             assert abs(driver.state().joint_position[5] - q[5]) < 2e-3
     finally:
         driver.shutdown()
+
+
+def test_a_ratio_of_half_doubles_a_trajectory_and_its_monitor_sees_the_trajectory_s_time():
+    from jaka_driver.motion.profiles import SyncJointProfile
+    from jaka_driver.motion.trajectory import JointTrajectory
+    driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0))
+    driver.start()
+    try:
+        clock = driver.clock
+        profile = SyncJointProfile(HOME, np.array(TARGET), np.full(6, 1.0), np.full(6, 3.0))
+        trajectory = JointTrajectory.from_profile(profile, 0.008)
+        seen = []
+
+        def monitor(t, st):
+            seen.append(t)
+            return None
+
+        with clock.hold():
+            assert driver.set_speed_ratio(0.5).ok
+            t0 = clock.now()
+            result = driver.follow_trajectory(trajectory, monitor)
+            took = clock.now() - t0
+        assert result.ok, result.message
+        assert abs(took / trajectory.duration - 2.0) <= 0.04, (took, trajectory.duration)
+        assert max(seen) <= trajectory.duration + 0.1, max(seen)     # the trajectory's time
+        assert np.max(np.abs(driver.state().joint_position - TARGET)) <= 1e-3
+    finally:
+        driver.shutdown()

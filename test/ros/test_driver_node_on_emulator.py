@@ -126,3 +126,26 @@ def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, emula
         call("set_speed_ratio", SetSpeedRatio, ratio=1.0)
         call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)
         ratio.close()
+
+
+def test_the_joint_stream_topic_drives_the_controller(sim_driver, call, joints, emulator):
+    """~joint_position_command at 125 Hz through the controller backend: servo_j on the wire,
+    the emulator's arm follows to the last target."""
+    from std_msgs.msg import Float64MultiArray
+    import rospy
+    from jaka_msgs.srv import ServoMoveEnable
+    pub = rospy.Publisher(sim_driver.name("joint_position_command"), Float64MultiArray,
+                          queue_size=10)
+    assert wait_until(lambda: pub.get_num_connections() > 0, 5.0)
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    try:
+        q = np.array(START)
+        for _ in range(125):                         # 1 s at 125 Hz, J6 by 0.25 rad
+            q = q + [0, 0, 0, 0, 0, 0.002]
+            pub.publish(Float64MultiArray(data=q.tolist()))
+            time.sleep(0.008)
+        assert wait_until(lambda: np.max(np.abs(position(joints) - q)) <= 1e-3, 3.0), \
+            position(joints) - q
+    finally:
+        call("servo_move_enable", ServoMoveEnable, enable=False)
+        call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)
