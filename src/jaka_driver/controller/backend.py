@@ -44,7 +44,6 @@ from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..motion.linear_path import line_duration, orientation_limits
-from ..kinematics import Kinematics
 from ..motion.profiles import joint_move_profile
 from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands, errors
@@ -117,7 +116,7 @@ class ControllerBackend(Backend):
         self._servo_mode = False
         self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
         self._twist: Optional[TwistStreamer] = None        # a velocity jog's servo stream
-        self._kinematics: Optional[Kinematics] = None      # the model's, for velocity jogs
+        self._kinematics = None     # the model's (Pinocchio), made at the first velocity jog
         self._rapid_rate = 1.0                             # the last rate read back
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
@@ -442,6 +441,7 @@ class ControllerBackend(Backend):
 
     def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
         if self._kinematics is None:
+            from ..kinematics import Kinematics    # Pinocchio: only for a velocity jog
             self._kinematics = Kinematics(self.model)
         kin, m = self._kinematics, self.model
         tool, _ = self.frames()
