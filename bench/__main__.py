@@ -2,7 +2,8 @@
 
 Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
-idle and loaded, servo, CPU, joint_move, linear_move), and the node on the controller backend
+idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
+service (:mod:`bench.stream_inputs`), and the node on the controller backend
 through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
 A group that fails is reported as "not run" with the reason and the others still run; every
@@ -30,9 +31,10 @@ OUT = ROOT / "bench" / "results"
 SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
-GROUPS = ("ik", "twin", "startup", "sim", "sim_time", "controller")
+GROUPS = ("ik", "twin", "startup", "sim", "streams", "sim_time", "controller")
 #: the groups that need a rosmaster
-ROS_GROUPS = ("startup", "sim", "sim_time", "controller")
+ROS_GROUPS = ("startup", "sim", "streams", "sim_time", "controller")
+STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
 
 
 class Run:
@@ -120,6 +122,18 @@ def _sim(run: Run) -> None:
                                          4 if run.quick else linear_move_accuracy.N_LINES)
         run.rows += linear_move_accuracy.rows(lines)
         run.raw["lines"] = lines["lines"]
+
+
+def _streams(run: Run) -> None:
+    from . import ros_session, stream_inputs
+    with ExitStack() as stack:
+        run.log("streams node: starting")
+        driver = ros_session.start_driver(stack, "bench_streams", backend="sim", model="zu5")
+        calls = ros_session.services(stack, driver)
+        run.rows += stream_inputs.run(STREAMS, driver, calls,
+                                      seconds=3 if run.quick else 16,
+                                      trials=4 if run.quick else stream_inputs.TWIST_TRIALS,
+                                      log=run.log)
 
 
 def _sim_time(run: Run) -> None:
@@ -224,6 +238,10 @@ def main(argv=None) -> int:
         if ros_up and "sim" in chosen:
             run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
                         "see the table", lambda: _sim(run))
+        if ros_up and "streams" in chosen:
+            run.guarded(STREAMS, "joint stream and twist topics beside the servo_j service",
+                        "topic p99 ≤ floor + 3 ms; CPU ≤ the service stream's",
+                        lambda: _streams(run))
         if ros_up and "sim_time" in chosen:
             run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
                         "60 s of sim time through ROS; determinism idle vs loaded",

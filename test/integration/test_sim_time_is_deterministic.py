@@ -196,3 +196,87 @@ def test_real_time_factor_1_keeps_pace_with_the_wall_clock():
 def test_a_bad_real_time_factor_is_refused():
     with pytest.raises(ValueError, match="real_time_factor"):
         SimClock(CYCLE, -1.0)
+
+
+def requests_after(driver: RobotDriver) -> int:
+    """The same requests from a twin at home; returns the cycle they started in."""
+    clock = driver.clock
+    start = round(clock.now() / CYCLE)
+    assert driver.joint_move([0.3, 1.4, -1.3, 1.7, 1.4, 0.3], 2.0, 6.0).ok
+    assert driver.servo_move_enable(True).ok
+    q0 = driver.state().joint_position.copy()
+    for k in range(1, 41):
+        assert driver.servo_j(q0 + [0.02 * np.sin(k / 6), 0, 0, 0, 0, 0.001 * k]).ok
+        clock.sleep(CYCLE)
+    assert driver.servo_move_enable(False).ok
+    return start
+
+
+def samples_from(driver: RobotDriver, start: int, count: int):
+    """(q, qd) of the ``count`` cycles after the one the requests arrived in (that cycle's
+    sample was taken before a reset in it)."""
+    start += 1
+    end = start + count
+    driver.clock.sleep(max(0.0, end * CYCLE - driver.clock.now()) + CYCLE)
+    assert wait_until(lambda: end in driver.samples.q, 5.0)
+    return (np.array([driver.samples.q[n] for n in range(start, end)]),
+            np.array([driver.samples.qd[n] for n in range(start, end)]))
+
+
+def test_after_a_reset_the_same_requests_give_a_fresh_starts_samples_to_the_bit():
+    driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0))
+    driver.samples = Collector(driver)
+    clock = driver.clock
+    try:
+        with clock.hold():
+            driver.start()                  # the requests arrive before the first cycle
+            fresh = samples_from(driver, requests_after(driver), 300)
+            # everything a reset must undo: IO, frames, payload, collision level, speed
+            # ratio, and a move stopped by a collision's protective stop
+            assert driver.set_io("digital", 0, 2, 1).ok
+            assert driver.set_toolframe([0, 0, 120, 0, 0, 0.3], 1).ok
+            assert driver.set_userframe([100, 0, 0, 0, 0, 0.2], 2).ok
+            assert driver.set_payload(1, 2.0, 0, 0, 50).ok
+            assert driver.set_collisionlevel(True, 90).ok
+            assert driver.set_speed_ratio(0.3).ok
+            driver.backend.twin.trigger_protective_stop("collision (test)")
+            assert driver.state().in_error
+            assert not driver.joint_move([0.1, 1.5, -1.4, 1.6, 1.5, 0.1], 1.0, 3.0).ok
+            result = driver.reset_twin()
+            assert result.ok, result.message
+            st = driver.state()
+            assert not st.in_error and st.powered and st.enabled and not st.servo_mode
+            assert (st.tool_id, st.user_id) == (0, 0) and driver.speed_ratio() == 1.0
+            assert driver.get_io("digital", 1, 0, 2).value == 0.0
+            assert driver.backend.twin.collision_level == 2
+            again = samples_from(driver, requests_after(driver), 300)   # at once, as fresh
+    finally:
+        driver.samples.close()
+        driver.shutdown()
+    assert np.array_equal(fresh[0], again[0]), np.max(np.abs(fresh[0] - again[0]))
+    assert np.array_equal(fresh[1], again[1]), np.max(np.abs(fresh[1] - again[1]))
+
+
+def test_a_paused_twin_steps_exactly_the_cycles_asked(twin):
+    twin_ = twin.backend.twin
+    assert twin_.pause().ok
+    t0 = twin.clock.now()
+    time.sleep(0.2)
+    assert twin.clock.now() == t0                     # paused: no cycle ran
+    result = twin_.step(25)
+    assert result.ok, result.message
+    assert abs(result.value - (t0 + 25 * CYCLE)) < 1e-9
+    time.sleep(0.1)
+    assert twin.clock.now() == result.value
+    assert twin_.unpause().ok
+    twin.clock.sleep(0.1)
+    assert twin.clock.now() > result.value
+
+
+def test_pause_is_refused_on_the_wall_clock_and_twin_control_without_a_twin():
+    driver = RobotDriver(SimBackend(MODEL))
+    try:
+        assert driver.backend.twin.pause().code == -9
+        assert driver.backend.twin.step(1).code == -9
+    finally:
+        driver.shutdown()

@@ -2,7 +2,8 @@
 through ROS reaches its target, the state topics come from the controller's status stream —
 one message per status packet, at the emulator's recorded 30 ms, none twice — drag mode goes
 on and off through ROS (torque_control_enable on the wire), and nothing of the twin's own
-(``~sim/``) is offered."""
+(``~sim/``) is offered but the twin control, which answers -9; the speed ratio goes to the
+controller and back."""
 from __future__ import annotations
 
 import time
@@ -83,10 +84,68 @@ def test_drag_mode_goes_on_and_off_through_ros(call, emulator):
     assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
 
 
-def test_the_twin_s_services_are_offered_only_by_a_twin(sim_driver):
-    """~sim/ (faults, inputs, the snapshot) comes from the twin's capability, which a
-    controller backend does not offer: the node advertises none of it here."""
+def test_the_twin_s_services_are_offered_only_by_a_twin(sim_driver, call):
+    """~sim/'s faults, inputs and snapshot come from the twin's capability, which a controller
+    backend does not offer: the node advertises none of them here. The twin's reset, pause and
+    step are advertised on every backend, so a suite run against a controller is told -9."""
     import rosservice
+    from jaka_driver_msgs.srv import PauseTwin, ResetTwin, StepTwin
     services = rosservice.get_service_list()
     assert sim_driver.name("joint_move") in services
-    assert not [s for s in services if s.startswith(sim_driver.name("sim/"))], services
+    offered = sorted(s for s in services if s.startswith(sim_driver.name("sim/")))
+    assert offered == [sim_driver.name(f"sim/{n}") for n in ("pause", "reset", "step")], offered
+    for reply in (call("sim/reset", ResetTwin, joints=[]), call("sim/pause", PauseTwin, pause=True),
+                  call("sim/step", StepTwin, cycles=1)):
+        assert reply.ret == -9 and "not a twin" in reply.message, reply
+
+
+def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, emulator):
+    """set_speed_ratio through ROS is rapid_rate on the wire, read back with get_rapid_rate
+    (the controller backend's set answers only then); ~speed_ratio shows it; a joint_move
+    then takes twice as long; a ratio outside (0, 1] is refused."""
+    from std_msgs.msg import Float64
+    from jaka_driver_msgs.srv import SetSpeedRatio
+    ratio = Recorder(sim_driver.name("speed_ratio"), Float64)
+    target = [0.4, 1.3, -1.2, 1.7, 1.4, 0.5]
+    try:
+        t0 = time.monotonic()
+        assert call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0).ret == 1
+        full = time.monotonic() - t0
+        assert call("joint_move", Move, pose=START, mvvelo=1.0, mvacc=3.0).ret == 1
+        reply = call("set_speed_ratio", SetSpeedRatio, ratio=0.5)
+        assert reply.ret == 1, reply.message
+        assert wait_until(lambda: ratio.latest() is not None and ratio.latest().data == 0.5, 3.0)
+        t0 = time.monotonic()
+        assert call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0).ret == 1
+        half = time.monotonic() - t0
+        # wall-clock round trips and the 30 ms status packets blur a move's end by ~0.1 s
+        assert 1.7 <= half / full <= 2.3, (full, half)
+        refused = call("set_speed_ratio", SetSpeedRatio, ratio=1.5)
+        assert refused.ret == -2 and "ratio is 1.5" in refused.message, refused
+    finally:
+        call("set_speed_ratio", SetSpeedRatio, ratio=1.0)
+        call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)
+        ratio.close()
+
+
+def test_the_joint_stream_topic_drives_the_controller(sim_driver, call, joints, emulator):
+    """~joint_position_command at 125 Hz through the controller backend: servo_j on the wire,
+    the emulator's arm follows to the last target."""
+    from std_msgs.msg import Float64MultiArray
+    import rospy
+    from jaka_msgs.srv import ServoMoveEnable
+    pub = rospy.Publisher(sim_driver.name("joint_position_command"), Float64MultiArray,
+                          queue_size=10)
+    assert wait_until(lambda: pub.get_num_connections() > 0, 5.0)
+    assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    try:
+        q = np.array(START)
+        for _ in range(125):                         # 1 s at 125 Hz, J6 by 0.25 rad
+            q = q + [0, 0, 0, 0, 0, 0.002]
+            pub.publish(Float64MultiArray(data=q.tolist()))
+            time.sleep(0.008)
+        assert wait_until(lambda: np.max(np.abs(position(joints) - q)) <= 1e-3, 3.0), \
+            position(joints) - q
+    finally:
+        call("servo_move_enable", ServoMoveEnable, enable=False)
+        call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0)

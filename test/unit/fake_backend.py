@@ -81,6 +81,16 @@ class FakeBackend(Backend):
     def jog_stop(self):
         return self._called("jog_stop")
 
+    def velocity_jog(self, twist, in_tool):
+        return self._called("velocity_jog", list(twist), in_tool)
+
+    def set_speed_ratio(self, ratio):
+        self.ratio = ratio
+        return self._called("set_speed_ratio", ratio)
+
+    def speed_ratio(self):
+        return getattr(self, "ratio", 1.0)
+
     def servo_enable(self, on):
         return self._called("servo_enable", on)
 

@@ -28,6 +28,9 @@ them for determinism; README "Simulated time" tells users):
 - **A servo stream paces the twin.** After a cycle in which a servo target arrived, the next
   cycle waits (at most ``REACTION_WINDOW``) for the next target: a client that sends one
   target per /clock tick or per state sample is in step with the twin at any speed.
+- **Paused, it steps only when told.** :meth:`SimClock.pause` stops the cycles whatever
+  else would let them run; :meth:`SimClock.step` lets exactly N more run, then stands still
+  again; :meth:`SimClock.unpause` lets time run on.
 - **A reader is not outrun.** With a consumer registered (the node's state publisher), the
   twin runs at most ``MAX_LAG`` cycles ahead of what it has published.
 
@@ -108,6 +111,8 @@ class SimClock:
         self._anchor: Optional[tuple[float, int]] = None    # (wall time, cycles) of the pacer
         self._stepping = False                   # a cycle has started and not ticked yet
         self._stale_warned = False
+        self._paused = False
+        self._step_budget = 0                    # cycles a paused clock may still run
 
     # ---- reading and waiting -------------------------------------------------------------
     def now(self) -> float:
@@ -190,9 +195,43 @@ class SimClock:
             self._consumed = max(self._consumed or 0, round(t / self.cycle))
             self._cond.notify_all()
 
+    # ---- pause and step (the twin's own time, backend.twin) ----------------------------------
+    @property
+    def paused(self) -> bool:
+        return self._paused
+
+    def pause(self) -> None:
+        """No cycle starts until :meth:`unpause` (or one of :meth:`step`'s); a cycle being
+        stepped ends first, so that time stands still from the answer on."""
+        with self._cond:
+            self._paused, self._step_budget = True, 0
+            self._cond.wait_for(lambda: not self._stepping, STEPPING_WAIT)
+            self._cond.notify_all()
+
+    def unpause(self) -> None:
+        with self._cond:
+            self._paused, self._step_budget = False, 0
+            self._cond.notify_all()
+
+    def step(self, cycles: int, timeout: float) -> bool:
+        """While paused: let ``cycles`` cycles run and wait (at most ``timeout`` s of wall
+        time) until they have; True if they have."""
+        with self._cond:
+            target = self.cycles + cycles
+            self._step_budget += cycles
+            self._cond.notify_all()
+            return self._cond.wait_for(lambda: self.cycles >= target, timeout)
+
     def _blocked(self, wall: float) -> Optional[float]:
         """None if the next cycle may start now, else the wall time to look again."""
         again = wall + WALL_SLICE
+        if self._paused and self._step_budget <= 0:
+            return again
+        if self._paused:
+            # stepping: only the consumer (the samples of the steps are published) may hold
+            if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
+                return again
+            return None
         for tid, (depth, since) in self._holds.items():
             waiter = self._waiting.get(tid)
             if depth > 0 and (waiter is None or waiter.woken):
@@ -260,6 +299,8 @@ class SimClock:
         hold again, if they held, before the next cycle may start)."""
         with self._cond:
             self.cycles += 1
+            if self._paused and self._step_budget > 0:
+                self._step_budget -= 1
             self._stepping = False
             self._gap_started = time.monotonic()
             for waiter in self._waiting.values():

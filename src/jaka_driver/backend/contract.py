@@ -102,6 +102,8 @@ class Backend(ABC):
         ``Result.value`` is
         ``(completion, planned_duration_s)``: the :class:`jaka_driver.backend.completion.Completion`
         finishes with success once in position (``constants.IN_POSITION``), or -12 if stopped.
+        ``speed`` and ``accel`` are the request's; the backend runs them at its speed ratio,
+        and ``duration`` is already the plan at that ratio.
         :class:`jaka_driver.driver.RobotDriver` does the waiting (and stops an overrun)."""
 
     @abstractmethod
@@ -131,7 +133,27 @@ class Backend(ABC):
 
     @abstractmethod
     def jog_stop(self) -> Result:
-        """Decelerate a jog to rest."""
+        """Decelerate a jog (a velocity jog too) to rest."""
+
+    @abstractmethod
+    def velocity_jog(self, twist: np.ndarray, in_tool: bool) -> Result:
+        """Start (or keep following) a velocity jog: the TCP moves at ``twist`` (vx vy vz m/s,
+        wx wy wz rad/s), in the base frame or the tool frame (``in_tool``), ramped at the jog's
+        accelerations and slowed before joint limits and singularities by the one law of
+        :mod:`jaka_driver.motion.velocity_jog`, at the speed ratio. Returns at once; the
+        caller (RobotDriver) owns its short watchdog and calls :meth:`jog_stop`."""
+
+    # ---- speed ratio ----------------------------------------------------------------------
+    @abstractmethod
+    def set_speed_ratio(self, ratio: float) -> Result:
+        """Scale the moves the robot plans — joint and linear moves, jogs, velocity jogs —
+        as a controller's rapid rate does: time × 1/``ratio`` (speeds × ratio, accelerations
+        × ratio²), ``ratio`` in (0, 1] (checked by the driver). Servo targets are not scaled;
+        trajectories are scaled by the driver (they are servo streams on a controller)."""
+
+    @abstractmethod
+    def speed_ratio(self) -> float:
+        """The ratio the robot runs at now (a controller's as it reports it)."""
 
     @abstractmethod
     def servo_enable(self, on: bool) -> Result:

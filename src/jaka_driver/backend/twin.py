@@ -55,6 +55,29 @@ class Twin(ABC):
         """Drive input ``index`` (from 0) of ``signal`` on ``io_type`` as the outside world
         would (the address already checked against the model)."""
 
+    # ---- the twin's own time and state (test suites) -----------------------------------------
+    @abstractmethod
+    def reset(self, q: Optional[np.ndarray] = None) -> Result:
+        """Back to a fresh start at ``q`` (rad, already checked against the limits; None: the
+        model's home): the arm at rest there, any motion ended (its waiter told -12), errors
+        and the e-stop cleared, powered and enabled, servo and drag mode off, IO at 0, frames,
+        payload, collision level and speed ratio at their defaults. The same requests after
+        it give the same samples, to the bit, as after a fresh start."""
+
+    @abstractmethod
+    def pause(self) -> Result:
+        """Stop the twin's time (simulated time only: -9 on the wall clock, which no one
+        stops)."""
+
+    @abstractmethod
+    def unpause(self) -> Result:
+        """Let the twin's time run again."""
+
+    @abstractmethod
+    def step(self, cycles: int) -> Result:
+        """While paused, run ``cycles`` 8 ms cycles and return once they have run;
+        ``Result.value`` is the sim time (s) after them."""
+
     # ---- the camera ------------------------------------------------------------------------------
     @abstractmethod
     def camera(self, width: int, height: int) -> Camera:

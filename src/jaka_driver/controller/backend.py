@@ -45,6 +45,7 @@ import numpy as np
 
 from ..backend import Backend
 from ..backend.robot_state import RobotState
+from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
@@ -53,6 +54,7 @@ from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..kinematics import Kinematics
 from ..motion.linear_path import line_duration, orientation_limits, plan_linear_move
 from ..motion.profiles import joint_move_profile
+from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands, errors
 from ..protocol.fields import CoordMap, Field, JogMode
 from ..protocol.status_stream import StatusPacket
@@ -63,6 +65,7 @@ from .frames_by_id import TABLE_SIZE, ControllerFrames
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
 from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView
+from .twist_stream import TwistStreamer
 
 log = logging.getLogger(__name__)
 
@@ -83,6 +86,8 @@ IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands
             ("analog", 0): commands.get_analog_input, ("analog", 1): commands.get_analog_output}
 #: errorCode of a recorded refusal: servo_j outside servo mode (fw 1.5.14 answers "-1").
 SERVO_MODE_OFF_CODE = "-1"
+#: The rapid rate reads back as set within this (JAKA's SDK's tolerance)
+RAPID_RATE_READBACK = 0.01
 #: s a confirmed setting waits for a status packet that shows it (a few packet periods)
 PACKET_CATCH_UP = 0.2
 #: A line whose IK needs a joint faster than this many times its speed limit between two 8 ms
@@ -127,6 +132,9 @@ class ControllerBackend(Backend):
         self._streamer: Optional[TrajectoryStreamer] = None
         self._servo_mode = False
         self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
+        self._twist: Optional[TwistStreamer] = None        # a velocity jog's servo stream
+        self._kinematics = None     # the model's (Pinocchio), made at the first velocity jog
+        self._rapid_rate = 1.0                             # the last rate read back
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
         self._motion_state_known = True   # until the controller says it has no such command
@@ -204,6 +212,7 @@ class ControllerBackend(Backend):
         try:
             self.view.reset()
             self._servo_mode = self._read_servo_mode()
+            self._read_rapid_rate()
             self.identity.read(self.send.read)
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
@@ -223,7 +232,9 @@ class ControllerBackend(Backend):
 
     def _abort_motion(self, result: Result) -> None:
         with self._lock:
-            watch, streamer = self._watch, self._streamer
+            watch, streamer, twist = self._watch, self._streamer, self._twist
+        if twist is not None:
+            twist.halt(result)
         if watch is not None:
             watch.abort(Result(result.code, f"{watch.label}: {result.message}"))
         if streamer is not None:
@@ -340,11 +351,13 @@ class ControllerBackend(Backend):
         q_target = np.asarray(q_target, float)
         latest = self.view.latest
         estimate = duration or UNKNOWN_MOVE_TIME
+        ratio = self.speed_ratio()      # the controller scales what it is sent by its rate
         if latest is not None and np.all(np.isfinite(latest.joint_position)):
             plan = joint_move_profile(latest.joint_position, q_target,
                                       np.minimum(speed, self.model.max_velocity),
-                                      np.minimum(accel, self.model.max_acceleration), duration)
-            estimate = plan.duration
+                                      np.minimum(accel, self.model.max_acceleration),
+                                      duration * ratio if duration else None)
+            estimate = plan.duration / ratio
             if plan.duration > plan.predicted_duration * (1.0 + STRETCHED):
                 speed = max(float(np.max(plan.peak_velocity)), MIN_WIRE_SPEED)
         watch = MoveWatch("joint_move", joints_at(q_target), final_error=joint_error(q_target))
@@ -367,7 +380,7 @@ class ControllerBackend(Backend):
             estimate = UNKNOWN_MOVE_TIME
             if latest is not None and np.all(np.isfinite(latest.tcp_pose)):
                 estimate = line_duration(pose_mm_rpy_to_matrix(latest.tcp_pose), target, speed,
-                                         accel)
+                                         accel) / self.speed_ratio()
         note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
                                            "configuration itself")
         watch = MoveWatch("linear_move", tcp_at(pose), note=note)
@@ -453,7 +466,103 @@ class ControllerBackend(Backend):
         return Result.success(f"jogging axis {axis} of coord_map {coord_map} at {jogvel:g} {unit}")
 
     @answers
+    def velocity_jog(self, twist, in_tool) -> Result:
+        """A velocity jog as a ``servo_j`` stream (:mod:`.twist_stream`: why), entering servo
+        mode for it; the twist at the rapid rate (× r, its ramp × r²), as the twin's."""
+        ratio = self.speed_ratio()
+        twist = np.asarray(twist, float) * ratio
+        with self._lock:
+            running = self._twist if self._twist is not None and self._twist.running else None
+        if running is not None:
+            if running.jog.in_tool != bool(in_tool):
+                raise CommandRefused(Code.BUSY, "velocity jog refused: one runs in the other "
+                                     "frame; stop sending twists and start again")
+            running.command(twist)
+            return Result.success(running.report())
+        self.send.require_link()
+        if self._moving():
+            raise CommandRefused(Code.BUSY, "velocity jog refused: the arm is moving")
+        latest = self.view.latest
+        if latest is None or not np.all(np.isfinite(latest.joint_position)):
+            raise CommandRefused(Code.NOT_CONNECTED, "velocity jog refused: no joint "
+                                 "positions from the controller yet")
+        entered = not self._servo_mode
+        if entered:
+            self._set_servo_mode(True)
+        jog = self._velocity_jog(bool(in_tool), ratio)
+        jog.command(twist)
+        streamer = TwistStreamer(jog, latest.joint_position, self.link.call,
+                                 self._leave_twist if entered else None)
+        with self._lock:
+            self._twist = streamer
+        streamer.start()
+        return Result.success(streamer.report())
+
+    def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
+        if self._kinematics is None:
+            from ..kinematics import Kinematics    # Pinocchio: only for a velocity jog
+            self._kinematics = Kinematics(self.model)
+        kin, m = self._kinematics, self.model
+        tool, _ = self.frames()
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool)
+            return solution.q if solution.success else None
+
+        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
+                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
+                           upper=m.upper, max_velocity=m.max_velocity,
+                           max_acceleration=m.max_acceleration,
+                           linear_accel=m.max_tcp_accel * ratio ** 2,
+                           angular_accel=MAX_TOOL_ROTATION_ACCEL * ratio ** 2,
+                           in_tool=in_tool, cycle=SERVO_CYCLE)
+
+    def _leave_twist(self) -> None:
+        """End of a velocity jog that entered servo mode itself (its thread)."""
+        if not self.link.connected:
+            self._servo_mode = False
+            return
+        try:
+            self._set_servo_mode(False)
+        except CommandRefused as refusal:
+            log.warning("leaving servo mode after a velocity jog failed: %s", refusal.message)
+
+    # ---- speed ratio ------------------------------------------------------------------------
+    @answers
+    def set_speed_ratio(self, ratio: float) -> Result:
+        """``rapid_rate``, read back with ``get_rapid_rate`` until within 0.01, as JAKA's SDK
+        confirms it."""
+        ratio = float(ratio)
+        self._rapid_rate = self.send.settled(
+            commands.rapid_rate(ratio), commands.get_rapid_rate(), commands.reply_value,
+            lambda now: abs(now - ratio) < RAPID_RATE_READBACK, f"rapid rate {ratio:g}")
+        self._await_packet(lambda status: abs(status.rapidrate - ratio) < RAPID_RATE_READBACK)
+        return Result.success(f"rapid rate {self._rapid_rate:g} (read back): moves and jogs at "
+                              f"{self._rapid_rate * 100:g} % speed")
+
+    def speed_ratio(self) -> float:
+        """The rate the latest status packet reports (a pendant may change it), else the one
+        last read back."""
+        latest = self.view.latest
+        if latest is not None and 0.0 < latest.rapidrate <= 1.0:
+            return float(latest.rapidrate)
+        return self._rapid_rate
+
+    def _read_rapid_rate(self) -> None:
+        try:
+            self._rapid_rate = float(self.send.read(commands.get_rapid_rate(),
+                                                    commands.reply_value))
+        except CommandRefused as refusal:
+            log.info("get_rapid_rate unavailable (%s); taking the rate from the status packets",
+                     refusal.message)
+
+    @answers
     def jog_stop(self) -> Result:
+        with self._lock:
+            twist = self._twist if self._twist is not None and self._twist.running else None
+        if twist is not None:
+            twist.stop()
+            return Result.success("velocity jog stopping")
         with self._lock:
             running, self._jog = self._jog, None
         if running is None:
@@ -533,6 +642,10 @@ class ControllerBackend(Backend):
         self.send.require_link()
         with self._lock:
             self._jog = None
+            twist = self._twist
+        if twist is not None and twist.running:
+            twist.stop()            # it ramps to rest on its own targets, then leaves servo mode
+            return Result.success("velocity jog stopping")
         with self._send_lock:   # a move being sent goes out before stop_program, or not at all
             self._abort_motion(Result.failure(Code.MOTION_STOPPED, "stopped by stop_move"))
             self.send.accepted(commands.stop_program())
@@ -618,9 +731,10 @@ class ControllerBackend(Backend):
     def _moving(self) -> bool:
         """A move, trajectory or jog of this driver runs, or the status stream shows motion."""
         with self._lock:
-            watch, jog = self._watch, self._jog
+            watch, jog, twist = self._watch, self._jog, self._twist
         latest = self.view.latest
         return ((watch is not None and not watch.completion.done) or jog is not None
+                or (twist is not None and twist.running)
                 or (latest is not None and not latest.inpos))
 
     @answers

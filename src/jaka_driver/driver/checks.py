@@ -168,6 +168,17 @@ def jog_speed(model: RobotModel, coord: int, axis: int, field: str, value: float
                                           notes=notes)
 
 
+def twist_speeds(model: RobotModel, linear: np.ndarray, angular: np.ndarray) -> None:
+    """A velocity jog's twist within jog's limits: the TCP's speed (m/s) at most the model's,
+    the rotation's (rad/s) at most the tool rotation cap."""
+    v, w = float(np.linalg.norm(linear)), float(np.linalg.norm(angular))
+    if v > model.max_tcp_speed:
+        raise invalid(f"twist.linear is {v:.4g} m/s, limit {model.max_tcp_speed:g} m/s")
+    if w > MAX_TOOL_ROTATION_SPEED:
+        raise invalid(f"twist.angular is {w:.4g} rad/s, limit {MAX_TOOL_ROTATION_SPEED:.4g} "
+                      "rad/s")
+
+
 def frame_pose(pose: Sequence[float], reach_mm: float) -> np.ndarray:
     """A tool or user frame (mm + rotation vector) as a 4x4 (m), its origin within
     ``reach_mm``."""

@@ -60,10 +60,12 @@ class RobotDriver:
     """Validation, state checks and watchdogs in front of a :class:`Backend`."""
 
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1,
-                 servo_increment: bool = False, conventions: Conventions = DOCUMENT):
+                 servo_increment: bool = False, conventions: Conventions = DOCUMENT,
+                 twist_timeout: float = 0.1):
         """``conventions``: how requests are read where JAKA's document and JAKA's driver code
         differ (jaka_driver.conventions); ``servo_increment`` adds servo increments to them
-        (servo_j / servo_p take increments, as JAKA's driver code sends them)."""
+        (servo_j / servo_p take increments, as JAKA's driver code sends them).
+        ``twist_timeout``: s after the last twist before a velocity jog stops."""
         self.backend = backend
         self.model = backend.model
         #: every timeout below runs on the backend's time (wall, or the twin's sim time)
@@ -72,6 +74,7 @@ class RobotDriver:
         self._move_lock = threading.Lock()   # one blocking move at a time
         self._jog = JogWatchdog(self._jog_expired, timeout=jog_timeout, clock=self.clock)
         self._servo = ServoStream(timeout=servo_timeout, clock=self.clock)
+        self._twist = JogWatchdog(self._twist_expired, timeout=twist_timeout, clock=self.clock)
         self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
                                            backend.forward_kinematics) \
             if self.conventions.servo_increment else None
@@ -82,6 +85,7 @@ class RobotDriver:
 
     def shutdown(self) -> None:
         self._jog.close()
+        self._twist.close()
         self.backend.shutdown()
 
     def state(self) -> RobotState:
@@ -131,6 +135,10 @@ class RobotDriver:
         if self._jog.session is not None:
             raise CommandRefused(Code.BUSY, "a jog is running (stop_move, or wait 3 s after "
                                  "the last jog call)")
+        if self._twist.session is not None:
+            raise CommandRefused(Code.BUSY, "a velocity jog is running (stop_move, or stop "
+                                 f"sending twists: it stops {self._twist.timeout:g} s after "
+                                 "the last)")
 
     @contextmanager
     def _blocking_move(self, what: str):
@@ -143,7 +151,8 @@ class RobotDriver:
 
     @property
     def moving(self) -> bool:
-        return self._move_lock.locked() or self._jog.session is not None
+        return (self._move_lock.locked() or self._jog.session is not None
+                or self._twist.session is not None)
 
     # ---- motion ------------------------------------------------------------------------
     @_answers
@@ -163,7 +172,7 @@ class RobotDriver:
         planned = check.joint_move_duration(self.backend.state().joint_position, q,
                                             np.minimum(v, self.model.max_velocity),
                                             np.minimum(a, self.model.max_acceleration),
-                                            duration or None, mvvelo, mvacc)
+                                            duration or None, mvvelo, mvacc) / self._ratio()
         result = self._run_move("joint_move", lambda st: self.backend.start_joint_move(
             q, v, a, planned))
         return _with_notes(result, notes)
@@ -200,7 +209,8 @@ class RobotDriver:
                 target = np.linalg.inv(user) @ target
             elif mode == 2:
                 target = st.tcp_pose @ target
-            planned = check.linear_move_duration(st.tcp_pose, target, v, a, mvvelo, mvacc)
+            planned = check.linear_move_duration(st.tcp_pose, target, v, a, mvvelo,
+                                                 mvacc) / self._ratio()
             return self.backend.start_linear_move(target, v, a, ref_q, planned)
 
         return _with_notes(self._run_move("linear_move", start), notes)
@@ -221,6 +231,8 @@ class RobotDriver:
             raise explained(refusal, self.conventions) from None
         if self._move_lock.locked():
             raise CommandRefused(Code.BUSY, "jog refused: a blocking move is running")
+        if self._twist.session is not None:
+            raise CommandRefused(Code.BUSY, "jog refused: a velocity jog is running")
         self._ready()
         session = self._jog.session
         same = session is not None and (session.coord, session.index) == (coord, idx)
@@ -243,7 +255,14 @@ class RobotDriver:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
         (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
         string it returns aborts: the arm is stopped and the result is -12 with that reason.
-        Blocks."""
+        Blocks. At a speed ratio r < 1 the trajectory is played r times as fast in time (a
+        controller's servo stream is never scaled by its rate, so the driver scales it, for
+        every backend alike) and ``monitor`` still sees the trajectory's own time."""
+        ratio = self._ratio()
+        if ratio != 1.0:
+            trajectory = trajectory.time_scaled(ratio)
+            original = monitor
+            monitor = lambda t, st: original(t * ratio, st)     # noqa: E731
         return self._run_move("trajectory", lambda st: self.backend.start_trajectory(trajectory),
                               monitor, period)
 
@@ -285,11 +304,86 @@ class RobotDriver:
         log.info("jog stopped: no jog call for %.1f s", self._jog.timeout)
         self.backend.jog_stop()
 
+    @_answers(react=False)
+    def velocity_jog(self, linear: Sequence[float], angular: Sequence[float],
+                     in_tool: bool) -> Result:
+        """Follow the twist ``linear`` (m/s) + ``angular`` (rad/s), in the base frame or the
+        tool frame (``in_tool``), until twists stop coming (the twist watchdog: ``twist_timeout``
+        s after the last, the arm ramps to rest). Speeds are checked as jog's: the TCP's at
+        most the model's, the rotation's at most the tool rotation cap."""
+        v = check.vector("twist.linear", linear, 3)
+        w = check.vector("twist.angular", angular, 3)
+        check.twist_speeds(self.model, v, w)
+        if self._move_lock.locked():
+            raise CommandRefused(Code.BUSY, "velocity jog refused: a blocking move is running")
+        if self._jog.session is not None:
+            raise CommandRefused(Code.BUSY, "velocity jog refused: a jog is running")
+        # a controller follows the twist in servo mode (controller/twist_stream.py), entered
+        # by the jog's first twist: the next ones find it on
+        self._ready(allow_servo_mode=self._twist.session is not None)
+        result = self.backend.velocity_jog(np.concatenate([v, w]), bool(in_tool))
+        if not result.ok:
+            self._twist.clear()
+            return result
+        self._twist.kick(2 if in_tool else 1, -1, float(np.linalg.norm(v)))
+        return result
+
+    def _twist_expired(self) -> None:
+        log.info("velocity jog stopping: no twist for %.2f s", self._twist.timeout)
+        self.backend.jog_stop()
+
+    @property
+    def twist_timeout(self) -> float:
+        return self._twist.timeout
+
     @_answers
     def stop_move(self) -> Result:
         """Decelerate whatever moves; a blocking move returns -12."""
         self._jog.clear()
+        self._twist.clear()
         return self.backend.stop_move()
+
+    # ---- speed ratio ---------------------------------------------------------------------
+    def _ratio(self) -> float:
+        ratio = float(self.backend.speed_ratio())
+        return ratio if 0.0 < ratio <= 1.0 else 1.0
+
+    @_answers
+    def set_speed_ratio(self, ratio: float) -> Result:
+        """Scale joint_move, linear_move, jog, velocity jogs and trajectories by ``ratio``
+        in (0, 1], a controller's rapid rate: time × 1/ratio (speeds × ratio, accelerations ×
+        ratio²). Servo targets are not scaled. Refused while the arm moves (a running move
+        was planned at the old ratio)."""
+        r = check.finite("ratio", ratio)
+        if not 0.0 < r <= 1.0:
+            raise invalid(f"ratio is {r:g}, expected in (0, 1] (1 = full speed)")
+        if self.moving:
+            raise CommandRefused(Code.BUSY, "speed ratio refused while the arm moves: set it "
+                                 "between moves")
+        return self.backend.set_speed_ratio(r)
+
+    def speed_ratio(self) -> float:
+        """The ratio the robot runs at (the controller's, read back)."""
+        return float(self.backend.speed_ratio())
+
+    # ---- the twin's own controls -------------------------------------------------------------
+    @_answers
+    def reset_twin(self, joints: Sequence[float] = ()) -> Result:
+        """A twin back to a fresh start (:meth:`jaka_driver.backend.Twin.reset`) at ``joints``
+        (rad; empty: home); the driver forgets its jogs and servo stream. -9 without a twin.
+        In sim time it happens between two cycles, at the sim time the request arrived."""
+        twin = self.backend.twin
+        if twin is None:
+            return Result.failure(Code.WRONG_MODE, "reset refused: this backend is a "
+                                  "controller, not a twin (reset, pause and step are the "
+                                  "twin's own)")
+        q = check.joint_targets("joints", joints, self.model) if len(joints) else None
+        self._jog.clear()
+        self._twist.clear()
+        self._servo.reset()
+        if self._increments is not None:
+            self._increments.reset()
+        return twin.reset(q)
 
     @_answers
     def servo_move_enable(self, enable: bool) -> Result:
@@ -323,6 +417,12 @@ class RobotDriver:
         if result.ok:
             self._servo.accepted(q)
         return _with_gap(result, gap, self._servo.timeout)
+
+    @_answers(react=False)
+    def servo_j_target(self, pose: Sequence[float]) -> Result:
+        """An absolute joint target (rad) under servo_j's rules and path, whatever
+        ``servo_increment`` says: the joint stream topics' (their messages are positions)."""
+        return self._servo_j(pose)
 
     @_answers(react=False)
     def servo_p(self, pose: Sequence[float]) -> Result:
@@ -422,6 +522,7 @@ class RobotDriver:
     def set_power(self, on: bool) -> Result:
         if not on:
             self._jog.clear()
+            self._twist.clear()
         elif self.backend.state().emergency_stop:
             raise CommandRefused(Code.EMERGENCY_STOP, "emergency stop is pressed")
         return self.backend.set_power(bool(on))

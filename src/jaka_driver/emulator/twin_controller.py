@@ -4,7 +4,7 @@ The twin (a backend that offers :class:`~jaka_driver.backend.Twin`: the MuJoCo t
 moves like the arm; this layer adds what a controller has and the twin does not: refusing motion
 in the wrong state, a motion queue (a move is acknowledged at once and runs after the ones before it; ``inpos`` once the
 queue is done — docs/protocol.md, "Motion queue"), stored frames that are activated separately
-from being set, the servo ``stepNum`` interpolation, the speed override, the payload and
+from being set, the servo ``stepNum`` interpolation, the speed override (the twin's speed ratio), the payload and
 collision settings to report back. Every method takes SI values (rad, m, 4x4 poses of the active
 tool in the active user frame) and raises :class:`Rejected` with the controller's message when
 the command is refused; wire parsing lives in :mod:`.handlers`.
@@ -100,8 +100,19 @@ class TwinController:
         self.payload_mass = 0.0
         self.payload_centroid_mm = np.zeros(3)
         self.collision_level = self.twin.collision_level
-        self.rapid_rate = 1.0
         self.servo_filter: Tuple[int, dict] = (0, {})   # (filter_type, its parameters)
+
+    @property
+    def rapid_rate(self) -> float:
+        """The speed override (``rapid_rate``), 0 < r ≤ 1: the twin's speed ratio, so moves and
+        jogs are scaled by the one law the driver plans with (time × 1/r: speeds × r,
+        accelerations × r²); servo set-points are not scaled."""
+        return self.backend.speed_ratio()
+
+    @rapid_rate.setter
+    def rapid_rate(self, rate: float) -> None:
+        with self.lock:
+            self.backend.set_speed_ratio(float(rate))
 
     def identity_fields(self) -> dict:
         """get_version's seven identity strings (JAKA's SDK logs them at login; a number there
@@ -290,7 +301,7 @@ class TwinController:
     def _start_joint_move(self, q: np.ndarray, speed: float, accel: float,
                           what: str) -> Result:
         self.check_limits(q, what)
-        return self.backend.start_joint_move(q, speed * self.rapid_rate, accel)
+        return self.backend.start_joint_move(q, speed, accel)
 
     def end_move(self, pose: np.ndarray, speed: float, accel: float) -> None:
         """Queue a joint-interpolated move to the Cartesian ``pose`` (4x4, m); the joints are
@@ -309,8 +320,7 @@ class TwinController:
         comes."""
         with self.lock:
             self.require_can_move("moveL")
-            self.enqueue("moveL", lambda: self.backend.start_linear_move(
-                target(), speed * self.rapid_rate, accel))
+            self.enqueue("moveL", lambda: self.backend.start_linear_move(target(), speed, accel))
 
     def jog(self, coord: int, axis: int, direction: int, speed: float) -> None:
         """Continuous jog; ``coord`` as the twin numbers it (0 joint, 1 base, 2 tool)."""
@@ -322,7 +332,7 @@ class TwinController:
                 speed = min(speed, self.model.max_tcp_speed)
             else:
                 speed = min(speed, MAX_TOOL_ROTATION_SPEED)
-            result = self.backend.jog(coord, axis, direction, speed * self.rapid_rate)
+            result = self.backend.jog(coord, axis, direction, speed)
             if not result.ok:
                 raise Rejected(f"jog: {result.message}")
 

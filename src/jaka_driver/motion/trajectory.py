@@ -94,6 +94,18 @@ class JointTrajectory:
         qd = self.qd[k] + w * (self.qd[k + 1] - self.qd[k])
         return q, qd
 
+    def time_scaled(self, ratio: float) -> "JointTrajectory":
+        """The same path played ``ratio`` (0 < ratio ≤ 1) times as fast: time × 1/ratio,
+        velocities × ratio (accelerations × ratio²), resampled on the first interval's cycle
+        (:func:`time_grid`) as the players expect. The planned TCP poses are not carried."""
+        if not 0.0 < ratio <= 1.0:
+            raise ValueError(f"ratio is {ratio:g}, expected in (0, 1]")
+        if ratio == 1.0 or self.times.shape[0] == 1:
+            return self
+        times = time_grid(self.duration / ratio, float(self.times[1] - self.times[0]))
+        q, qd = self.sample(times * ratio)
+        return JointTrajectory(times=times, q=q, qd=qd * ratio)
+
     @classmethod
     def from_profile(cls, profile, cycle: float) -> "JointTrajectory":
         """Sample a joint profile (anything with ``duration`` s and ``sample(t) -> (q, qd, …)``,

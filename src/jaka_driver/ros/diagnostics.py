@@ -1,6 +1,6 @@
-"""``/diagnostics`` at 1 Hz: backend, connection, publish rate, last error, servo mode, the
-conventions the driver reads requests in, and what the backend describes of itself (version,
-physics steps, ...)."""
+"""``/diagnostics`` at 1 Hz: backend, connection, publish rate, last error, servo mode, speed
+ratio, the conventions the driver reads requests in, what the backend describes of itself
+(version, physics steps, ...) and the topic inputs' counts (accepted, refused, stops)."""
 from __future__ import annotations
 
 import threading
@@ -12,8 +12,11 @@ from ..driver import RobotDriver
 
 
 class Diagnostics:
-    def __init__(self, driver: RobotDriver, publisher_stats, name: str = "jaka_driver"):
+    def __init__(self, driver: RobotDriver, publisher_stats, name: str = "jaka_driver",
+                 extra=dict):
+        """``extra()``: more values (the topic inputs' counts)."""
         self._driver = driver
+        self._extra = extra
         self._stats = publisher_stats
         self._name = name
         self._pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=5)
@@ -37,8 +40,10 @@ class Diagnostics:
                   "servo mode": str(st.servo_mode), "drag mode": str(st.drag_mode),
                   "collision": str(st.collision), "last error": st.error_message or "none",
                   "conventions": self._driver.conventions.name,
-                  "servo increments": str(self._driver.conventions.servo_increment)}
+                  "servo increments": str(self._driver.conventions.servo_increment),
+                  "speed ratio": f"{self._driver.speed_ratio():g}"}
         values.update({k: str(v) for k, v in info.items()})
+        values.update(self._extra())
         return DiagnosticStatus(level=level, name=f"{self._name}: {info.get('backend')}",
                                 message=message, hardware_id=f"JAKA {self._driver.model.name}",
                                 values=[KeyValue(k, v) for k, v in values.items()])

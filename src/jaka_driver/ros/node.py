@@ -19,6 +19,7 @@ Parameters (private, ``~name``):
                      every motion refused when they are another arm's), ``controller``, ``model``
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
+  ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
@@ -38,6 +39,8 @@ Parameters (private, ``~name``):
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
+``~speed_ratio`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
+``~twist_command``; their refusals and stops on ``~command_status``.
 """
 from __future__ import annotations
 
@@ -59,11 +62,16 @@ from ..conventions import conventions_named
 from ..driver import RobotDriver
 from ..host import latency_hint
 from . import messages, sim_time
+from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster
 from .services import advertise, advertise_faults
+from .servo_topics import JointCommandInput
 from .snapshot_service import advertise_snapshot
+from .speed_ratio import SpeedRatio
 from .trajectory_action import TrajectoryActionServer
+from .twin_control import advertise_twin_control
+from .twist_input import TwistInput
 
 
 def make_backend(kind: str, model_name: str, params: dict):
@@ -235,6 +243,7 @@ def _params() -> dict:
         "kinematics": str(rospy.get_param("~kinematics", "auto")).lower(),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
+        "twist_timeout": float(rospy.get_param("~twist_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
         "conventions": str(rospy.get_param("~conventions", "document")),
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
@@ -295,7 +304,7 @@ def main() -> int:
         rospy.logfatal(str(exc))
         return 2
     driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"],
-                         conventions=conventions)
+                         conventions=conventions, twist_timeout=p["twist_timeout"])
     rospy.loginfo(f"conventions {conventions.describe()}")
     publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     driver.start()
@@ -309,7 +318,11 @@ def main() -> int:
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
-    Diagnostics(driver, publisher.measured_rate)
+    status = CommandStatus()
+    JointCommandInput(driver, status, p["servo_timeout"])
+    TwistInput(driver, status)
+    advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
+    Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "

@@ -29,10 +29,11 @@ from ..kinematics import Kinematics
 from ..motion.linear_path import PlanningError, plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
+from ..motion.velocity_jog import VelocityJog
 from . import jog_steps, native_drives
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
-from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, stopped
+from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
@@ -70,6 +71,13 @@ class SimBackend(Backend):
         self._physics.on_cycle += [self._collisions.check, self._overload.check]
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._lock = threading.RLock()
+        self._defaults()
+        self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
+        self._cache: tuple[tuple, np.ndarray] | None = None
+
+    def _defaults(self) -> None:
+        """The controller's state of a fresh twin: powered, enabled, no error, default frames,
+        collision level 2, full speed."""
         self._frame_table = FrameTable()
         self._tool_id = 0
         self._user_id = 0
@@ -82,9 +90,21 @@ class SimBackend(Backend):
         self._collision = False
         self._error_code = 0
         self._error_message = ""
-        self._collision_level = 2
-        self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
-        self._cache: tuple[tuple, np.ndarray] | None = None
+        self._collision_level = self._collisions.level = 2
+        self._collisions.armed = True
+        self._speed_ratio = 1.0
+
+    def _reset(self, q: np.ndarray) -> None:
+        """Back to a fresh start at ``q`` (rad): :class:`.twin.SimTwin`'s reset."""
+        with self._lock:
+            with self._physics.lock:
+                self._physics.servo.released = False
+                self._payload.reset()           # first: the reset's forward pass uses the model
+                self._physics.reset(q).abort(stopped("stopped: the twin was reset"))
+            self._overload.rearm()
+            self._io.reset()
+            self._defaults()
+            self._cache = None
 
     # ---- life cycle -------------------------------------------------------------------
     def start(self) -> None:
@@ -207,8 +227,9 @@ class SimBackend(Backend):
         """Plan the synchronised profile from the servo setpoint, taking ``duration`` (the
         driver's plan), and hand it to the physics thread."""
         q0 = self._physics.servo.setpoint.copy()
-        v = np.minimum(speed, self.model.max_velocity)
-        a = np.minimum(accel, self.model.max_acceleration)
+        r = self._speed_ratio               # time scaled by 1/r: speeds × r, accelerations × r²
+        v = np.minimum(speed, self.model.max_velocity) * r
+        a = np.minimum(accel, self.model.max_acceleration) * r * r
         try:
             profile = joint_move_profile(q0, q_target, v, a, duration)
         except ValueError as exc:
@@ -218,7 +239,8 @@ class SimBackend(Backend):
     def start_linear_move(self, target, speed, accel, ref_q=None, duration=None) -> Result:
         """Plan the whole line (IK at every cycle, limits, speeds) before anything moves, then
         hand it to the physics thread. The line is timed by the law the driver planned
-        ``duration`` with, from the setpoint's TCP, and sampled every cycle."""
+        ``duration`` with, from the setpoint's TCP, at the speed ratio, and sampled every
+        cycle."""
         tool, user = self.frames()
         q0 = self._physics.servo.setpoint.copy()
         start = self._kin.tcp_pose(q0, tool, user)
@@ -227,8 +249,10 @@ class SimBackend(Backend):
             solution = self._kin.ik(pose, seed=seed, tool=tool, user=user)
             return solution.q if solution.success else None
 
+        r = self._speed_ratio               # time scaled by 1/r: speeds × r, accelerations × r²
         try:
-            trajectory = plan_linear_move(start, target, speed, accel, q0, ik, self.model.lower,
+            trajectory = plan_linear_move(start, target, speed * r, accel * r * r, q0, ik,
+                                          self.model.lower,
                                           self.model.upper, self.model.max_velocity,
                                           cycle=SERVO_CYCLE, ref_q=ref_q)
         except PlanningError as exc:
@@ -239,6 +263,7 @@ class SimBackend(Backend):
         return self._start_run(trajectory, "trajectory")
 
     def jog(self, coord, axis, direction, speed) -> Result:
+        speed = speed * self._speed_ratio
         with self._lock:
             current = self._physics.motion
             label = (coord, axis, direction)
@@ -258,12 +283,14 @@ class SimBackend(Backend):
 
     def _make_jog(self, coord, axis, direction, speed) -> Jog:
         jog: Jog
+        ratio_squared = self._speed_ratio ** 2     # the jog's ramp, scaled in time as moves
         if coord == 0:
-            accel = float(self.model.max_acceleration[axis])
+            accel = float(self.model.max_acceleration[axis]) * ratio_squared
             step = jog_steps.joint_step(self.model, axis, direction, lambda: jog.stop(), accel,
                                         SERVO_CYCLE)
         else:
-            accel = self.model.max_tcp_accel if axis < 3 else MAX_TOOL_ROTATION_ACCEL
+            accel = (self.model.max_tcp_accel if axis < 3 else MAX_TOOL_ROTATION_ACCEL) \
+                * ratio_squared
             tool, _ = self.frames()
             step = jog_steps.cartesian_step(self._kin, self.model, axis, direction, coord == 2,
                                             tool, SERVO_CYCLE)
@@ -273,9 +300,56 @@ class SimBackend(Backend):
     def jog_stop(self) -> Result:
         with self._lock:
             current = self._physics.motion
-            if isinstance(current, Jog) and current.active:
+            if isinstance(current, (Jog, TwistRun)) and current.active:
                 current.stop()
         return Result.success("jog stopping")
+
+    def velocity_jog(self, twist, in_tool) -> Result:
+        """A velocity jog (:mod:`jaka_driver.motion.velocity_jog`) run by the physics thread,
+        at the speed ratio (twist × r, its ramp's accelerations × r²)."""
+        twist = np.asarray(twist, float) * self._speed_ratio
+        with self._lock:
+            current = self._physics.motion
+            if isinstance(current, TwistRun) and current.active and current.jog.in_tool == in_tool:
+                current.command(twist)
+                return Result.success(current.report())
+            if current.active and not isinstance(current, (Jog, TwistRun)):
+                return Result.failure(Code.BUSY, "velocity jog refused: the arm is moving")
+            run = TwistRun(self._velocity_jog(in_tool))
+            run.command(twist)
+            if current.active:
+                # another jog, or the other frame: brake it first, then follow the twist
+                self._physics.switch(Stopping(self._stop_decel, SERVO_CYCLE,
+                                             on_rest=lambda: self._physics.switch(run)))
+            else:
+                self._physics.switch(run)
+        return Result.success(run.report())
+
+    def _velocity_jog(self, in_tool: bool) -> VelocityJog:
+        tool, _ = self.frames()
+        kin, r2 = self._kin, self._speed_ratio ** 2
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool)
+            return solution.q if solution.success else None
+
+        m = self.model
+        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
+                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
+                           upper=m.upper, max_velocity=m.max_velocity,
+                           max_acceleration=m.max_acceleration,
+                           linear_accel=m.max_tcp_accel * r2,
+                           angular_accel=MAX_TOOL_ROTATION_ACCEL * r2, in_tool=in_tool,
+                           cycle=SERVO_CYCLE)
+
+    def set_speed_ratio(self, ratio: float) -> Result:
+        with self._lock:
+            self._speed_ratio = float(ratio)
+        return Result.success(f"speed ratio {ratio:g}: moves and jogs at {ratio * 100:g} % "
+                              "speed")
+
+    def speed_ratio(self) -> float:
+        return self._speed_ratio
 
     def servo_enable(self, on: bool) -> Result:
         with self._lock:

@@ -35,6 +35,12 @@ class IoBoard:
         with self._lock:
             self._points[(signal, io_type, INPUT)][index] = value
 
+    def reset(self) -> None:
+        """Every input and output back to 0."""
+        with self._lock:
+            for values in self._points.values():
+                values[:] = 0.0
+
     def snapshot(self) -> dict:
         """Copies of every array, keyed (signal, type, path)."""
         with self._lock:

@@ -12,8 +12,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..common.models import RobotModel
-from ..common.transforms import rotvec_to_matrix
 from ..kinematics import Kinematics
+from ..motion.velocity_jog import displaced_pose
 
 Step = Callable[[np.ndarray, float], Optional[np.ndarray]]
 
@@ -41,22 +41,11 @@ def joint_step(model: RobotModel, axis: int, direction: int, brake: Callable[[],
 def cartesian_step(kin: Kinematics, model: RobotModel, axis: int, direction: int,
                    in_tool: bool, tool: np.ndarray, cycle: float) -> Step:
     """Translate along / rotate about a base (``in_tool`` False) or tool axis, at the TCP."""
-    unit = np.zeros(3)
-    unit[axis % 3] = direction
+    unit = np.zeros(6)
+    unit[axis] = direction
 
     def step(q_sp: np.ndarray, distance: float) -> Optional[np.ndarray]:
-        pose = kin.tcp_pose(q_sp, tool)
-        delta = np.eye(4)
-        if axis < 3:
-            delta[:3, 3] = unit * distance
-        else:
-            delta[:3, :3] = rotvec_to_matrix(unit * distance)
-        if in_tool:
-            target = pose @ delta
-        else:
-            target = pose.copy()
-            target[:3, 3] += delta[:3, 3]
-            target[:3, :3] = delta[:3, :3] @ pose[:3, :3]
+        target = displaced_pose(kin.tcp_pose(q_sp, tool), unit * distance, in_tool)
         solution = kin.ik(target, seed=q_sp, tool=tool)
         if not solution.success:
             return None

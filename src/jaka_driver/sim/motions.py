@@ -18,6 +18,7 @@ from ..backend.completion import Completion
 from ..common.results import Code, Result
 from ..motion.jog import JogVelocity
 from ..motion.trajectory import JointTrajectory
+from ..motion.velocity_jog import VelocityJog
 
 #: rad/s; with the position inside its tolerance, slower than this counts as arrived
 SETTLED_SPEED = 0.05
@@ -229,6 +230,31 @@ class Jog(Motion):
             self.stop_reason = "limit"
             self.active = self.moving = False
             return q_sp
+        return q
+
+
+class TwistRun(Motion):
+    """A velocity jog (:class:`~jaka_driver.motion.velocity_jog.VelocityJog`): the setpoint
+    follows the commanded twist each cycle; inactive once stopped and at rest."""
+
+    def __init__(self, jog: VelocityJog):
+        self.jog = jog
+
+    def command(self, twist: np.ndarray) -> None:
+        self.jog.command(twist)
+
+    def stop(self) -> None:
+        self.jog.stop()
+
+    def report(self) -> str:
+        """What the jog does now, for the caller (a slowdown and its reason)."""
+        why = self.jog.limited_by
+        return "following the twist" + (f" (slowed: {why})" if why else "")
+
+    def next(self, q_sp, qd_sp, q_meas, qd_meas):
+        q = self.jog.next(q_sp)
+        if self.jog.at_rest:
+            self.active = self.moving = False
         return q
 
 

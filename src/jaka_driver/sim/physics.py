@@ -113,6 +113,23 @@ class PhysicsLoop:
             self.servo.reset(np.asarray(q, float).copy())
             return self.switch(Hold())
 
+    def reset(self, q: np.ndarray) -> Motion:
+        """The arm at rest at ``q`` (rad) as at a fresh start — MuJoCo's state reset, drives
+        holding ``q``, brakes open, nothing moving — with time running on (``d.time`` is
+        kept: stamps never go back). Returns the motion source it replaced."""
+        with self.lock:
+            t = self.d.time
+            mujoco.mj_resetData(self.m, self.d)
+            self.d.time = t
+            self.d.qpos[:6] = q
+            mujoco.mj_forward(self.m, self.d)
+            self.servo.reset(np.asarray(q, float).copy())
+            self._braked = False
+            self._tau = np.zeros(6)
+            previous = self.switch(Hold())
+            self._record()
+            return previous
+
     def step_cycle(self) -> None:
         """One cycle now, outside the real-time thread (tests and benchmarks that step the
         twin themselves, the thread not started): every command that has arrived counts

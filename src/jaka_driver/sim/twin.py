@@ -16,6 +16,9 @@ from ..backend.twin import Camera, IoSnapshot, Twin
 from ..common.results import Code, Result
 from .motions import stopped
 
+#: s of wall time allowed per stepped cycle before step answers that they did not run
+STEP_TIMEOUT_PER_CYCLE = 0.05
+
 if TYPE_CHECKING:
     from .backend import SimBackend
 
@@ -53,6 +56,42 @@ class SimTwin(Twin):
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
         self._b._io.write_input(signal, io_type, index, value)
         return Result.success(f"{signal} input {index} of type {io_type} = {value:g}")
+
+    # ---- the twin's own time and state ---------------------------------------------------------
+    def reset(self, q: Optional[np.ndarray] = None) -> Result:
+        b = self._b
+        q = b.model.home.copy() if q is None else np.asarray(q, float).copy()
+        b._reset(q)
+        return Result.success("twin reset: at rest at "
+                              f"[{', '.join(f'{x:.4f}' for x in q)}] rad, no error, defaults")
+
+    def pause(self) -> Result:
+        clock = self._b.clock
+        if not clock.simulated:
+            return Result.failure(Code.WRONG_MODE, "pause needs simulated time (~sim_time "
+                                  "true): the twin on the wall clock cannot stop time")
+        clock.pause()
+        return Result.success(f"twin paused at sim time {clock.now():.3f} s")
+
+    def unpause(self) -> Result:
+        clock = self._b.clock
+        if not clock.simulated:
+            return Result.failure(Code.WRONG_MODE, "unpause needs simulated time (~sim_time "
+                                  "true)")
+        clock.unpause()
+        return Result.success(f"twin running from sim time {clock.now():.3f} s")
+
+    def step(self, cycles: int) -> Result:
+        clock = self._b.clock
+        if not clock.simulated or not clock.paused:
+            return Result.failure(Code.WRONG_MODE, "step needs a paused twin in simulated time "
+                                  "(~sim_time true, then pause)")
+        if not clock.step(int(cycles), STEP_TIMEOUT_PER_CYCLE * cycles + 1.0):
+            return Result.failure(Code.COMMUNICATION_ERROR, f"{cycles} cycles did not run within "
+                                  f"{STEP_TIMEOUT_PER_CYCLE * cycles + 1.0:g} s of wall time "
+                                  f"(sim time {clock.now():.3f} s)")
+        return Result.success(f"stepped {cycles} cycles to sim time {clock.now():.3f} s",
+                              clock.now())
 
     # ---- the camera ------------------------------------------------------------------------------
     def camera(self, width: int, height: int) -> Camera:

@@ -7,6 +7,8 @@ with gravity compensation and the URDF's torque limits).
 """
 from __future__ import annotations
 
+import copy
+
 import xml.etree.ElementTree as ET
 from typing import Optional
 
@@ -68,6 +70,10 @@ class Payload:
         self._inertia = rot @ np.diag(m.body_inertia[self._body]) @ rot.T   # body frame
         self.mass = 0.0
         self.centroid = np.zeros(3)
+        # the model as built, restored exactly by reset() (mj_setConst after putting the body
+        # back gives its derived constants only to the last bits)
+        self._built = copy.deepcopy(m)
+        self._changed = False
 
     def set(self, mass: float, centroid: np.ndarray) -> None:
         """``mass`` kg at ``centroid`` (m, flange frame = link_6 frame in our URDFs)."""
@@ -88,6 +94,24 @@ class Payload:
         # mj_setConst evaluates the model at qpos0 in the data it is given: never the live one.
         mujoco.mj_setConst(m, mujoco.MjData(m))
         self.mass, self.centroid = mass, np.asarray(centroid, float).copy()
+        self._changed = True
+
+    def reset(self) -> None:
+        """No payload: the flange body exactly as built (not recomputed, to the bit)."""
+        if not self._changed:
+            return
+        m, built = self._m, self._built
+        for name in dir(built):
+            value = getattr(built, name, None)
+            if isinstance(value, np.ndarray) and not name.startswith("_"):
+                np.copyto(getattr(m, name), value)
+        for name in dir(built.stat):
+            if not name.startswith("_"):
+                try:
+                    setattr(m.stat, name, getattr(built.stat, name))
+                except (AttributeError, TypeError):
+                    pass
+        self.mass, self.centroid, self._changed = 0.0, np.zeros(3), False
 
 
 def _keep_visual(urdf_xml: str) -> str:

@@ -1,0 +1,188 @@
+"""The topic inputs beside the service they stand for, on one node in one run: the servo sine
+of :mod:`bench.servo_latency` streamed through the servo_j service, then on
+``~joint_position_command`` (Float64MultiArray) and on ``~joint_command`` (JointTrajectory) —
+command → observed, each with the floor a causal 8 ms cycle allows and the driver's part above
+it, and the node's CPU while each streams — and the velocity input ``~twist_command``: from the
+first twist published to the first sample that moves (with the same floor), from the last twist
+to rest, and the node's CPU while a teleop streams twists at 125 Hz.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import TwistStamped
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from . import ros_session, servo_latency
+from .proc_meter import CpuWindow, MachineWindow
+from .report import REPORT, Row, judged
+from .stats import fmt, summary
+from jaka_driver.common.constants import SERVO_CYCLE
+
+ABOVE_FLOOR_MS = 3.0          # the topic stream's observed p99 target above its floor p99
+TWIST_SPEED = 0.05            # m/s
+TWIST_TRIALS = 20
+TWIST_BURST_S = 0.24          # s of twists per trial
+REST_WAIT_S = 0.5             # s after a burst: the watchdog (0.1 s) and the ramp to rest
+MOVED_RAD = 1e-6              # a sample this far from the rest pose has moved
+
+
+def _publisher(driver, leaf: str, msg_type):
+    pub = rospy.Publisher(driver.name(leaf), msg_type, queue_size=10, tcp_nodelay=True)
+    ros_session.wait_until(lambda: pub.get_num_connections() > 0, 5.0)
+    return pub
+
+
+def array_sender(driver):
+    pub = _publisher(driver, "joint_position_command", Float64MultiArray)
+    return lambda servo: (lambda q: pub.publish(Float64MultiArray(data=q.tolist())))
+
+
+def trajectory_sender(driver, names):
+    pub = _publisher(driver, "joint_command", JointTrajectory)
+
+    def send(q):
+        pub.publish(JointTrajectory(joint_names=names,
+                                    points=[JointTrajectoryPoint(positions=q.tolist())]))
+    return lambda servo: send
+
+
+def _cpu(driver, fn):
+    with MachineWindow() as machine, CpuWindow(driver.proc.pid) as window:
+        result = fn()
+    return result, {**window.as_dict(), "machine_percent": machine.percent}
+
+
+def twist_trials(driver, joints, trials: int) -> dict:
+    """Bursts of twists from rest, alternately +x and -x in the base frame: per trial, the
+    first twist's send time, the first sample stamped after it and the first that moved
+    (receipt time), and when the arm was at rest after the last twist."""
+    pub = _publisher(driver, "twist_command", TwistStamped)
+    out = {"sent": [], "arrival_end": [], "moved": [], "last": [], "rest": []}
+    for k in range(trials):
+        time.sleep(REST_WAIT_S)
+        rest = np.array(ros_session.wait_until(joints.latest, 5.0).position)
+        direction = 1.0 if k % 2 == 0 else -1.0
+        joints.clear()
+        n = int(round(TWIST_BURST_S / SERVO_CYCLE))
+        start = time.monotonic()
+        sent = last = None
+        for i in range(n):
+            delay = start + i * SERVO_CYCLE - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+            msg = TwistStamped()
+            msg.header.frame_id = "base_link"
+            msg.twist.linear.x = direction * TWIST_SPEED
+            last = time.time()
+            sent = last if sent is None else sent
+            pub.publish(msg)
+        time.sleep(REST_WAIT_S)
+        got = joints.since(sent - 0.1)
+        stamps = np.array([m.header.stamp.to_sec() for _, m in got])
+        recv = np.array([t for t, _ in got])
+        q = np.array([m.position for _, m in got])
+        qd = np.array([m.velocity for _, m in got])
+        after = np.flatnonzero(stamps >= sent)
+        moved = np.flatnonzero((stamps >= sent) & np.any(np.abs(q - rest) > MOVED_RAD, axis=1))
+        still = np.flatnonzero((stamps >= last) & np.all(np.abs(qd) < 1e-3, axis=1))
+        out["sent"].append(sent)
+        out["last"].append(last)
+        out["arrival_end"].append(stamps[after[0]] if after.size else np.nan)
+        out["moved"].append(recv[moved[0]] if moved.size else np.nan)
+        out["rest"].append(stamps[still[0]] if still.size else np.nan)
+    return {k: np.array(v) for k, v in out.items()}
+
+
+def twist_rows(group: str, trials: dict, cpu: dict, service_cpu: dict) -> list[Row]:
+    latency = trials["moved"] - trials["sent"]
+    wait = trials["arrival_end"] - trials["sent"]
+    floor = wait + SERVO_CYCLE
+    lat, fl = summary(latency, 1e3), summary(floor, 1e3)
+    drv = summary(latency - floor, 1e3)
+    stop = summary(trials["rest"] - trials["last"], 1e3)
+    missed = int(np.sum(~np.isfinite(latency)))
+    stop_ok = stop["max"] is not None and stop["max"] <= 200.0
+    return [
+        Row(group, "~twist_command: first twist published → first sample that moves, p50 / "
+            "p99 / max",
+            f"{fmt(lat['p50'])} / {fmt(lat['p99'])} / {fmt(lat['max'])} ms "
+            f"({lat['n']} starts from rest, {missed} never moved); the floor a causal 8 ms "
+            f"cycle allows p50 / p99 {fmt(fl['p50'], 1)} / {fmt(fl['p99'], 1)} ms, the "
+            f"driver's part above it p50 / p99 {fmt(drv['p50'], 1)} / {fmt(drv['p99'], 1)} ms",
+            "report", REPORT,
+            "The first twist becomes a velocity jog at the end of the cycle it arrived in; "
+            "the next cycle's setpoint is the first displaced one, and its sample is the "
+            "first that moves (by the ramp's first step, ~0.25 µm at 0.05 m/s and 8 m/s²).",
+            data={"latency_ms": lat, "floor_ms": fl, "driver_part_ms": drv}),
+        Row(group, "~twist_command: last twist → arm at rest (every joint under 1e-3 rad/s), "
+            "p50 / max",
+            f"{fmt(stop['p50'])} / {fmt(stop['max'])} ms ({stop['n']} stops)",
+            "≤ 200 ms", judged(stop_ok),
+            "" if stop_ok else "The watchdog (0.1 s) and the ramp to rest did not end within "
+            "0.2 s of the last twist.", data={"stop_ms": stop}),
+        Row(group, "node CPU, ~twist_command streamed at 125 Hz",
+            f"{cpu['cpu_percent']:.1f} % of one core (servo_j service stream "
+            f"{service_cpu['cpu_percent']:.1f} %); machine {cpu['machine_percent']:.0f} % of 1 "
+            f"core over {cpu['window_s']:.0f} s", "report", REPORT,
+            "Each twist: a velocity jog call (checks, the watchdog's kick); each cycle in the "
+            "physics thread: one IK and two 6×6 SVDs of the velocity jog.", data=cpu),
+    ]
+
+
+def twist_stream(driver, seconds: float) -> None:
+    """A teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz for ``seconds``."""
+    pub = _publisher(driver, "twist_command", TwistStamped)
+    n = int(round(seconds / SERVO_CYCLE))
+    start = time.monotonic()
+    for i in range(n):
+        delay = start + i * SERVO_CYCLE - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        msg = TwistStamped()
+        msg.header.frame_id = "base_link"
+        msg.twist.linear.x = TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE)
+        pub.publish(msg)
+    time.sleep(REST_WAIT_S)
+
+
+def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) -> list[Row]:
+    rows = []
+    joints = ros_session.Recorder(driver.name("joint_position"), JointState)
+    try:
+        names = list(ros_session.wait_until(joints.latest, 5.0).name)
+        streams, cpu = {}, {}
+        for label, sender in (("servo_j service", servo_latency.by_service),
+                              ("~joint_position_command topic", array_sender(driver)),
+                              ("~joint_command topic", trajectory_sender(driver, names))):
+            log(f"  servo sine through the {label}, {seconds:g} s")
+            streams[label], cpu[label] = _cpu(driver, lambda: servo_latency.sine_stream(
+                driver, calls, joints, seconds, sender))
+        service_cpu = cpu["servo_j service"]
+        for label, stream in streams.items():
+            topic = label != "servo_j service"
+            floor = servo_latency.floor_text(servo_latency.observed_latency(stream))[1]["p99"]
+            rows.append(servo_latency.observed_row(
+                group, f"servo command → observed through the {label}, p50 / p99 / max",
+                stream, judge=topic, target_ms=(floor + ABOVE_FLOOR_MS) if topic else None,
+                sent_by="publish" if topic else "servo_j call"))
+            c = cpu[label]
+            cpu_ok = c["cpu_percent"] <= service_cpu["cpu_percent"]
+            rows.append(Row(group, f"node CPU while streaming through the {label}",
+                            f"{c['cpu_percent']:.1f} % of one core; machine "
+                            f"{c['machine_percent']:.0f} % of 1 core over "
+                            f"{c['window_s']:.0f} s",
+                            "≤ the servo_j service stream's" if topic else "report",
+                            judged(cpu_ok) if topic else REPORT, data=c))
+        log(f"  twist: {trials} starts and stops from rest")
+        trials_data = twist_trials(driver, joints, trials)
+        log(f"  twist: a teleop stream, {seconds:g} s")
+        _, twist_cpu = _cpu(driver, lambda: twist_stream(driver, seconds))
+        rows += twist_rows(group, trials_data, twist_cpu, service_cpu)
+    finally:
+        joints.close()
+    return rows
