@@ -133,7 +133,6 @@ class ControllerBackend(Backend):
         self._servo_mode = False
         self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
         self._twist: Optional[TwistStreamer] = None        # a velocity jog's servo stream
-        self._kinematics = None     # the model's (Pinocchio), made at the first velocity jog
         self._rapid_rate = 1.0                             # the last rate read back
         self._ids = (0, 0)                               # (tool, user) last set, until a packet
         self._brought_up = threading.Event()
@@ -469,6 +468,7 @@ class ControllerBackend(Backend):
     def velocity_jog(self, twist, in_tool) -> Result:
         """A velocity jog as a ``servo_j`` stream (:mod:`.twist_stream`: why), entering servo
         mode for it; the twist at the rapid rate (× r, its ramp × r²), as the twin's."""
+        self.identity.require_motion("velocity jog")
         ratio = self.speed_ratio()
         twist = np.asarray(twist, float) * ratio
         with self._lock:
@@ -499,10 +499,7 @@ class ControllerBackend(Backend):
         return Result.success(streamer.report())
 
     def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
-        if self._kinematics is None:
-            from ..kinematics import Kinematics    # Pinocchio: only for a velocity jog
-            self._kinematics = Kinematics(self.model)
-        kin, m = self._kinematics, self.model
+        kin, m = self.kinematics, self.model      # the arm's own chain, as the line check's
         tool, _ = self.frames()
 
         def ik(pose, seed):
