@@ -20,7 +20,10 @@ polled every :data:`MOTION_STATE_POLL` s says so (:mod:`.move_watch`); state com
 packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
 :mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
 reconnect policy are :mod:`.connection`; frames by id are :mod:`.frames_by_id`; the arm's
-identity and kinematic parameters, read at every connection, are :mod:`.arm_identity`.
+identity and kinematic parameters, read at every connection, are :mod:`.arm_identity`. Two
+parts of the class have modules of their own: servo mode, servo targets and the velocity jog
+(:mod:`.servo_commands`), and the arm's settings — frames, payload, drag, collision, IO, errors,
+the speed ratio (:mod:`.arm_settings`).
 
 Local kinematics: ``linear_move``'s whole path is checked before ``moveL`` goes out (IK every
 8 ms from the joints the latest packet reports, joint limits, no joint jump), on
@@ -39,30 +42,28 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from typing import Callable, Optional
+from typing import Optional
 
 import numpy as np
 
 from ..backend import Backend
 from ..backend.robot_state import RobotState
-from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
-from ..common.frames import TOOL, USER_FRAME
+from ..common.constants import SERVO_CYCLE
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
-from ..common.constants import SERVO_CYCLE
 from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..kinematics import Kinematics
 from ..motion.linear_path import line_duration, orientation_limits, plan_linear_move
 from ..motion.profiles import joint_move_profile
-from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands, errors
-from ..protocol.fields import CoordMap, Field, JogMode
-from ..protocol.status_stream import StatusPacket
+from ..protocol.fields import CoordMap, JogMode
 from .arm_identity import ArmIdentity
+from .arm_settings import ArmSettings
 from .commander import Commander, answers
 from .connection import ControllerLink
-from .frames_by_id import TABLE_SIZE, ControllerFrames
+from .frames_by_id import ControllerFrames
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
+from .servo_commands import ServoCommands
 from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView
 from .twist_stream import TwistStreamer
@@ -77,19 +78,6 @@ MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a
 #: A plan this much (relative) longer than the fastest is stretched; shorter is float noise
 #: between the driver's start and the latest packet's, and the move goes at the speed asked.
 STRETCHED = 1e-6
-#: The highest frame id a controller stores (its tables hold ids 0-10; JAKA's SDK refuses 11).
-MAX_FRAME_ID = TABLE_SIZE - 1
-#: An analog output reads back as set within this (the wire carries 6 decimals).
-ANALOG_READBACK_TOLERANCE = 1e-3
-#: The get command of each (signal, path): path 0 input, 1 output.
-IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands.get_digital_output,
-            ("analog", 0): commands.get_analog_input, ("analog", 1): commands.get_analog_output}
-#: errorCode of a recorded refusal: servo_j outside servo mode (fw 1.5.14 answers "-1").
-SERVO_MODE_OFF_CODE = "-1"
-#: The rapid rate reads back as set within this (JAKA's SDK's tolerance)
-RAPID_RATE_READBACK = 0.01
-#: s a confirmed setting waits for a status packet that shows it (a few packet periods)
-PACKET_CATCH_UP = 0.2
 #: A line whose IK needs a joint faster than this many times its speed limit between two 8 ms
 #: samples jumps there (a configuration flip, a singularity passed through): refused before
 #: moveL. Slower steps are the controller's business: it times moveL itself, and a tool turning
@@ -97,7 +85,7 @@ PACKET_CATCH_UP = 0.2
 LINE_JUMP = 2.0
 
 
-class ControllerBackend(Backend):
+class ControllerBackend(ServoCommands, ArmSettings, Backend):
     """A JAKA controller at ``host``: commands on ``command_port``, status on ``status_port``.
 
     Timeouts, s: ``connect_timeout`` per TCP connect attempt, ``call_timeout`` for a reply,
@@ -438,13 +426,7 @@ class ControllerBackend(Backend):
             streamer = self._streamer
             if streamer is not None and self._watch is streamer.watch:
                 self._watch = None
-        if not self.link.connected:
-            self._servo_mode = False
-            return
-        try:
-            self._set_servo_mode(False)
-        except CommandRefused as refusal:
-            log.warning("leaving servo mode after a trajectory failed: %s", refusal.message)
+        self._leave_servo_mode("a trajectory")
 
     # ---- jog ------------------------------------------------------------------------------------
     @answers
@@ -465,95 +447,6 @@ class ControllerBackend(Backend):
         return Result.success(f"jogging axis {axis} of coord_map {coord_map} at {jogvel:g} {unit}")
 
     @answers
-    def velocity_jog(self, twist, in_tool) -> Result:
-        """A velocity jog as a ``servo_j`` stream (:mod:`.twist_stream`: why), entering servo
-        mode for it; the twist at the rapid rate (× r, its ramp × r²), as the twin's."""
-        self.identity.require_motion("velocity jog")
-        ratio = self.speed_ratio()
-        twist = np.asarray(twist, float) * ratio
-        with self._lock:
-            running = self._twist if self._twist is not None and self._twist.running else None
-        if running is not None:
-            if running.jog.in_tool != bool(in_tool):
-                raise CommandRefused(Code.BUSY, "velocity jog refused: one runs in the other "
-                                     "frame; stop sending twists and start again")
-            running.command(twist)
-            return Result.success(running.report())
-        self.send.require_link()
-        if self._moving():
-            raise CommandRefused(Code.BUSY, "velocity jog refused: the arm is moving")
-        latest = self.view.latest
-        if latest is None or not np.all(np.isfinite(latest.joint_position)):
-            raise CommandRefused(Code.NOT_CONNECTED, "velocity jog refused: no joint "
-                                 "positions from the controller yet")
-        entered = not self._servo_mode
-        if entered:
-            self._set_servo_mode(True)
-        jog = self._velocity_jog(bool(in_tool), ratio)
-        jog.command(twist)
-        streamer = TwistStreamer(jog, latest.joint_position, self.link.call,
-                                 self._leave_twist if entered else None)
-        with self._lock:
-            self._twist = streamer
-        streamer.start()
-        return Result.success(streamer.report())
-
-    def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
-        kin, m = self.kinematics, self.model      # the arm's own chain, as the line check's
-        tool, _ = self.frames()
-
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool)
-            return solution.q if solution.success else None
-
-        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
-                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
-                           upper=m.upper, max_velocity=m.max_velocity,
-                           max_acceleration=m.max_acceleration,
-                           linear_accel=m.max_tcp_accel * ratio ** 2,
-                           angular_accel=MAX_TOOL_ROTATION_ACCEL * ratio ** 2,
-                           in_tool=in_tool, cycle=SERVO_CYCLE)
-
-    def _leave_twist(self) -> None:
-        """End of a velocity jog that entered servo mode itself (its thread)."""
-        if not self.link.connected:
-            self._servo_mode = False
-            return
-        try:
-            self._set_servo_mode(False)
-        except CommandRefused as refusal:
-            log.warning("leaving servo mode after a velocity jog failed: %s", refusal.message)
-
-    # ---- speed ratio ------------------------------------------------------------------------
-    @answers
-    def set_speed_ratio(self, ratio: float) -> Result:
-        """``rapid_rate``, read back with ``get_rapid_rate`` until within 0.01, as JAKA's SDK
-        confirms it."""
-        ratio = float(ratio)
-        self._rapid_rate = self.send.settled(
-            commands.rapid_rate(ratio), commands.get_rapid_rate(), commands.reply_value,
-            lambda now: abs(now - ratio) < RAPID_RATE_READBACK, f"rapid rate {ratio:g}")
-        self._await_packet(lambda status: abs(status.rapidrate - ratio) < RAPID_RATE_READBACK)
-        return Result.success(f"rapid rate {self._rapid_rate:g} (read back): moves and jogs at "
-                              f"{self._rapid_rate * 100:g} % speed")
-
-    def speed_ratio(self) -> float:
-        """The rate the latest status packet reports (a pendant may change it), else the one
-        last read back."""
-        latest = self.view.latest
-        if latest is not None and 0.0 < latest.rapidrate <= 1.0:
-            return float(latest.rapidrate)
-        return self._rapid_rate
-
-    def _read_rapid_rate(self) -> None:
-        try:
-            self._rapid_rate = float(self.send.read(commands.get_rapid_rate(),
-                                                    commands.reply_value))
-        except CommandRefused as refusal:
-            log.info("get_rapid_rate unavailable (%s); taking the rate from the status packets",
-                     refusal.message)
-
-    @answers
     def jog_stop(self) -> Result:
         with self._lock:
             twist = self._twist if self._twist is not None and self._twist.running else None
@@ -568,72 +461,7 @@ class ControllerBackend(Backend):
         self.send.accepted(commands.jog(JogMode.STOP, *running))
         return Result.success("jog stopping")
 
-    # ---- servo ----------------------------------------------------------------------------------
-    @answers
-    def servo_enable(self, on: bool) -> Result:
-        if on:
-            self.identity.require_motion("servo mode")
-        self._set_servo_mode(bool(on))
-        return Result.success(f"servo mode {'on' if on else 'off'}")
-
-    def _set_servo_mode(self, on: bool) -> None:
-        """``servo_move``, believed only once ``is_in_servomove`` says so: fw 1.5.14 acknowledges
-        it while queued moves run and stays out of servo mode (refused with 2 then)."""
-        try:
-            self.send.settled(commands.servo_move(on), commands.is_in_servomove(),
-                              _in_servomove, lambda now: now == on,
-                              f"servo mode {'on' if on else 'off'}")
-        except CommandRefused:
-            self._servo_mode = self._read_servo_mode()
-            raise
-        self._servo_mode = on
-
-    def _read_servo_mode(self) -> bool:
-        """What ``is_in_servomove`` says; off when it says nothing."""
-        try:
-            return self.send.read(commands.is_in_servomove(), _in_servomove)
-        except CommandRefused as refusal:
-            log.debug("is_in_servomove unavailable (%s); taking servo mode as off",
-                      refusal.message)
-            return False
-
-    @answers
-    def servo_j(self, q_target, increment=None) -> Result:
-        """The absolute target, or the client's increment as a relative servo_j (relFlag 1),
-        as JAKA's SDK sends it: the controller adds it to its own command position."""
-        self.identity.require_motion("servo_j")
-        if increment is None:
-            self._servo_target(commands.servo_j(np.asarray(q_target, float)))
-            return Result.success("servo_j target sent")
-        self._servo_target(commands.servo_j(np.asarray(increment, float), relative=True))
-        return Result.success("servo_j increment sent")
-
-    @answers
-    def servo_p(self, target, increment=None) -> Result:
-        """The absolute target (mm + RPY deg on the wire), or the client's increment (m + RPY
-        rad → mm + RPY) as a relative servo_p, as JAKA's SDK sends it; how the controller
-        composes a relative rotation is its own."""
-        self.identity.require_motion("servo_p")
-        if increment is None:
-            self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
-            return Result.success("servo_p target sent")
-        step = np.asarray(increment, float)
-        self._servo_target(commands.servo_p(np.concatenate([step[:3] * 1e3, step[3:]]),
-                                            relative=True))
-        return Result.success("servo_p increment sent")
-
-    def _servo_target(self, request) -> None:
-        reply = self.send.call(request)
-        if reply.ok:
-            return
-        if reply.error_code == SERVO_MODE_OFF_CODE:
-            # the recorded answer outside servo mode: the controller left it by itself
-            self._servo_mode = False
-            raise CommandRefused(Code.SERVO_MODE_OFF, f"servo mode is off on the controller "
-                                 f"({request[Field.CMD_NAME]}: {reply.error_msg})")
-        raise CommandRefused(Code.CONTROLLER_REJECTED, f"controller rejected "
-                             f"{request[Field.CMD_NAME]}: {reply.error_msg or reply.error_code}")
-
+    # ---- stop -----------------------------------------------------------------------------------
     @answers
     def stop_move(self) -> Result:
         self.send.require_link()
@@ -648,83 +476,6 @@ class ControllerBackend(Backend):
             self.send.accepted(commands.stop_program())
         return Result.success("stop_program sent: the arm decelerates to rest")
 
-    # ---- frames, payload, settings --------------------------------------------------------------
-    def frames(self) -> tuple[np.ndarray, np.ndarray]:
-        latest = self.view.latest
-        ids = (latest.current_tool_id, latest.current_user_id) if latest is not None \
-            else self._ids
-        return self.frames_by_id.table.active(*ids)
-
-    @answers
-    def set_tool_frame(self, tool_id, pose) -> Result:
-        tool_id = _frame_id("tool_num", tool_id)
-        self._set_frame(TOOL, tool_id, pose, commands.set_tool_offsets, commands.set_tool_id,
-                        commands.get_curr_tool_id())
-        self._ids = (tool_id, self._ids[1])
-        return Result.success(f"tool {tool_id} set and active")
-
-    @answers
-    def set_user_frame(self, user_id, pose) -> Result:
-        user_id = _frame_id("user_num", user_id)
-        self._set_frame(USER_FRAME, user_id, pose, commands.set_user_offsets,
-                        commands.set_user_id, commands.get_curr_user_id())
-        self._ids = (self._ids[0], user_id)
-        return Result.success(f"user frame {user_id} set and active")
-
-    def _set_frame(self, kind: str, frame_id: int, pose, store, activate, current) -> None:
-        """Store the offset (not for id 0, the flange / base itself), then activate the id and
-        read the active id back as JAKA's SDK does."""
-        if frame_id:
-            name = f"jaka_driver_{kind.replace(' ', '_')}_{frame_id}"
-            self.send.accepted(store(frame_id, matrix_to_pose_mm_rpy(pose), name))
-            self.frames_by_id.keep(kind, frame_id, pose)
-        else:
-            self.frames_by_id.activating(kind, 0)
-        self.send.settled(activate(frame_id), current, commands.reply_id,
-                          lambda active: active == frame_id, f"{kind} {frame_id} active")
-        self._await_packet(lambda status: (status.current_tool_id if kind == TOOL
-                                           else status.current_user_id) == frame_id)
-
-    @answers
-    def set_payload(self, tool_id, mass, centroid) -> Result:
-        tool_id = _frame_id("tool_num", tool_id)
-        c_mm = np.asarray(centroid, float) * 1000.0
-        self.frames_by_id.activating(TOOL, tool_id)
-        self.send.settled(commands.set_tool_id(tool_id), commands.get_curr_tool_id(),
-                          commands.reply_id, lambda active: active == tool_id,
-                          f"tool {tool_id} active")
-        self._await_packet(lambda status: status.current_tool_id == tool_id)
-        self._ids = (tool_id, self._ids[1])
-        self.send.accepted(commands.set_payload(float(mass), c_mm))
-        return Result.success(f"payload {mass:g} kg at ({c_mm[0]:.1f}, {c_mm[1]:.1f}, "
-                              f"{c_mm[2]:.1f}) mm; tool {tool_id} active")
-
-    @answers
-    def set_drag_mode(self, on: bool) -> Result:
-        """``torque_control_enable``, confirmed by ``get_drag_status`` as JAKA's SDK confirms
-        it; refused in servo mode (-9) and while the arm moves (-10), as on the twin."""
-        on = bool(on)
-        self.send.require_link()
-        if on == self.state().drag_mode:
-            return Result.success(f"drag mode already {'on' if on else 'off'}")
-        if on:
-            if self._servo_mode:
-                return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
-            if self._moving():
-                return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
-        self.send.settled(commands.torque_control_enable(on), commands.get_drag_status(),
-                          _drag_status, lambda now: now == on,
-                          f"drag mode {'on' if on else 'off'}")
-        self._await_packet(lambda status: status.drag_status == on)
-        return Result.success(f"drag mode {'on' if on else 'off'}")
-
-    def _await_packet(self, shows: Callable[[StatusPacket], bool]) -> None:
-        """After a confirmed setting the status packets carry: wait (at most
-        :data:`PACKET_CATCH_UP` s) for one that shows it, so that ``state()`` agrees with the
-        answer the moment it is given (the next request's state checks read it)."""
-        if not self.view.wait_until(shows, PACKET_CATCH_UP):
-            log.debug("the status stream did not show the setting within %.2f s", PACKET_CATCH_UP)
-
     def _moving(self) -> bool:
         """A move, trajectory or jog of this driver runs, or the status stream shows motion."""
         with self._lock:
@@ -733,38 +484,6 @@ class ControllerBackend(Backend):
         return ((watch is not None and not watch.completion.done) or jog is not None
                 or (twist is not None and twist.running)
                 or (latest is not None and not latest.inpos))
-
-    @answers
-    def set_collision_level(self, level) -> Result:
-        self.send.accepted(commands.set_clsn_sensitivity(int(level)))
-        if level == 0:
-            return Result.success("collision detection off")
-        return Result.success(f"collision sensitivity level {level}")
-
-    @answers
-    def set_io(self, signal, io_type, index, value) -> Result:
-        """Set an output and read it back as JAKA's SDK does (every 100 ms, up to 1 s)."""
-        if signal == "digital":
-            want = 1.0 if value else 0.0
-            request = commands.set_digital_output(io_type, index, value)
-        else:
-            want = float(value)
-            request = commands.set_analog_output(io_type, index, value)
-        self.send.settled(request, IO_READS[(signal, 1)](io_type, index), commands.reply_value,
-                          lambda now: abs(now - want) <= ANALOG_READBACK_TOLERANCE,
-                          f"{signal} output {index} of type {io_type}")
-        return Result.success(f"{signal} output {index} of type {io_type} = {value:g}")
-
-    @answers
-    def get_io(self, signal, path, io_type, index) -> Result:
-        what = f"{signal} {'output' if path else 'input'} {index} of type {io_type}"
-        value = self.send.read(IO_READS[(signal, path)](io_type, index), commands.reply_value)
-        return Result.success(f"{what} = {value:g}", value)
-
-    @answers
-    def clear_error(self) -> Result:
-        self.send.accepted(commands.clear_error())
-        return Result.success("clear_error sent")
 
     # ---- kinematics -----------------------------------------------------------------------------
     @answers
@@ -786,21 +505,4 @@ class ControllerBackend(Backend):
         return Result.success("controller's inverse kinematics nearest ref_joint", q)
 
 
-def _in_servomove(reply) -> bool:
-    return commands.reply_flag(reply, Field.IN_SERVOMOVE)
 
-
-def _drag_status(reply) -> bool:
-    return commands.reply_flag(reply, Field.STATUS)
-
-
-def _frame_id(field: str, frame_id) -> int:
-    """A tool or user frame id a controller stores: 0 (the flange / base) to
-    :data:`MAX_FRAME_ID`. The driver's contract numbers tools up to 11 (JAKA's document);
-    a controller's tables hold ids 0-10 and JAKA's SDK refuses 11, so 11 is refused here."""
-    frame_id = int(frame_id)
-    if not 0 <= frame_id <= MAX_FRAME_ID:
-        raise CommandRefused(Code.INVALID_PARAMETER, f"{field} is {frame_id}: a JAKA controller "
-                             f"stores frames 1-{MAX_FRAME_ID} (its tables hold ids "
-                             f"0-{MAX_FRAME_ID}); choose one of those")
-    return frame_id

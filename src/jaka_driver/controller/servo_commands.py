@@ -1,0 +1,168 @@
+"""Servo mode on a controller, and what runs in it: ``servo_move`` confirmed by
+``is_in_servomove``, ``servo_j`` / ``servo_p`` targets (absolute, or a client's increments sent
+relatively as JAKA's SDK sends them) and the velocity jog, a ``servo_j`` stream the driver
+computes from a twist (:mod:`.twist_stream`: why not the protocol's ``jog``).
+
+:class:`ServoCommands` is a part of :class:`~.backend.ControllerBackend`, split out of it for
+its size: it uses the backend's link (``send``, ``link``, ``view``), its lock, its arm identity
+and local kinematics and its ``_servo_mode`` / ``_twist`` state, and only through them. Units as
+the backend's: rad, m, 4x4 poses.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
+from ..common.results import Code, CommandRefused, Result
+from ..common.transforms import matrix_to_pose_mm_rpy
+from ..motion.velocity_jog import VelocityJog
+from ..protocol import commands
+from ..protocol.fields import Field
+from .commander import answers
+from .twist_stream import TwistStreamer
+
+log = logging.getLogger(__name__)
+
+#: errorCode of a recorded refusal: servo_j outside servo mode (fw 1.5.14 answers "-1").
+SERVO_MODE_OFF_CODE = "-1"
+
+
+class ServoCommands:
+    """Servo mode, servo targets and the velocity jog of :class:`~.backend.ControllerBackend`
+    (see the module)."""
+
+    @answers
+    def velocity_jog(self, twist, in_tool) -> Result:
+        """A velocity jog as a ``servo_j`` stream (:mod:`.twist_stream`: why), entering servo
+        mode for it; the twist at the rapid rate (× r, its ramp × r²), as the twin's."""
+        self.identity.require_motion("velocity jog")
+        ratio = self.speed_ratio()
+        twist = np.asarray(twist, float) * ratio
+        with self._lock:
+            running = self._twist if self._twist is not None and self._twist.running else None
+        if running is not None:
+            if running.jog.in_tool != bool(in_tool):
+                raise CommandRefused(Code.BUSY, "velocity jog refused: one runs in the other "
+                                     "frame; stop sending twists and start again")
+            running.command(twist)
+            return Result.success(running.report())
+        self.send.require_link()
+        if self._moving():
+            raise CommandRefused(Code.BUSY, "velocity jog refused: the arm is moving")
+        latest = self.view.latest
+        if latest is None or not np.all(np.isfinite(latest.joint_position)):
+            raise CommandRefused(Code.NOT_CONNECTED, "velocity jog refused: no joint "
+                                 "positions from the controller yet")
+        entered = not self._servo_mode
+        if entered:
+            self._set_servo_mode(True)
+        jog = self._velocity_jog(bool(in_tool), ratio)
+        jog.command(twist)
+        streamer = TwistStreamer(jog, latest.joint_position, self.link.call,
+                                 self._leave_twist if entered else None)
+        with self._lock:
+            self._twist = streamer
+        streamer.start()
+        return Result.success(streamer.report())
+
+    def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
+        kin, m = self.kinematics, self.model      # the arm's own chain, as the line check's
+        tool, _ = self.frames()
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool)
+            return solution.q if solution.success else None
+
+        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
+                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
+                           upper=m.upper, max_velocity=m.max_velocity,
+                           max_acceleration=m.max_acceleration,
+                           linear_accel=m.max_tcp_accel * ratio ** 2,
+                           angular_accel=MAX_TOOL_ROTATION_ACCEL * ratio ** 2,
+                           in_tool=in_tool, cycle=SERVO_CYCLE)
+
+    def _leave_twist(self) -> None:
+        """End of a velocity jog that entered servo mode itself (its thread)."""
+        self._leave_servo_mode("a velocity jog")
+
+    def _leave_servo_mode(self, after: str) -> None:
+        """Servo mode off at the end of a stream that entered it itself (``after`` says which,
+        for the log); without a link it is off already (the controller ends it on its own)."""
+        if not self.link.connected:
+            self._servo_mode = False
+            return
+        try:
+            self._set_servo_mode(False)
+        except CommandRefused as refusal:
+            log.warning("leaving servo mode after %s failed: %s", after, refusal.message)
+
+    @answers
+    def servo_enable(self, on: bool) -> Result:
+        if on:
+            self.identity.require_motion("servo mode")
+        self._set_servo_mode(bool(on))
+        return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    def _set_servo_mode(self, on: bool) -> None:
+        """``servo_move``, believed only once ``is_in_servomove`` says so: fw 1.5.14 acknowledges
+        it while queued moves run and stays out of servo mode (refused with 2 then)."""
+        try:
+            self.send.settled(commands.servo_move(on), commands.is_in_servomove(),
+                              _in_servomove, lambda now: now == on,
+                              f"servo mode {'on' if on else 'off'}")
+        except CommandRefused:
+            self._servo_mode = self._read_servo_mode()
+            raise
+        self._servo_mode = on
+
+    def _read_servo_mode(self) -> bool:
+        """What ``is_in_servomove`` says; off when it says nothing."""
+        try:
+            return self.send.read(commands.is_in_servomove(), _in_servomove)
+        except CommandRefused as refusal:
+            log.debug("is_in_servomove unavailable (%s); taking servo mode as off",
+                      refusal.message)
+            return False
+
+    @answers
+    def servo_j(self, q_target, increment=None) -> Result:
+        """The absolute target, or the client's increment as a relative servo_j (relFlag 1),
+        as JAKA's SDK sends it: the controller adds it to its own command position."""
+        self.identity.require_motion("servo_j")
+        if increment is None:
+            self._servo_target(commands.servo_j(np.asarray(q_target, float)))
+            return Result.success("servo_j target sent")
+        self._servo_target(commands.servo_j(np.asarray(increment, float), relative=True))
+        return Result.success("servo_j increment sent")
+
+    @answers
+    def servo_p(self, target, increment=None) -> Result:
+        """The absolute target (mm + RPY deg on the wire), or the client's increment (m + RPY
+        rad → mm + RPY) as a relative servo_p, as JAKA's SDK sends it; how the controller
+        composes a relative rotation is its own."""
+        self.identity.require_motion("servo_p")
+        if increment is None:
+            self._servo_target(commands.servo_p(matrix_to_pose_mm_rpy(target)))
+            return Result.success("servo_p target sent")
+        step = np.asarray(increment, float)
+        self._servo_target(commands.servo_p(np.concatenate([step[:3] * 1e3, step[3:]]),
+                                            relative=True))
+        return Result.success("servo_p increment sent")
+
+    def _servo_target(self, request) -> None:
+        reply = self.send.call(request)
+        if reply.ok:
+            return
+        if reply.error_code == SERVO_MODE_OFF_CODE:
+            # the recorded answer outside servo mode: the controller left it by itself
+            self._servo_mode = False
+            raise CommandRefused(Code.SERVO_MODE_OFF, f"servo mode is off on the controller "
+                                 f"({request[Field.CMD_NAME]}: {reply.error_msg})")
+        raise CommandRefused(Code.CONTROLLER_REJECTED, f"controller rejected "
+                             f"{request[Field.CMD_NAME]}: {reply.error_msg or reply.error_code}")
+
+
+def _in_servomove(reply) -> bool:
+    return commands.reply_flag(reply, Field.IN_SERVOMOVE)
