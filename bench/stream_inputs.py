@@ -57,6 +57,25 @@ def _cpu(driver, fn):
     return result, {**window.as_dict(), "machine_percent": machine.percent}
 
 
+def paced_cycles(seconds: float):
+    """Cycle numbers 0, 1, ... for ``seconds``, each yielded at its 8 ms deadline from the
+    first (absolute deadlines: a late cycle does not delay the next)."""
+    start = time.monotonic()
+    for i in range(int(round(seconds / SERVO_CYCLE))):
+        delay = start + i * SERVO_CYCLE - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        yield i
+
+
+def base_twist(vx: float) -> TwistStamped:
+    """A twist of ``vx`` m/s along the base frame's x."""
+    msg = TwistStamped()
+    msg.header.frame_id = "base_link"
+    msg.twist.linear.x = vx
+    return msg
+
+
 def twist_trials(driver, joints, trials: int) -> dict:
     """Bursts of twists from rest, alternately +x and -x in the base frame: per trial, the
     first twist's send time, the first sample stamped after it and the first that moved
@@ -68,19 +87,11 @@ def twist_trials(driver, joints, trials: int) -> dict:
         rest = np.array(ros_session.wait_until(joints.latest, 5.0).position)
         direction = 1.0 if k % 2 == 0 else -1.0
         joints.clear()
-        n = int(round(TWIST_BURST_S / SERVO_CYCLE))
-        start = time.monotonic()
         sent = last = None
-        for i in range(n):
-            delay = start + i * SERVO_CYCLE - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            msg = TwistStamped()
-            msg.header.frame_id = "base_link"
-            msg.twist.linear.x = direction * TWIST_SPEED
+        for _ in paced_cycles(TWIST_BURST_S):
             last = time.time()
             sent = last if sent is None else sent
-            pub.publish(msg)
+            pub.publish(base_twist(direction * TWIST_SPEED))
         time.sleep(REST_WAIT_S)
         got = joints.since(sent - 0.1)
         stamps = np.array([m.header.stamp.to_sec() for _, m in got])
@@ -137,16 +148,8 @@ def twist_rows(group: str, trials: dict, cpu: dict, service_cpu: dict) -> list[R
 def twist_stream(driver, seconds: float) -> None:
     """A teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz for ``seconds``."""
     pub = _publisher(driver, "twist_command", TwistStamped)
-    n = int(round(seconds / SERVO_CYCLE))
-    start = time.monotonic()
-    for i in range(n):
-        delay = start + i * SERVO_CYCLE - time.monotonic()
-        if delay > 0:
-            time.sleep(delay)
-        msg = TwistStamped()
-        msg.header.frame_id = "base_link"
-        msg.twist.linear.x = TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE)
-        pub.publish(msg)
+    for i in paced_cycles(seconds):
+        pub.publish(base_twist(TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE)))
     time.sleep(REST_WAIT_S)
 
 
