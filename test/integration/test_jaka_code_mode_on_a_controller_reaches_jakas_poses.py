@@ -12,12 +12,10 @@ import time
 import numpy as np
 import pytest
 
+from emulated_arm import driver_on_emulator
 from ros_harness import wait_until
 
-from jaka_driver.controller import ControllerBackend
 from jaka_driver.conventions import JAKA_CODE
-from jaka_driver.driver import RobotDriver
-from jaka_driver.emulator import Emulator
 
 START = [-1.2, 1.57, -1.57, 1.57, 1.57, 0.0]                # rad
 TARGET_MM = [150.0, -460.0, 350.0]
@@ -36,15 +34,9 @@ def rot_rpy(rx, ry, rz):
 
 @pytest.fixture(scope="module")
 def arm():
-    with Emulator("zu5", command_port=0, status_port=0) as emu:
-        driver = RobotDriver(ControllerBackend(emu.model, "127.0.0.1", emu.command_port,
-                                               emu.status_port), conventions=JAKA_CODE)
-        driver.start()
-        try:
-            assert wait_until(lambda: driver.state().connected and driver.state().enabled, 10.0)
-            yield emu, driver
-        finally:
-            driver.shutdown()
+    with driver_on_emulator(conventions=JAKA_CODE) as (emu, driver):
+        assert wait_until(lambda: driver.state().connected and driver.state().enabled, 10.0)
+        yield emu, driver
 
 
 @pytest.fixture

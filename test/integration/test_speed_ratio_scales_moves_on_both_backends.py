@@ -7,10 +7,9 @@ import time
 import numpy as np
 import pytest
 
+from emulated_arm import driver_on_emulator
 from jaka_driver.common.models import load_model
-from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
-from jaka_driver.emulator import Emulator
 from jaka_driver.protocol import commands
 from jaka_driver.sim import SimBackend
 
@@ -49,20 +48,14 @@ def test_a_ratio_of_half_doubles_a_joint_move_on_the_twin():
 
 
 def test_a_ratio_of_half_doubles_a_joint_move_through_the_emulator():
-    with Emulator("zu5", command_port=0, status_port=0) as emu:
-        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
-        driver = RobotDriver(backend)
-        driver.start()
-        try:
-            full, half = doubled(driver, time.monotonic)
-            assert abs(half / full - 2.0) <= 0.04, (full, half)
-            assert backend.send.read(commands.get_rapid_rate(), commands.reply_value) == 0.5
-            assert driver.speed_ratio() == 0.5
-            # the driver's own plan follows the same law: the move was not cut as overrun
-            assert driver.set_speed_ratio(1.0).ok
-            assert emu.controller.rapid_rate == 1.0
-        finally:
-            driver.shutdown()
+    with driver_on_emulator() as (emu, driver):
+        full, half = doubled(driver, time.monotonic)
+        assert abs(half / full - 2.0) <= 0.04, (full, half)
+        assert driver.backend.send.read(commands.get_rapid_rate(), commands.reply_value) == 0.5
+        assert driver.speed_ratio() == 0.5
+        # the driver's own plan follows the same law: the move was not cut as overrun
+        assert driver.set_speed_ratio(1.0).ok
+        assert emu.controller.rapid_rate == 1.0
 
 
 @pytest.mark.parametrize("ratio", [0.0, -0.1, 1.5, float("nan")])

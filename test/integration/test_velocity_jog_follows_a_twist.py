@@ -7,11 +7,10 @@ import time
 import numpy as np
 import pytest
 
+from emulated_arm import driver_on_emulator
 from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
 from jaka_driver.common.models import load_model
-from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
-from jaka_driver.emulator import Emulator
 from jaka_driver.sim import SimBackend
 from ros_harness import wait_until
 
@@ -53,28 +52,23 @@ def test_a_twist_moves_the_tcp_5_cm_in_1_s_and_stops_within_0_2_s_on_the_twin():
 
 
 def test_a_twist_moves_the_controller_through_the_emulator():
-    with Emulator("zu5", command_port=0, status_port=0) as emu:
-        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
-        driver = RobotDriver(backend)
-        driver.start()
-        try:
-            p0 = emu.backend.state().tcp_pose[:3, 3].copy()
-            t0 = time.monotonic()
-            while time.monotonic() - t0 < 1.0:
-                result = driver.velocity_jog((0, 0.05, 0), (0, 0, 0), False)
-                assert result.ok, result.message
-                time.sleep(0.02)
-            last = time.monotonic()
-            assert wait_until(lambda: not backend._moving(), 1.0)
-            at_rest = time.monotonic() - last
-            moved = (emu.backend.state().tcp_pose[:3, 3] - p0) * 1000.0
-            # the twist ran from the first call to 0.1 s after the last (the watchdog)
-            assert abs(moved[1] - 50.0 * (last + 0.1 - t0)) <= 3.0, (moved, last - t0)
-            assert np.max(np.abs(moved[[0, 2]])) <= 0.5, moved
-            assert at_rest <= 0.5, at_rest
-            assert wait_until(lambda: not driver.state().servo_mode, 2.0)  # it left servo mode
-        finally:
-            driver.shutdown()
+    with driver_on_emulator() as (emu, driver):
+        backend = driver.backend
+        p0 = emu.backend.state().tcp_pose[:3, 3].copy()
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < 1.0:
+            result = driver.velocity_jog((0, 0.05, 0), (0, 0, 0), False)
+            assert result.ok, result.message
+            time.sleep(0.02)
+        last = time.monotonic()
+        assert wait_until(lambda: not backend._moving(), 1.0)
+        at_rest = time.monotonic() - last
+        moved = (emu.backend.state().tcp_pose[:3, 3] - p0) * 1000.0
+        # the twist ran from the first call to 0.1 s after the last (the watchdog)
+        assert abs(moved[1] - 50.0 * (last + 0.1 - t0)) <= 3.0, (moved, last - t0)
+        assert np.max(np.abs(moved[[0, 2]])) <= 0.5, moved
+        assert at_rest <= 0.5, at_rest
+        assert wait_until(lambda: not driver.state().servo_mode, 2.0)  # it left servo mode
 
 
 @pytest.mark.parametrize("start, linear, angular, in_tool", [
