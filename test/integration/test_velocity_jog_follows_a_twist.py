@@ -89,7 +89,7 @@ def test_a_twist_into_a_limit_or_singularity_slows_to_rest_without_a_jump(start,
         qs = []
         with clock.hold():
             for _ in range(round(3.0 / CYCLE)):
-                driver.velocity_jog(linear, angular, in_tool)
+                answer = driver.velocity_jog(linear, angular, in_tool)
                 clock.sleep(CYCLE)
                 qs.append(driver.backend.twin.commanded_joints())
         qs = np.array(qs)
@@ -103,6 +103,9 @@ def test_a_twist_into_a_limit_or_singularity_slows_to_rest_without_a_jump(start,
         tcp_rate = np.max(steps[-1])
         if towards:
             assert tcp_rate < 0.1 * np.linalg.norm(angular), steps[-1]
+            # and the answer says why (what ~command_status publishes as a slowdown)
+            assert answer.ok and answer.value is not None, answer
+            assert "slowed" in answer.message, answer
         else:
             assert np.max(steps[-20:]) > 0.3, steps[-20:]
         assert abs(q[4]) >= 0.03, q                      # never at J5 = 0

@@ -140,8 +140,9 @@ class Backend(ABC):
         """Start (or keep following) a velocity jog: the TCP moves at ``twist`` (vx vy vz m/s,
         wx wy wz rad/s), in the base frame or the tool frame (``in_tool``), ramped at the jog's
         accelerations and slowed before joint limits and singularities by the one law of
-        :mod:`jaka_driver.motion.velocity_jog`, at the speed ratio. Returns at once; the
-        caller (RobotDriver) owns its short watchdog and calls :meth:`jog_stop`."""
+        :mod:`jaka_driver.motion.velocity_jog`, at the speed ratio. Returns at once (success:
+        ``value`` says why the last step was slowed, None when it was not); the caller
+        (RobotDriver) owns its short watchdog and calls :meth:`jog_stop`."""
 
     # ---- speed ratio ----------------------------------------------------------------------
     @abstractmethod

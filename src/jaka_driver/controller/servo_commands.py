@@ -47,7 +47,7 @@ class ServoCommands:
                 raise CommandRefused(Code.BUSY, "velocity jog refused: one runs in the other "
                                      "frame; stop sending twists and start again")
             running.command(twist)
-            return Result.success(running.report())
+            return running.jog.progress()
         self.send.require_link()
         if self._moving():
             raise CommandRefused(Code.BUSY, "velocity jog refused: the arm is moving")
@@ -65,7 +65,7 @@ class ServoCommands:
         with self._lock:
             self._twist = streamer
         streamer.start()
-        return Result.success(streamer.report())
+        return streamer.jog.progress()
 
     def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
         kin, m = self.kinematics, self.model      # the arm's own chain, as the line check's

@@ -67,10 +67,6 @@ class TwistStreamer:
         self.outcome = result
         self._halt.set()
 
-    def report(self) -> str:
-        why = self.jog.limited_by
-        return "following the twist" + (f" (slowed: {why})" if why else "")
-
     def _run(self) -> None:
         try:
             due = time.monotonic()

@@ -28,6 +28,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..common.results import Result
 from ..common.transforms import rotvec_to_matrix
 
 #: σ_min of the tool Jacobian below which a step towards a singularity slows, and at which it
@@ -106,6 +107,13 @@ class VelocityJog:
         self.cycle = cycle
         #: why the last step was slowed or held (None: it was not)
         self.limited_by: Optional[str] = None
+
+    def progress(self) -> Result:
+        """The answer to a twist: success, saying what the jog does now; its ``value`` is why
+        the last step was slowed or held (:attr:`limited_by`), None when it was not."""
+        why = self.limited_by
+        return Result.success("following the twist" + (f" (slowed: {why})" if why else ""),
+                              why)
 
     def command(self, twist: np.ndarray) -> None:
         """Ramp towards ``twist`` (m/s, rad/s) from the next cycle."""

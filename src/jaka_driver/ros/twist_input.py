@@ -59,7 +59,7 @@ class TwistInput:
             return
         self._status.accepted(self._name)
         self._end.fed()
-        slowed = "slowed" in result.message
+        slowed = result.value is not None       # why the jog slowed (motion.velocity_jog)
         if slowed and not self._slowed:       # once per slowdown, not once per message
             self._status.count(self._name, "slowdowns")
             self._status.publish(self._name, 1, result.message, result.code)

@@ -312,7 +312,7 @@ class SimBackend(Backend):
             current = self._physics.motion
             if isinstance(current, TwistRun) and current.active and current.jog.in_tool == in_tool:
                 current.command(twist)
-                return Result.success(current.report())
+                return current.jog.progress()
             if current.active and not isinstance(current, (Jog, TwistRun)):
                 return Result.failure(Code.BUSY, "velocity jog refused: the arm is moving")
             run = TwistRun(self._velocity_jog(in_tool))
@@ -323,7 +323,7 @@ class SimBackend(Backend):
                                              on_rest=lambda: self._physics.switch(run)))
             else:
                 self._physics.switch(run)
-        return Result.success(run.report())
+        return run.jog.progress()
 
     def _velocity_jog(self, in_tool: bool) -> VelocityJog:
         tool, _ = self.frames()

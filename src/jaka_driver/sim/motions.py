@@ -246,11 +246,6 @@ class TwistRun(Motion):
     def stop(self) -> None:
         self.jog.stop()
 
-    def report(self) -> str:
-        """What the jog does now, for the caller (a slowdown and its reason)."""
-        why = self.jog.limited_by
-        return "following the twist" + (f" (slowed: {why})" if why else "")
-
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         q = self.jog.next(q_sp)
         if self.jog.at_rest:
