@@ -1,5 +1,5 @@
 """Controller generations the emulator can be: what differs between the JAKA controllers on
-record, selected by name (``--profile NAME``; README, "The emulator").
+record, selected by name (``--profile NAME``; docs/controller.md, "The emulator").
 
 Everything here is evidence about a real controller or about what clients written from JAKA's
 documents expect; each profile says which. What does not differ between them (commands, reply
@@ -51,7 +51,7 @@ def _io_sizes(cabinet_digital: int, cabinet_analog: int, tool_analog_in: int,
 @dataclass(frozen=True)
 class ControllerProfile:
     name: str
-    summary: str                 # one line for --help and the README
+    summary: str                 # one line for --help and docs/controller.md
     version: str                 # get_version's "version"
     io_sizes: IoSizes
     din_status_count: int        # entries of get_digital_input_status
