@@ -1,6 +1,6 @@
 """Conformance: the fixtures (test/data/, written from a real controller's recordings and JAKA's
-SDK, not by the emulator's authors) replayed against the emulator in its default profile, the
-recorded Zu 5s on fw 1.5.14.
+SDK, not by the emulator's authors) replayed against the emulator in the profile of the
+controller they were recorded on, the Zu 5s on fw 1.5.14.
 
 Every reply has the fixture's keys in the fixture's order, its value types and array sizes, its
 ``errorCode``, and the controller's text layout (``", "``/``": "``, non-integer numbers with 6
@@ -44,7 +44,7 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
 
 @pytest.fixture(scope="module")
 def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14") as emulator:
         yield emulator
 
 

@@ -47,8 +47,10 @@ def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
 
 @pytest.fixture(scope="module")
 def emu():
-    # the default profile (the recorded Zu 5s, fw 1.5.14), found powered on and enabled
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
+    # the recorded Zu 5s (fw 1.5.14: its version, its 30 ms, its recorded answers), found
+    # powered on and enabled
+    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14",
+                  start="enabled") as emulator:
         yield emulator
 
 
