@@ -1,6 +1,12 @@
 """Controller generations the emulator can be: what differs between the JAKA controllers on
 record, selected by name (``--profile NAME``; README, "The emulator").
 
+The default is the controller JAKA's current software is written for: firmware 1.7.x, which
+JAKA's ROS 2 driver asks for (1.7.1 or newer) and whose ``emergency_stop_status`` JAKA's SDK
+2.1.14 asks inside its moves, jogs and state calls (its calls fail where that answer is not a
+success, as on the recorded fw 1.5.14). The recorded Zu 5s on fw 1.5.14 is one option away,
+with every recorded quirk.
+
 Everything here is evidence about a real controller or about what clients written from JAKA's
 documents expect; each profile says which. What does not differ between them (commands, reply
 layouts, the SDK's spellings) is the emulator's, for every profile. No profile removes a
@@ -77,7 +83,8 @@ class ControllerProfile:
 
 _RECORDED = ControllerProfile(
     name="zu5s-1.5.14",
-    summary="the Zu 5s recorded on controller firmware 1.5.14 (the default)",
+    summary="the Zu 5s recorded on controller firmware 1.5.14, with its recorded answers "
+            "(JAKA's SDK 2.1.14 fails its moves, jogs and state calls on it)",
     version="1.5.14_13_X64",
     # the recorded packet: no extension module (extio num 0)
     io_sizes=_io_sizes(cabinet_digital=135, cabinet_analog=64, tool_analog_in=2,
@@ -88,10 +95,11 @@ _RECORDED = ControllerProfile(
     period=0.030,
     start="off",             # as two of the three recorded sessions found it
     estop_status_fails=True)
-_TCP_DOC = ControllerProfile(
-    name="tcp-doc",
-    summary="the controller of JAKA's TCP protocol document, as the public clients written "
-            "from it expect it (their packet example, a packet every servo cycle)",
+_FW_1_7 = ControllerProfile(
+    name="fw-1.7.2",
+    summary="a controller on firmware 1.7.2, the one JAKA's ROS 2 driver asks for (1.7.1 or "
+            "newer) and JAKA's SDK 2.1.14 works with; its packet as JAKA's TCP protocol "
+            "document gives it, a packet every servo cycle (the default)",
     version="1.7.2_16_X64",  # the version JAKA's ROS 2 driver recommends, recorded format
     io_sizes=_io_sizes(cabinet_digital=144, cabinet_analog=66, tool_analog_in=1,
                        extension=True),
@@ -100,21 +108,23 @@ _TCP_DOC = ControllerProfile(
     start="enabled",
     estop_status_fails=False)
 _LARGE_IO = dataclasses.replace(
-    _TCP_DOC, name="large-io",
+    _FW_1_7, name="large-io",
     summary="the largest status packet on record (a newer controller with 200 cabinet digital "
-            "IO and 128 analog each way); otherwise tcp-doc",
+            "IO and 128 analog each way); otherwise fw-1.7.2",
     io_sizes=_io_sizes(cabinet_digital=200, cabinet_analog=128, tool_analog_in=1,
                        extension=True))
-_PROFILES = (_RECORDED, _TCP_DOC, _LARGE_IO)
+_PROFILES = (_FW_1_7, _RECORDED, _LARGE_IO)
 
 #: name → profile, in the order --help lists them.
 PROFILES: Mapping[str, ControllerProfile] = MappingProxyType({p.name: p for p in _PROFILES})
-DEFAULT_PROFILE = "zu5s-1.5.14"
+DEFAULT_PROFILE = _FW_1_7.name
+#: former names, still accepted: ``tcp-doc`` was fw-1.7.2's name before it became the default
+ALIASES: Mapping[str, str] = MappingProxyType({"tcp-doc": _FW_1_7.name})
 
 
 def profile_named(name: str) -> ControllerProfile:
     try:
-        return PROFILES[name]
+        return PROFILES[ALIASES.get(name, name)]
     except KeyError:
         raise ValueError(f"unknown controller profile {name!r}; known: "
                          f"{', '.join(PROFILES)}") from None
