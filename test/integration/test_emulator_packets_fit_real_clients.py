@@ -7,7 +7,9 @@ recorded 6 decimals (``482.000000``).
 On the default profile and on the recorded fw 1.5.14 the reply fits that read whole — measured
 at rest and while the arm moves, when every joint, pose, speed and torque is a full-precision
 number — and the client's own reading of it (``joint_actual_position``, ``actual_position``:
-6 numbers each) succeeds."""
+6 numbers each) succeeds. The fw 1.5.14 profile's packet is the size of the one recorded on that
+firmware (3208 bytes with 35 keys; its keys and shapes are checked against the fixture in
+test_emulator_answers_like_the_transcripts.py)."""
 from __future__ import annotations
 
 import json
@@ -22,6 +24,7 @@ from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE
 
 CLIENT_READ = 8192      # bytes: the C++ client's one recv(); it writes its '\0' after the data
+RECORDED_PACKET_BYTES = 3208   # the status packet recorded on fw 1.5.14
 
 
 def _replies_while_a_move_runs(client: RawClient) -> list:
@@ -63,3 +66,10 @@ def test_get_data_fits_one_8192_byte_read_at_rest_and_while_moving(profile):
     # a short reply keeps the recorded form: every non-integer number with 6 decimals
     numbers = re.findall(r"-?\d+\.\d+", short)
     assert len(numbers) == 6 and all(len(n.split(".")[1]) == 6 for n in numbers), short
+    if profile == "zu5s-1.5.14":
+        # the packet's own length, at rest and moving: the recording's within a fifth (the
+        # twin's numbers are not that session's)
+        lengths = [json.loads(text)["len"] for text in replies]
+        assert len(json.loads(longest)) == 35 + 3     # the recorded keys, after the reply's 3
+        assert 0.8 * RECORDED_PACKET_BYTES < min(lengths) <= max(lengths) \
+            < 1.2 * RECORDED_PACKET_BYTES, (min(lengths), max(lengths))

@@ -21,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping, Tuple
+from typing import Mapping, Optional, Tuple
 
 from ..common.constants import SERVO_CYCLE
 
@@ -31,6 +31,23 @@ START_WORDS = {"off": "powered off and disabled", "on": "powered on, disabled",
 START_STATES = tuple(START_WORDS)
 
 IoSizes = Mapping[Tuple[str, int, int], int]
+
+#: The status packet of the Zu 5s recorded on fw 1.5.14: its keys besides ``len``, in a real
+#: packet's order. The recording is reported by its count (35 with ``len``) and size (3208
+#: bytes), not key by key. JAKA's TCP protocol document lists 39 packet keys (as the public
+#: clients written from it quote it); the four of them left out here are the ones no client on
+#: record reads and the document does not mark obsolete — ``drag_near_limit``, ``funcdi``,
+#: ``curr_tcp_trans_vel``, ``point_key`` (the obsolete ``homed``, ``motion_mode`` and
+#: ``netState`` are what older controllers sent). The keys newer controllers add (``instVel``,
+#: ``motion_line``, the fieldbus and relay arrays, ...) are not in it: docs/protocol.md, "Status
+#: packet", lists every key beyond these with who reads it.
+RECORDED_PACKET_KEYS: Tuple[str, ...] = (
+    "drag_status", "extio", "errcode", "errmsg", "monitor_data", "torqsensor", "rapidrate",
+    "enabled", "powered_on", "inpos", "paused", "protective_stop", "emergency_stop",
+    "on_soft_limit", "task_state", "task_mode", "interp_state", "motion_mode",
+    "current_tool_id", "current_user_id", "joint_actual_position", "joint_position",
+    "actual_position", "position", "din", "dout", "ain", "aout", "tio_din", "tio_dout",
+    "tio_ain", "tio_key", "homed", "netState")
 
 
 def _io_sizes(cabinet_digital: int, cabinet_analog: int, tool_analog_in: int,
@@ -67,6 +84,9 @@ class ControllerProfile:
     #: failed"} without cmdName (every recorded run of fw 1.5.14); else {"emergency_stop": 0|1}
     estop_status_fails: bool
     homed_count: int = 9         # entries of the packet's "homed"
+    #: the status packet's keys (``len`` aside); None: every key the emulator has, each of them
+    #: one JAKA's SDK 2.1.14 reads or JAKA's TCP protocol document lists
+    packet_keys: Optional[Tuple[str, ...]] = None
 
     def describe(self) -> str:
         """What the profile sets, in one line (for --help and the log)."""
@@ -75,8 +95,10 @@ class ControllerProfile:
         estop = ("answers the recorded exception" if self.estop_status_fails
                  else "answers emergency_stop")
         extension = "an" if self.io_sizes.get(("digital", 2, 0)) else "no"
+        keys = ("the recorded packet's keys" if self.packet_keys == RECORDED_PACKET_KEYS
+                else "every packet key JAKA's SDK reads")
         return (f"version {self.version}; cabinet digital IO {din}, analog {ain} each way, "
-                f"{extension} extension IO module; "
+                f"{extension} extension IO module; {keys}; "
                 f"a packet every {self.period * 1000:g} ms; starts {START_WORDS[self.start]}; "
                 f"emergency_stop_status {estop}")
 
@@ -94,7 +116,8 @@ _RECORDED = ControllerProfile(
     # tested on that arm; 8 ms is the servo cycle, not the push period
     period=0.030,
     start="off",             # as two of the three recorded sessions found it
-    estop_status_fails=True)
+    estop_status_fails=True,
+    packet_keys=RECORDED_PACKET_KEYS)
 _FW_1_7 = ControllerProfile(
     name="fw-1.7.2",
     summary="a controller on firmware 1.7.2, the one JAKA's ROS 2 driver asks for (1.7.1 or "
