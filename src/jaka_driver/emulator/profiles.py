@@ -95,8 +95,8 @@ class ControllerProfile:
         estop = ("answers the recorded exception" if self.estop_status_fails
                  else "answers emergency_stop")
         extension = "an" if self.io_sizes.get(("digital", 2, 0)) else "no"
-        keys = ("the recorded packet's keys" if self.packet_keys == RECORDED_PACKET_KEYS
-                else "every packet key JAKA's SDK reads")
+        keys = ("every packet key JAKA's SDK reads" if self.packet_keys is None
+                else f"the recorded packet's {len(self.packet_keys) + 1} keys")   # len too
         return (f"version {self.version}; cabinet digital IO {din}, analog {ain} each way, "
                 f"{extension} extension IO module; {keys}; "
                 f"a packet every {self.period * 1000:g} ms; starts {START_WORDS[self.start]}; "
