@@ -495,6 +495,7 @@ class TwinController:
             return self.twin.trigger_protective_stop(reason).message
 
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> None:
+        """Input ``index`` (from 0; checked with :meth:`check_io`) = ``value``, as the world
+        outside would drive it."""
         with self.lock:
-            self.check_io(signal, io_type, 0, index, "emulator_set_input")
             self.twin.set_input(signal, io_type, index, value)

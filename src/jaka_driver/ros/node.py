@@ -311,10 +311,9 @@ def main() -> int:
     rospy.on_shutdown(driver.shutdown)
     publisher.start()
     advertise(driver)
-    twin = backend.twin                 # what only a twin can do, when the backend offers it
-    if twin is not None:
-        advertise_faults(twin, driver.model)
-        advertise_snapshot(driver, twin)
+    if driver.has_twin:                 # what only a twin can do, when the backend offers it
+        advertise_faults(driver)
+        advertise_snapshot(driver)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
