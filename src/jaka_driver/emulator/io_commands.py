@@ -11,9 +11,9 @@ from typing import Callable, Dict, Mapping, Tuple
 
 from ..common.models import io_level
 from ..protocol.fields import Cmd, Field, IOType
-from .replies import Answer
+from .replies import ERROR_REQUEST, Answer, Rejected
 from .status_packet import extio, io_values, zeros_of
-from .twin_controller import ERROR_REQUEST, Rejected, TwinController
+from .twin_controller import TwinController
 from .wire_fields import flag, integer, number, shown, shown_name
 
 SIGNALS = ("digital", "analog")

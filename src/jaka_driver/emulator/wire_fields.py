@@ -15,7 +15,7 @@ from ..protocol import units
 from ..protocol.errors import ProtocolError
 from ..protocol.fields import Field
 from ..protocol.wire import as_flag, float_vector
-from .twin_controller import ERROR_REQUEST, Rejected
+from .replies import ERROR_REQUEST, Rejected
 
 _SHOWN = 80   # characters of a bad value quoted in a refusal
 
