@@ -38,6 +38,7 @@ from .arm_settings import ArmSettings
 from .commander import Commander, answers
 from .connection import ControllerLink
 from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
+from .parts import RequestPart
 from .running_motion import (JogRun, MoveRun, RunningMotion, TrajectoryRun, TwistRun,
                              keeps_out)
 from .servo_commands import ServoCommands
@@ -61,26 +62,16 @@ STRETCHED = 1e-6
 LINE_JUMP = 2.0
 
 
-class MoveCommands:
-    """Moves, trajectories, jogs and stop of ``model`` on a controller (see the module):
-    requests through ``send`` over ``link``, the latest packet from ``view``, what runs in
-    ``motion``, motion allowed by ``identity``, ``kinematics()`` the local kinematics, the
-    speed ratio and frames from ``settings``, servo mode through ``servo``.
-    ``trajectory_step_num`` decimates trajectory streams (set-points every
-    ``trajectory_step_num`` × 8 ms)."""
+class MoveCommands(RequestPart):
+    """Moves, trajectories, jogs and stop on a controller (see the module; what it works with:
+    :class:`~.parts.RequestPart`, and servo mode through ``servo``). ``trajectory_step_num``
+    decimates trajectory streams (set-points every ``trajectory_step_num`` × 8 ms)."""
 
     def __init__(self, model: RobotModel, send: Commander, link: ControllerLink,
                  view: StatusView, motion: RunningMotion, identity: ArmIdentity,
                  kinematics: Callable[[], Kinematics], settings: ArmSettings,
                  servo: ServoCommands, trajectory_step_num: int = 1):
-        self.model = model
-        self.send = send
-        self.link = link
-        self.view = view
-        self.motion = motion
-        self.identity = identity
-        self.kinematics = kinematics
-        self.settings = settings
+        super().__init__(model, send, link, view, motion, identity, kinematics, settings)
         self.servo = servo
         self.trajectory_step_num = int(trajectory_step_num)
         self._send_lock = threading.Lock()   # orders sending a move against stop_move

@@ -64,18 +64,23 @@ class MoveRun(Run):
         self.watch.on_status(status, received)
 
 
-class TrajectoryRun(Run):
-    """A trajectory streamed as ``servo_j``, until its stream has ended (servo mode restored
-    when the stream entered it)."""
+class _StreamRun(Run):
+    """A run streamed as ``servo_j`` by ``streamer`` in its own thread, busy while that runs."""
 
-    label = "trajectory"
-
-    def __init__(self, streamer: TrajectoryStreamer):
+    def __init__(self, streamer):
         self.streamer = streamer
 
     @property
     def busy(self) -> bool:
         return self.streamer.running
+
+
+class TrajectoryRun(_StreamRun):
+    """A trajectory streamed as ``servo_j``, until its stream has ended (servo mode restored
+    when the stream entered it)."""
+
+    label = "trajectory"
+    streamer: TrajectoryStreamer
 
     def abort(self, result: Result) -> None:
         self.streamer.stop(Result(result.code, f"{self.streamer.watch.label}: {result.message}"))
@@ -101,17 +106,11 @@ class JogRun(Run):
         self._ended = True          # nobody waits on a jog; the controller has stopped it
 
 
-class TwistRun(Run):
+class TwistRun(_StreamRun):
     """A velocity jog streamed as ``servo_j``, until it is at rest (or halted)."""
 
     label = "velocity jog"
-
-    def __init__(self, streamer: TwistStreamer):
-        self.streamer = streamer
-
-    @property
-    def busy(self) -> bool:
-        return self.streamer.running
+    streamer: TwistStreamer
 
     def abort(self, result: Result) -> None:
         self.streamer.halt(result)

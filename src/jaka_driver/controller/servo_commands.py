@@ -4,32 +4,27 @@ relatively as JAKA's SDK sends them) and the velocity jog, a ``servo_j`` stream 
 computes from a twist (:mod:`.twist_stream`: why not the protocol's ``jog``).
 
 :class:`ServoCommands` is a part :class:`~.backend.ControllerBackend` is composed of; what it
-works with is handed to it: the link and its requests, the status view, the one slot of what
-runs now and servo mode (:class:`~.running_motion.RunningMotion`), the arm's identity, the local
-kinematics and the arm's settings (frames, speed ratio). Units as the backend's: rad, m, 4x4
+works with is handed to it (:class:`~.parts.RequestPart`): the link and its requests, the
+status view, the one slot of what runs now and servo mode
+(:class:`~.running_motion.RunningMotion`), the arm's identity, the local kinematics and the
+arm's settings (frames, speed ratio). Units as the backend's: rad, m, 4x4
 poses.
 """
 from __future__ import annotations
 
 import logging
-from typing import Callable
 
 import numpy as np
 
 from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
-from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy
-from ..kinematics import Kinematics
 from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands
 from ..protocol.fields import Field
-from .arm_identity import ArmIdentity
-from .arm_settings import ArmSettings
-from .commander import Commander, answers
-from .connection import ControllerLink
-from .running_motion import RunningMotion, TwistRun
-from .status_view import StatusView
+from .commander import answers
+from .parts import RequestPart
+from .running_motion import TwistRun
 from .twist_stream import TwistStreamer
 
 log = logging.getLogger(__name__)
@@ -38,23 +33,9 @@ log = logging.getLogger(__name__)
 SERVO_MODE_OFF_CODE = "-1"
 
 
-class ServoCommands:
-    """Servo mode, servo targets and the velocity jog of ``model`` on a controller (see the
-    module): requests through ``send`` over ``link``, the latest packet from ``view``, what
-    runs and servo mode in ``motion``, motion allowed by ``identity``, ``kinematics()`` the
-    local kinematics, the active frames and the speed ratio from ``settings``."""
-
-    def __init__(self, model: RobotModel, send: Commander, link: ControllerLink,
-                 view: StatusView, motion: RunningMotion, identity: ArmIdentity,
-                 kinematics: Callable[[], Kinematics], settings: ArmSettings):
-        self.model = model
-        self.send = send
-        self.link = link
-        self.view = view
-        self.motion = motion
-        self.identity = identity
-        self.kinematics = kinematics
-        self.settings = settings
+class ServoCommands(RequestPart):
+    """Servo mode, servo targets and the velocity jog on a controller (see the module; what it
+    works with: :class:`~.parts.RequestPart`)."""
 
     @answers
     def velocity_jog(self, twist, in_tool) -> Result:

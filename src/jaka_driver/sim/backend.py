@@ -130,7 +130,7 @@ class SimBackend(Backend):
         # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
         # flags are read fresh, a mode may change between two physics samples.
         key = (sample.stamp, self._tool_id, self._user_id)
-        flags = self._flags.now
+        flags = self._flags
         cached = self._cache
         if cached is not None and cached[0] == key:
             tcp = cached[1]
@@ -316,7 +316,7 @@ class SimBackend(Backend):
 
     def servo_enable(self, on: bool) -> Result:
         with self._lock:
-            if on == self._flags.now.servo_mode:
+            if on == self._flags.servo_mode:
                 return Result.success(f"servo mode already {'on' if on else 'off'}")
             if on:
                 if self._physics.motion.active:
@@ -325,7 +325,7 @@ class SimBackend(Backend):
                 self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics))
             else:
                 self._physics.switch(Hold())
-            self._flags.servo_mode(on)
+            self._flags.set_servo_mode(on)
         return Result.success(f"servo mode {'on' if on else 'off'}")
 
     def servo_j(self, q_target, increment=None) -> Result:
@@ -413,10 +413,10 @@ class SimBackend(Backend):
 
     def set_drag_mode(self, on: bool) -> Result:
         with self._lock:
-            if on == self._flags.now.drag_mode:
+            if on == self._flags.drag_mode:
                 return Result.success(f"drag mode already {'on' if on else 'off'}")
             if on:
-                if self._flags.now.servo_mode:
+                if self._flags.servo_mode:
                     return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
                 if self._physics.motion.active:
                     return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
@@ -426,7 +426,7 @@ class SimBackend(Backend):
                 with self._physics.lock:
                     self._physics.servo.released = False
                     self._physics.hold_here()
-            self._flags.drag_mode(on)
+            self._flags.set_drag_mode(on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
 
     def set_collision_level(self, level) -> Result:

@@ -62,7 +62,7 @@ class SimTwin(Twin):
         return Result.success("emergency stop released: power on and enable to move again")
 
     def trigger_protective_stop(self, reason: str = "protective stop (injected)") -> Result:
-        self._flags.protective_stop(reason)
+        self._flags.trigger_protective_stop(reason)
         return Result.success(reason)
 
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
