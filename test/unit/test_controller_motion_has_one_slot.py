@@ -1,18 +1,12 @@
 """What runs now on a controller has one owner, :class:`RunningMotion`: one slot (a move, a
 trajectory, a jog or a velocity jog) with busy / abort / what a packet tells it, and servo
-mode. Its rules, and that no other part of the controller backend keeps a run or servo mode
-of its own."""
-import ast
-from pathlib import Path
-
+mode. Its rules (that no other part keeps a run: test_each_backend_writes_its_state_once)."""
 import pytest
 
 from jaka_driver.common.results import CommandRefused, Result
 from jaka_driver.controller.move_watch import MoveWatch
 from jaka_driver.controller.running_motion import JogRun, MoveRun, RunningMotion, keeps_out
 from jaka_driver.controller.status_view import StatusView
-
-CONTROLLER = Path(__file__).resolve().parents[2] / "src" / "jaka_driver" / "controller"
 
 
 def _move(label: str = "joint_move") -> MoveRun:
@@ -59,25 +53,3 @@ def test_a_jog_ends_once():
     assert ended is not None and ended.axis == (1, 3)
     assert slot.end_jog() is None and not slot.moving
 
-
-RUN_FIELDS = {"_watch", "_streamer", "_jog", "_twist", "_servo_mode", "servo_mode"}
-
-
-def test_no_other_part_of_the_controller_keeps_a_run_or_servo_mode():
-    """Outside running_motion.py, nothing in controller/ assigns an attribute named like the
-    five fields the slot replaced, and servo mode is written only as ``motion.servo_mode``."""
-    found = []
-    for path in sorted(CONTROLLER.glob("*.py")):
-        if path.name == "running_motion.py":
-            continue
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
-            targets = node.targets if isinstance(node, ast.Assign) else \
-                [node.target] if isinstance(node, (ast.AnnAssign, ast.AugAssign)) else []
-            for target in targets:
-                if isinstance(target, ast.Attribute) and target.attr in RUN_FIELDS:
-                    owner = target.value
-                    if target.attr == "servo_mode" and isinstance(owner, ast.Attribute) \
-                            and owner.attr == "motion":
-                        continue
-                    found.append(f"{path.name}:{node.lineno} {ast.unparse(target)}")
-    assert not found, found
