@@ -13,9 +13,9 @@ from ..protocol import units
 from ..protocol.fields import (ERROR_CODE_EXCEPTION, Cmd, CoordMap, Field, JogMode,
                                StatusField)
 from ..protocol.status_stream import encode_status
-from .replies import Answer, PlainFloats, RecordedReply, done
+from .replies import ERROR_REQUEST, Answer, PlainFloats, RecordedReply, Rejected, done
 from .status_packet import status_fields, wire_pose
-from .twin_controller import ERROR_REQUEST, Rejected, TwinController
+from .twin_controller import TwinController
 from .wire_fields import flag, integer, joints, number, pose
 
 #: wire jog coord_map → the twin's coord (0 joint, 1 base, 2 tool)

@@ -1,5 +1,6 @@
-"""A command reply: its content (what a handler answers, :class:`Answer`; the reply objects,
-:func:`success_reply` and :func:`error_reply`) and its text (:func:`encode_reply`).
+"""A command reply: its content (what a handler answers, :class:`Answer`, or the refusal it
+raises, :class:`Rejected`; the reply objects, :func:`success_reply` and :func:`error_reply`)
+and its text (:func:`encode_reply`).
 
 Every reply begins ``errorCode``, ``errorMsg``, ``cmdName`` in that order, a refusal too, as
 recorded on a real controller; ``errorCode`` is a string: "0" success, "1" a wrong request
@@ -31,7 +32,22 @@ from typing import Any, Dict, List, Mapping, Optional
 
 import numpy as np
 
-from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_OK, Field
+from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, ERROR_CODE_OK, Field
+
+#: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
+#: missing or malformed field); "2": a valid command refused in the current state.
+ERROR_REQUEST = ERROR_CODE_EXCEPTION
+ERROR_REFUSED = ERROR_CODE_FAILED
+
+
+class Rejected(Exception):
+    """A command the controller refuses: ``code`` (``errorCode``) and ``message``
+    (``errorMsg``) of its error reply."""
+
+    def __init__(self, message: str, code: str = ERROR_REFUSED):
+        super().__init__(message)
+        self.code = code
+        self.message = message
 
 
 @dataclass
