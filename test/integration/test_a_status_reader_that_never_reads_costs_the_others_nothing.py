@@ -10,7 +10,7 @@ import socket
 import threading
 import time
 
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import time
 
-from fake_controller import backend, fake  # noqa: F401 - fixtures
+from support.fake_controller import backend, fake  # noqa: F401 - fixtures
 
 
 def _packets(backend) -> int:

@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 from jaka_driver.backend.robot_state import MotionState
 from jaka_driver.common.results import Code
@@ -19,7 +19,7 @@ from jaka_driver.driver import RobotDriver
 from jaka_driver.emulator import Emulator
 from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.motion.trajectory import JointTrajectory
-from move_helpers import run_move
+from support.move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 

@@ -18,8 +18,8 @@ import zlib
 
 import pytest
 
-from fake_controller import load_status_packet, load_transcript
-from raw_client import RawClient
+from support.fake_controller import load_status_packet, load_transcript
+from support.raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import PROFILES

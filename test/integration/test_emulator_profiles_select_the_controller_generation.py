@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from raw_client import call_once
+from support.raw_client import call_once
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE, PROFILES, START_WORDS

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from raw_client import RawClient
+from support.raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
 

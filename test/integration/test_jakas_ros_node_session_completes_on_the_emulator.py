@@ -1,5 +1,5 @@
-"""JAKA's official ROS 1 node, as its code calls JAKA's SDK (test/jaka_sdk_model.py: the SDK's
-requests and its strict reading of replies, from the measured evidence), runs its whole session
+"""JAKA's official ROS 1 node, as its code calls JAKA's SDK (test/support/jaka_sdk_model.py: the
+SDK's requests and its strict reading of replies, from the measured evidence), runs its whole session
 against the emulator in its default profile (the recorded Zu 5s, found powered off): start-up
 (login, status over port 10004, power, enable, the servo filter), its state loop polling
 get_program_state and the status about 8 times a second the whole time, and one call of every
@@ -15,8 +15,8 @@ import time
 import numpy as np
 import pytest
 
-from jaka_ros_node_model import JakaRosNode
-from jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
+from support.jaka_ros_node_model import JakaRosNode
+from support.jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
 
 from jaka_driver.emulator import Emulator
 

@@ -1,5 +1,5 @@
-"""JAKA's SDK's own calls (test/jaka_sdk_model.py: its requests and its strict reading, from the
-measured evidence) against the emulator: get_robot_status parses every field right (the IO
+"""JAKA's SDK's own calls (test/support/jaka_sdk_model.py: its requests and its strict reading,
+from the measured evidence) against the emulator: get_robot_status parses every field right (the IO
 count in element 0, monitor_data, instVel, torqsensor, the errcode rules); frames come back by
 id; every setting the SDK waits on reads back within its 1 s (also on another connection);
 programs read as an idle controller; login reads seven identity strings and get_dh_param the
@@ -13,8 +13,8 @@ import time
 import numpy as np
 import pytest
 
-from jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, JakaSdk
-from ros_harness import wait_until
+from support.jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, JakaSdk
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.kinematics import Kinematics

@@ -12,8 +12,8 @@ import time
 
 import pytest
 
-from raw_client import RawClient
-from ros_harness import wait_until
+from support.raw_client import RawClient
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 

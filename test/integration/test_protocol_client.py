@@ -13,7 +13,7 @@ from jaka_driver.protocol import (CommandClient, ConnectFailed, ConnectionLost, 
                                   StatusReceiver, TimeoutError, commands, encode_status)
 from jaka_driver.protocol.errors import JakaProtocolError
 from jaka_driver.protocol.wire import encode_json
-from scripted_server import ScriptedServer, requests_of
+from support.scripted_server import ScriptedServer, requests_of
 
 
 def reply_to(request, code="0", msg="", **fields):

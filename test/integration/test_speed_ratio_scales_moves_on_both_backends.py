@@ -7,7 +7,7 @@ import time
 import numpy as np
 import pytest
 
-from emulated_arm import driver_on_emulator
+from support.emulated_arm import driver_on_emulator
 from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
 from jaka_driver.protocol import commands

@@ -7,12 +7,12 @@ import time
 import numpy as np
 import pytest
 
-from emulated_arm import driver_on_emulator
+from support.emulated_arm import driver_on_emulator
 from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
 from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 MODEL = load_model("zu5")
 

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import START, Recorder, free_port, position, start_driver, wait_until
+from support.ros_harness import START, Recorder, free_port, position, start_driver, wait_until
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool

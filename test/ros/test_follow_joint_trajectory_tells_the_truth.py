@@ -14,7 +14,7 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from std_srvs.srv import Empty
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from ros_harness import START, at_rest, go_home, position, wait_until
+from support.ros_harness import START, at_rest, go_home, position, wait_until
 from jaka_msgs.srv import Move, ServoMoveEnable
 
 from jaka_driver.motion.spline import Waypoint, sample_waypoints

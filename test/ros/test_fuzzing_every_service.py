@@ -39,7 +39,7 @@ from hypothesis import strategies as st
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from ros_harness import START, go_home, Recorder, wait_until
+from support.ros_harness import START, go_home, Recorder, wait_until
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import CommandRefused
 from jaka_driver.common.transforms import matrix_to_rpy, pose_to_matrix

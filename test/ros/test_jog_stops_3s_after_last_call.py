@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty
 
-from ros_harness import (START, go_home, position, sample_at, sim_sleep,
-                         start_sim_time_driver, stamp, wait_until)
+from support.ros_harness import (START, go_home, position, sample_at, sim_sleep,
+                                         start_sim_time_driver, stamp, wait_until)
 from jaka_msgs.srv import Move
 
 pytestmark = pytest.mark.ros

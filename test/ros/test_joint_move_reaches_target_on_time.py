@@ -5,7 +5,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import START, at_rest, go_home, position
+from support.ros_harness import START, at_rest, go_home, position
 from jaka_msgs.srv import Move
 
 from jaka_driver.common.models import load_model

@@ -9,7 +9,7 @@ import pytest
 from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty
 
-from ros_harness import START, at_rest, go_home, position, Recorder, wait_until
+from support.ros_harness import START, at_rest, go_home, position, Recorder, wait_until
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 
 pytestmark = pytest.mark.ros

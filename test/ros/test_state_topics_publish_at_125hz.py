@@ -15,7 +15,7 @@ from std_srvs.srv import Empty
 
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
-from ros_harness import START, Recorder, start_driver
+from support.ros_harness import START, Recorder, start_driver
 
 pytestmark = pytest.mark.ros
 

@@ -10,7 +10,7 @@ import pytest
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import TwistStamped
 
-from ros_harness import Recorder, go_home, stamp, wait_until
+from support.ros_harness import Recorder, go_home, stamp, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -11,9 +11,9 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from jaka_sdk_model import (ABS, COORD_BASE, COORD_JOINT, COORD_TOOL, CONTINUE, INCR, RC_OK,
-                            RC_TIMEOUT, JakaSdk)
-from jaka_sdk_status import RobotStatus
+from .jaka_sdk_model import (ABS, COORD_BASE, COORD_JOINT, COORD_TOOL, CONTINUE, INCR, RC_OK,
+                              RC_TIMEOUT, JakaSdk)
+from .jaka_sdk_status import RobotStatus
 
 
 def _rotvec_to_rpy(rotvec: Sequence[float]) -> List[float]:
