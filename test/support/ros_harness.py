@@ -310,6 +310,19 @@ def position(recorder, timeout=5.0) -> np.ndarray:
     return np.array(msg.position)
 
 
+def moving_span(recorder, after: float, until: float = float("inf"),
+                speed: float = 1e-3) -> tuple:
+    """(first, last) stamp (s) of the samples stamped in [``after``, ``until``] in which a joint
+    moves faster than ``speed`` rad/s: a motion's duration as the arm's own samples tell it
+    (the twin's 8 ms cycles; a controller's status packets, stamped on arrival), without the
+    time a test's call and its answer take on a busy machine's wall clock."""
+    with recorder._lock:
+        moved = [stamp(m) for _, m in recorder.samples
+                 if after <= stamp(m) <= until and np.max(np.abs(m.velocity)) > speed]
+    assert moved, f"no sample moving faster than {speed:g} rad/s after {after:.3f} s"
+    return moved[0], moved[-1]
+
+
 def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
     """Joint position once every joint is slower than ``speed`` rad/s (the end of a move's
     settling), so a later comparison sees only new motion."""
