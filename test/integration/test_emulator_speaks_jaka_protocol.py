@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from support.raw_client import RawClient
+from support.threads import run_all
 
 from jaka_driver.emulator import Emulator
 
@@ -130,11 +131,7 @@ def test_several_clients_at_once(emu):
         finally:
             c.close()
 
-    threads = [threading.Thread(target=work, args=(k,)) for k in range(5)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(10)
+    run_all([threading.Thread(target=work, args=(k,), name=f"client {k}") for k in range(5)], 10.0)
     assert not errors
 
 

@@ -14,6 +14,7 @@ from jaka_driver.protocol import (CommandClient, ConnectFailed, ConnectionLost, 
 from jaka_driver.protocol.errors import JakaProtocolError
 from jaka_driver.protocol.wire import encode_json
 from support.scripted_server import ScriptedServer, requests_of
+from support.threads import run_all
 
 
 def reply_to(request, code="0", msg="", **fields):
@@ -197,11 +198,8 @@ def test_concurrent_calls_each_get_their_own_reply(client):
                 assert pose[:2] == pytest.approx([k, i])
         except Exception as exc:  # noqa: BLE001 - reported below
             errors.append(exc)
-    threads = [threading.Thread(target=worker, args=(k,)) for k in range(4)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(5)
+    run_all([threading.Thread(target=worker, args=(k,), name=f"caller {k}") for k in range(4)],
+            5.0)
     assert errors == []
 
 
