@@ -25,12 +25,6 @@ HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 
 
 @pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
-        yield emulator
-
-
-@pytest.fixture(scope="module")
 def backend(emu):
     b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
     b.start()

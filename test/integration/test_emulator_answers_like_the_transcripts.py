@@ -42,12 +42,6 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
              "tio_dout": ("digital", 1, 1), "tio_ain": ("analog", 1, 0)}
 
 
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
-        yield emulator
-
-
 def controller_text(value) -> str:
     """``value`` in the layout test/data/README.md gives a controller's replies: a space after
     ':' and ',', every non-integer number with 6 decimals."""

@@ -18,13 +18,6 @@ import pytest
 from support.jaka_ros_node_model import JakaRosNode
 from support.jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
 
-from jaka_driver.emulator import Emulator
-
-
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
-        yield emulator
 
 
 @pytest.fixture(scope="module")

@@ -21,10 +21,7 @@ from jaka_driver.kinematics import Kinematics
 from jaka_driver.kinematics.controller_dh import DHParameters, dh_of_model, flange_pose
 
 
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
-        yield emulator
+EMULATOR = dict(start="enabled")
 
 
 @pytest.fixture

@@ -7,6 +7,8 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Iterator, List
 
+import pytest
+
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
 from jaka_driver.emulator import Emulator
@@ -24,6 +26,15 @@ def emulator(model: str = "zu5", **options) -> Iterator[Emulator]:
     leaving."""
     with Emulator(model, command_port=0, status_port=0, **options) as emu:
         yield emu
+
+
+@pytest.fixture(scope="module")
+def emu(request) -> Iterator[Emulator]:
+    """The emulator a test module's tests share (test/integration/conftest.py offers it): zu5 on
+    free ports, in its default profile and start state, or with the options of the module's
+    ``EMULATOR`` (``EMULATOR = dict(start="enabled")``)."""
+    with emulator(**getattr(request.module, "EMULATOR", {})) as shared:
+        yield shared
 
 
 @contextmanager
