@@ -13,7 +13,6 @@ import pytest
 from support.raw_client import RawClient
 from support.threads import run_all
 
-from jaka_driver.emulator import Emulator
 
 HOME_DEG = [0.0, 90.0, -90.0, 90.0, 90.0, 0.0]
 REQUIRED_STATUS_FIELDS = (
@@ -46,11 +45,8 @@ def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
     return packets
 
 
-@pytest.fixture(scope="module")
-def emu():
-    # the default profile (the recorded Zu 5s, fw 1.5.14), found powered on and enabled
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
-        yield emulator
+# the default profile (the recorded Zu 5s, fw 1.5.14), found powered on and enabled
+EMULATOR = dict(start="enabled")
 
 
 @pytest.fixture
@@ -138,7 +134,10 @@ def test_several_clients_at_once(emu):
 def test_status_stream_at_the_profiles_period_with_the_fields(emu):
     assert emu.period == 0.030       # the recorded Zu 5s: about 30 ms per packet
     packets = read_status(emu.status_port, 1.0)
-    assert 25 <= len(packets) <= 36, len(packets)
+    # Never faster than the period (33 a second, one more at each edge of the window). A
+    # broadcaster woken later than a whole period resynchronises instead of bursting, so a
+    # machine that late costs packets: the lower bound allows it half of them.
+    assert 0.5 / emu.period <= len(packets) <= 1 / emu.period + 2, len(packets)
     for packet, size in packets[:5]:
         assert set(REQUIRED_STATUS_FIELDS) <= set(packet)
         assert packet["len"] == size                    # len is the packet's own byte count
@@ -153,10 +152,9 @@ def test_status_stream_at_the_profiles_period_with_the_fields(emu):
 def test_moves_are_acknowledged_at_once_queued_and_inpos_follows_the_queue(emu, client):
     target = HOME_DEG.copy()
     target[0] += 10.0
-    t0 = time.monotonic()
     reply = client.call("joint_move", jointPosition=target, speed=60.0, accel=300.0, relFlag=0)
-    replied = time.monotonic() - t0
-    assert reply["errorCode"] == "0" and replied < 0.1
+    # acknowledged at once: the answer did not wait for the move (0.37 s), which still runs
+    assert reply["errorCode"] == "0" and not emu.controller.inpos
     # a second move while the first runs is queued, not refused (as a real controller does)
     queued = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0,
                          relFlag=0)
