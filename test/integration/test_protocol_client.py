@@ -13,6 +13,7 @@ from jaka_driver.protocol import (CommandClient, ConnectFailed, ConnectionLost, 
                                   StatusReceiver, TimeoutError, commands, encode_status)
 from jaka_driver.protocol.errors import JakaProtocolError
 from jaka_driver.protocol.wire import encode_json
+from support.ros_harness import free_port
 from support.scripted_server import ScriptedServer, requests_of
 from support.threads import run_all
 
@@ -82,13 +83,6 @@ def no_leaked_threads():
     while time.monotonic() < deadline and set(threading.enumerate()) - before:
         time.sleep(0.01)
     assert not set(threading.enumerate()) - before
-
-
-def free_port():
-    """A port with nobody listening on it."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 # ---- CommandClient -------------------------------------------------------------------------

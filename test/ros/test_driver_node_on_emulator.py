@@ -11,8 +11,8 @@ import time
 import numpy as np
 import pytest
 
-from support.ros_harness import (START, Recorder, free_port, moving_span, position, start_driver,
-                                 stamp, wait_until)
+from support.ros_harness import (START, Recorder, moving_span, position, start_driver, stamp,
+                                 wait_until)
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool
@@ -26,7 +26,7 @@ pytestmark = pytest.mark.ros
 
 @pytest.fixture(scope="module")
 def emulator():
-    emu = EmulatorProcess("zu5", command_port=free_port(), status_port=free_port()).start()
+    emu = EmulatorProcess("zu5").start()         # on free ports it picks and names
     yield emu
     emu.stop()
 
