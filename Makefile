@@ -4,6 +4,8 @@ ENV   := source devel/setup.bash &&
 MODEL ?= zu5
 BACKEND ?= sim
 PYTEST_ARGS ?=
+# make test's worker processes (pytest-xdist): chosen by measurement on a 2-core machine
+TEST_WORKERS ?= 3
 
 .PHONY: setup run test unit fuzz bench emulator clean
 
@@ -14,9 +16,10 @@ setup:
 run: setup
 	@$(ENV) roslaunch jaka_driver jaka_driver.launch backend:=$(BACKEND) model:=$(MODEL)
 
-## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node).
+## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node),
+## on TEST_WORKERS processes (a module's tests stay on one: test/conftest.py; 0 runs in this one).
 test: setup
-	@$(ENV) python -m pytest test $(PYTEST_ARGS)
+	@$(ENV) python -m pytest test -n $(TEST_WORKERS) --dist loadgroup $(PYTEST_ARGS)
 
 ## The unit layer only: no rosmaster, no subprocess, seconds.
 unit: setup
