@@ -351,6 +351,18 @@ def moving_span(recorder, after: float, until: float = float("inf"),
     return moved[0], moved[-1]
 
 
+def moving_cycles(recorder, after: float, until: float = float("inf"),
+                  speed: float = 1e-3) -> int:
+    """How many samples stamped in [``after``, ``until``] show a joint moving faster than
+    ``speed`` rad/s: on the twin, the 8 ms cycles a motion took. Where the stamps' span
+    (:func:`moving_span`) can only be longer than the motion (a twin that stalled for more than
+    STALL_CYCLES skips its stamps ahead), the count can only be shorter (a sample its publisher
+    had to drop is missing), so together they bound the motion from both sides."""
+    with recorder._lock:
+        return len({stamp(m) for _, m in recorder.samples
+                    if after <= stamp(m) <= until and np.max(np.abs(m.velocity)) > speed})
+
+
 def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:
     """Joint position once every joint is slower than ``speed`` rad/s (the end of a move's
     settling), so a later comparison sees only new motion."""
