@@ -73,7 +73,11 @@ def test_messages_carry_their_sample_time(sim_driver, rospy_node):
         received = np.array([t for t, _ in samples])
         age = received - stamps
         assert np.all(np.diff(stamps) >= 0), "stamps go backwards"
-        assert 0.0 <= np.median(age) < 0.02, f"median sample age {np.median(age) * 1000:.1f} ms"
+        # a sample's time is the end of one of the twin's 8 ms cycles: every stamp is on their
+        # grid, and none is received before it (how soon after is delivery: bench/ times it)
+        cycles = (stamps - stamps[0]) / 0.008
+        assert np.allclose(cycles, np.round(cycles), atol=1e-3), "a stamp off the cycles"
+        assert np.all(age >= -1e-3), f"received {-age.min() * 1000:.1f} ms before its stamp"
         msg = samples[-1][1]
         assert msg.name == [f"joint_{i}" for i in range(1, 7)]
         assert len(msg.velocity) == 6 and len(msg.effort) == 6
@@ -97,8 +101,13 @@ def test_a_lower_rate_publishes_some_samples_each_once(request, sim_driver, rosp
         t0 = time.time()
         time.sleep(3.0)
         got = rec.since(t0)
-        stamps = np.array([m.header.stamp.to_sec() for _, m in got])
-        assert np.all(np.diff(stamps) > 0), "a sample published twice"
+        published = np.array([m.header.stamp.to_sec() for _, m in got])
+        stamps, copies = np.unique(published, return_counts=True)
+        # each sample once: the latest is published again only when the twin gave none for
+        # STALL_PERIODS periods (5 × 20 ms, the topics kept alive through a stall)
+        assert np.all(np.diff(published) >= 0), "stamps go backwards"
+        assert np.all(copies[:-1] - 1 <= np.floor(np.diff(stamps) / (5 / 50) + 1e-9)), \
+            "a sample published twice"
         # the twin's 8 ms cycles, every 2nd or 3rd: 16 or 24 ms apart, 20 ms on average
         gaps_ms = np.round(np.diff(stamps) * 1000)
         assert all(g % 8 == 0 and g >= 16 for g in gaps_ms), sorted(set(gaps_ms))
