@@ -19,7 +19,7 @@ run: setup
 ## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node),
 ## on TEST_WORKERS processes (a module's tests stay on one: test/conftest.py; 0 runs in this one).
 test: setup
-	@$(ENV) python -m pytest test -n $(TEST_WORKERS) --dist loadgroup $(PYTEST_ARGS)
+	@$(ENV) python -m pytest test -n $(TEST_WORKERS) $(PYTEST_ARGS)
 
 ## The unit layer only: no rosmaster, no subprocess, seconds.
 unit: setup

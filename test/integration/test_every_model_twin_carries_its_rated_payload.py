@@ -22,7 +22,6 @@ from jaka_driver.common.transforms import (matrix_to_pose_mm, pose_mm_to_matrix,
 
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "jaka_chains" / "flange_poses.json"
 POSES = json.loads(FIXTURE.read_text())
-pytestmark = pytest.mark.independent     # a twin per test
 PAYLOAD_CENTROID_MM = (0.0, 0.0, 100.0)    # the rated payload 100 mm out on the flange axis
 TRACKING_RAD = 0.01          # largest lag of a joint behind its setpoint, at any cycle
 ARRIVED_RAD = 2e-3           # where a joint_move ends, against its target

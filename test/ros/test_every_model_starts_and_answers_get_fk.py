@@ -20,7 +20,7 @@ from support.ros_harness import LaunchProcess, Services, position
 from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.common.transforms import pose_mm_to_matrix, rotation_angle_between
 
-pytestmark = [pytest.mark.ros, pytest.mark.independent]   # a launch per test
+pytestmark = pytest.mark.ros
 
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "jaka_chains" / "flange_poses.json"
 POSES = json.loads(FIXTURE.read_text())

@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-pytestmark = [pytest.mark.ros, pytest.mark.independent]     # a launch per test
+pytestmark = pytest.mark.ros
 
 
 @pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test",
