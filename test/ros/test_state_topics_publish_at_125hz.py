@@ -103,11 +103,13 @@ def test_a_lower_rate_publishes_some_samples_each_once(request, sim_driver, rosp
         got = rec.since(t0)
         published = np.array([m.header.stamp.to_sec() for _, m in got])
         stamps, copies = np.unique(published, return_counts=True)
-        # each sample once: the latest is published again only when the twin gave none for
-        # STALL_PERIODS periods (5 × 20 ms, the topics kept alive through a stall)
-        assert np.all(np.diff(published) >= 0), "stamps go backwards"
-        assert np.all(copies[:-1] - 1 <= np.floor(np.diff(stamps) / (5 / 50) + 1e-9)), \
-            "a sample published twice"
+        # each sample once, in order: the latest is published again only when the twin gave
+        # none for STALL_PERIODS periods (5 × 20 ms of the node's wall clock: the topics kept
+        # alive through a stall, which a busy machine can cause; the twin then catches up on
+        # the cycles' nominal stamps, so the gap does not show in them): at most one repeat
+        # per 0.1 s of the window, never a sample from before the latest
+        assert np.all(np.diff(published) >= 0), "a sample published after a later one"
+        assert np.sum(copies - 1) <= 3.0 / (5 / 50), "samples published twice"
         # the twin's 8 ms cycles, every 2nd or 3rd: 16 or 24 ms apart, 20 ms on average
         gaps_ms = np.round(np.diff(stamps) * 1000)
         assert all(g % 8 == 0 and g >= 16 for g in gaps_ms), sorted(set(gaps_ms))
