@@ -17,6 +17,7 @@ import pytest
 
 from support.jaka_ros_node_model import JakaRosNode
 from support.jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
+from support.ros_harness import wait_until
 
 
 
@@ -28,9 +29,11 @@ def node(emu):
     ros.identity = ros.start_up()
     ros.start_polling()
     yield ros
+    # the state loop ran the whole module without anything that would abort the SDK: ten
+    # polls at least (eight a second, however long a busy machine makes them take)
+    assert wait_until(lambda: ros.polls > 10 or ros.failures, 30.0), ros.polls
     ros.stop_polling()
     sdk.close()
-    # the state loop ran the whole module without anything that would abort the SDK
     assert not ros.failures, ros.failures
     assert ros.polls > 10
 
