@@ -14,7 +14,7 @@ import pytest
 
 from support.fake_controller import backend, fake  # noqa: F401 - fixtures
 from support.fake_controller import (FakeController, load_status_packet, load_transcript,
-                                             start_backend)
+                                     start_backend)
 from support.move_helpers import run_move
 from support.ros_harness import wait_until
 

@@ -8,7 +8,7 @@ import pytest
 from rosgraph_msgs.msg import Clock
 
 from support.ros_harness import (START, Recorder, go_home, sample_at, sim_sleep,
-                                         start_sim_time_driver, stamp, wait_until)
+                                 start_sim_time_driver, stamp, wait_until)
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 
 from jaka_driver.common.models import load_model
