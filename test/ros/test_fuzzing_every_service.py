@@ -13,8 +13,10 @@ Properties, checked on every example:
     communication to fail in the twin) and every ``ret`` is one of the codes of
     docs/interface.md, "Result codes";
   * the measured joints never leave the model's limits (the whole joint_position stream);
-and over the whole fuzz the state topics keep ≥ 62 Hz in every 1 s window of their stamps (half
-their 125 Hz: MIN_RATE says why).
+and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window of their stamps, but
+for a second in which the machine itself stalled (a thread of this process that only sleeps was
+held ≥ 0.15 s: the twin, paced to the wall clock, skips its stamps ahead after a 0.2 s stall,
+which no publisher can make up; the topics' rate under load is bench's state_topics rows).
 
 Motions stay cheap: a valid move is small by construction (near the current joints / TCP);
 when random fields happen to make a valid move whose plan is longer than MAX_PLAN it is not
@@ -28,6 +30,7 @@ from __future__ import annotations
 import collections
 import math
 import os
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from concurrent.futures import TimeoutError as CallTimeout
@@ -63,11 +66,10 @@ MODEL = load_model("zu5")
 ANSWER = 3.0
 MAX_PLAN = 1.5          # s, longest valid move sent
 LIMIT_TOL = 5e-3        # rad, servo overshoot allowed at a joint limit
-#: messages per 1 s window of sample stamps, each state topic: a request that held the
-#: publisher for half a second would fail it. (125 Hz less what a busy machine costs: the twin's
-#: physics thread, stalled for more than 0.2 s, skips its stamps ahead — 71 in a second seen at
-#: load 15; the topics' rate under load is bench's state_topics rows.)
-MIN_RATE = 62
+MIN_RATE = 110          # messages per 1 s window of sample stamps, each state topic
+#: s a thread of this process that only sleeps 5 ms at a time must be held for the machine to
+#: count as stalled in a window (the floor of the same run: MachineStalls)
+MACHINE_STALL = 0.15
 HOME_RADIUS = 1.0       # rad: farther from START than this, the arm is brought home
 STILL_SPEED = 0.02      # rad/s: a joint faster than this is moving
 SETTLE = 0.05           # s a payload change is given to show that the arm cannot hold it
@@ -159,13 +161,52 @@ class StreamMonitor(Recorder):
         seconds = range(math.ceil(t0), math.floor(t1))
         return min(((self.bins.get(s, 0), s) for s in seconds), default=(None, None))
 
+    def windows(self, t0: float, t1: float):
+        """(second, messages stamped in it) for every whole second inside [t0, t1]."""
+        return [(s, self.bins.get(s, 0)) for s in range(math.ceil(t0), math.floor(t1))]
+
     def count(self, t0: float, t1: float, bins=None) -> int:
         bins = self.bins if bins is None else bins
         return sum(bins.get(s, 0) for s in range(math.ceil(t0), math.floor(t1)))
 
 
+class MachineStalls:
+    """The floor of this run: a thread that sleeps 5 ms at a time and records each time it was
+    held for MACHINE_STALL s or more (wall-clock spans), so a window the state topics missed
+    can be told apart from one in which the whole machine stood still."""
+
+    def __init__(self):
+        self.spans: list = []
+        self._quit = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True, name="machine-stalls")
+        self._thread.start()
+
+    def _run(self):
+        last = time.time()
+        while not self._quit.wait(0.005):
+            now = time.time()
+            if now - last >= MACHINE_STALL:
+                self.spans.append((last, now))
+            last = now
+
+    def within(self, second: int) -> bool:
+        """Did the machine stall within the wall-clock second starting at ``second``?"""
+        return any(a < second + 1 and b > second for a, b in self.spans)
+
+    def close(self):
+        self._quit.set()
+        self._thread.join(1.0)
+
+
 @pytest.fixture(scope="module")
-def monitors(sim_driver, rospy_node):
+def stalls():
+    watch = MachineStalls()
+    yield watch
+    watch.close()
+
+
+@pytest.fixture(scope="module")
+def monitors(sim_driver, rospy_node, stalls):
     mons = {"joint_position": StreamMonitor(sim_driver.name("joint_position"), JointState,
                                             joint_limits=True),
             "tool_position": StreamMonitor(sim_driver.name("tool_position"), TwistStamped),
@@ -659,7 +700,7 @@ def test_random_requests_keep_the_node_alive_answering_and_within_limits(
     restore(call)
 
 
-def test_state_topics_kept_publishing_through_the_fuzz(monitors):
+def test_state_topics_kept_110_hz_through_the_fuzz(monitors, stalls):
     if "end" not in WINDOW:
         pytest.skip("no fuzz ran")
     t0, t1 = WINDOW["start"], WINDOW["end"]
@@ -676,10 +717,15 @@ def test_state_topics_kept_publishing_through_the_fuzz(monitors):
         fewest, second = mon.worst_window(t0, t1)
         print(f"  {name}: fewest {fewest} in 1 s, mean "
               f"{mon.count(t0, t1) / (math.floor(t1) - math.ceil(t0)):.1f} Hz")
+    print(f"  the machine stalled {len(stalls.spans)} times (≥ {MACHINE_STALL} s): "
+          f"{[round(b - a, 2) for a, b in stalls.spans]}")
     for name in ("joint_position", "tool_position", "/joint_states"):
         fewest, second = monitors[name].worst_window(t0, t1)
-        assert fewest is not None and fewest >= MIN_RATE, \
-            f"{name}: {fewest} messages in the second {second - t0:.0f} s into the fuzz"
+        assert fewest is not None, f"{name}: no message"
+        short = [(n, s) for s, n in monitors[name].windows(t0, t1) if n < MIN_RATE]
+        missed = [(n, s) for n, s in short if not stalls.within(s)]
+        assert not missed, f"{name}: {missed[0][0]} messages in the second " \
+                           f"{missed[0][1] - t0:.0f} s into the fuzz, the machine not stalled"
     # robot_states has no stamp (its seconds are of receipt, which this busy process delays);
     # it is published in the same loop iteration as joint_position: as many messages means
     # the stamped topics' windows hold for it too
