@@ -24,6 +24,10 @@ MODEL = load_model("zu5")
 #: s a move's last samples may show a joint still moving (faster than 1e-3 rad/s) after its
 #: profile ends: the drives settle onto the goal
 SETTLING = 0.05
+#: s a move's first and last samples may lose between them: a joint under 1e-3 rad/s for a
+#: cycle at each end, and a sample at an edge that a busy publisher dropped (1.968 s seen for
+#: a 2 s move at load 5, 1.992 s on a quiet machine)
+EDGES = 0.05
 
 
 def move(call, pose, v=1.0, a=3.0, t=0.0):
@@ -49,10 +53,11 @@ def test_joint_move_blocks_until_within_1e3_rad_and_takes_the_predicted_time(cal
     cycles = moving_cycles(joints, asked) * SERVO_CYCLE
     # the arm moves for the profile's time: from its first cycle to the last of its settling
     # (the stamps' span bounds it from below, the cycles counted from above)
-    assert predicted - 2 * SERVO_CYCLE <= last - first, (last - first, predicted)
+    assert predicted - EDGES <= last - first, (last - first, predicted)
     assert cycles <= predicted + SETTLING, (cycles, predicted)
-    # the service returns once settled: never before the move, never at the driver's deadline
-    assert predicted - 2 * SERVO_CYCLE <= elapsed < move_deadline(predicted), (elapsed, predicted)
+    # the service returns once settled: never before the move (the twin, paced to the wall
+    # clock, catches up at most 0.2 s after a stall), never at the driver's deadline
+    assert predicted - 0.2 <= elapsed < move_deadline(predicted), (elapsed, predicted)
 
 
 def test_all_joints_start_and_stop_together(call, joints):
@@ -78,8 +83,7 @@ def test_mvtime_stretches_the_move(call, joints):
     assert reply.ret == 1, reply.message
     first, last = moving_span(joints, asked)
     cycles = moving_cycles(joints, asked) * SERVO_CYCLE
-    assert 2.0 - 2 * SERVO_CYCLE <= last - first and cycles <= 2.0 + SETTLING, \
-        (last - first, cycles)
+    assert 2.0 - EDGES <= last - first and cycles <= 2.0 + SETTLING, (last - first, cycles)
 
 
 def test_speed_above_the_limit_is_clamped_and_reported(call):
