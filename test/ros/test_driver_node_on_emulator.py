@@ -153,8 +153,10 @@ def test_the_joint_stream_topic_drives_the_controller(sim_driver, call, joints, 
     from std_msgs.msg import Float64MultiArray
     import rospy
     from jaka_msgs.srv import ServoMoveEnable
+    # a queue for the whole stream: rospy drops what a queue of 10 cannot hold while a busy
+    # machine holds its sending thread, and the arm then stops short of the last target
     pub = rospy.Publisher(sim_driver.name("joint_position_command"), Float64MultiArray,
-                          queue_size=10)
+                          queue_size=200)
     assert wait_until(lambda: pub.get_num_connections() > 0, 5.0)
     assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
     try:
