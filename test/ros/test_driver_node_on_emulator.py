@@ -36,8 +36,12 @@ def sim_driver(request, rospy_node, emulator):
     """Overrides conftest's twin-backed node for this module, so conftest's ``call`` and
     ``joints`` fixtures talk to the controller-backed node (the same override runs any
     integration module on the emulator)."""
+    # servo_timeout 0.5 s (0.1 by default): the joint stream below comes from this process at
+    # 125 Hz, and on a loaded machine its messages can pause past 0.1 s; the stream then counts
+    # as stopped and the next target is checked against the lagging arm, not the last target
     return start_driver(request, backend="controller", model="zu5", ip="127.0.0.1",
-                        command_port=emulator.command_port, status_port=emulator.status_port)
+                        command_port=emulator.command_port, status_port=emulator.status_port,
+                        servo_timeout=0.5)
 
 
 def test_joint_move_through_ros_reaches_the_target(call, joints):
@@ -136,9 +140,12 @@ def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, joint
         first, last = moving_span(joints, asked)
         half = last - first
         # each move as the controller's packets show it (the emulator is another process):
-        # from the first to the last packet in which the arm moves, each end blurred by up to
-        # two 30 ms packets and their arrival, ~0.1 s of a 1.1 s move
-        assert 1.7 <= half / full <= 2.3, (full, half)
+        # from the first to the last packet in which the arm moves, stamped on arrival at the
+        # node: each end blurred by a 30 ms packet or two and a busy machine's delivery (2.36
+        # seen at load 4). The exact doubling is the emulator's own plan, checked in-process by
+        # test_speed_ratio_scales_moves_on_both_backends; here a ratio that did not reach the
+        # controller would read 1
+        assert 1.6 <= half / full <= 2.5, (full, half)
         refused = call("set_speed_ratio", SetSpeedRatio, ratio=1.5)
         assert refused.ret == -2 and "ratio is 1.5" in refused.message, refused
     finally:
