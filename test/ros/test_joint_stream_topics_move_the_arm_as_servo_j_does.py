@@ -19,10 +19,8 @@ pytestmark = pytest.mark.ros
 
 CYCLE = 0.008
 NAMES = ["joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6"]
-#: wall time a published message is given to reach the node before the paused twin steps (no
-#: sim time passes meanwhile): a topic message's way from this process to the node, which took
-#: more than 50 ms on a loaded machine (the node tells no receipt of an accepted message)
-ARRIVAL = 0.2
+#: wall time a published message is given to reach the node before the paused twin steps
+ARRIVAL = 0.05
 
 
 @pytest.fixture(scope="module")
