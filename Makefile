@@ -4,8 +4,9 @@ ENV   := source devel/setup.bash &&
 MODEL ?= zu5
 BACKEND ?= sim
 PYTEST_ARGS ?=
-# make test's worker processes (pytest-xdist): chosen by measurement on a 2-core machine
-TEST_WORKERS ?= 3
+# make test's worker processes (pytest-xdist), measured on 2 cores: 2 workers 358 s, 3 314-383 s
+# (other sessions loading the machine), 4 223 s; the tests mostly wait on real-time motion
+TEST_WORKERS ?= 4
 
 .PHONY: setup run test unit fuzz bench emulator clean
 
