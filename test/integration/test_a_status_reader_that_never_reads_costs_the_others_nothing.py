@@ -79,7 +79,9 @@ def test_a_reader_that_never_reads_is_skipped_then_dropped_and_delays_no_one():
             assert measured.skipped == 0, "the reading subscriber missed a packet"
             gaps = reader.gaps(t0)
             window = time.monotonic() - t0
-            assert len(gaps) >= 0.8 * window / PERIOD, (len(gaps), window)
+            # packets the reader got: never skipped (above); the broadcaster, woken a period
+            # late on a busy machine, resynchronises instead of bursting: half at least
+            assert len(gaps) >= 0.5 * window / PERIOD, (len(gaps), window)
             assert max(gaps) < 0.2, f"a {max(gaps) * 1000:.0f} ms gap for the reading subscriber"
             assert 1.4 < t_dropped - t0 < 3.5
             stuck.settimeout(2.0)

@@ -15,7 +15,7 @@ Properties, checked on every example:
   * the measured joints never leave the model's limits (the whole joint_position stream);
 and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window of their stamps, but
 for a second in which the machine held the node: a thread of this process that only sleeps was
-held ≥ 0.15 s, or the twin reported a skip (its physics thread, held past 0.2 s, skips its
+held ≥ 0.1 s, or the twin reported a skip (its physics thread, held past 0.2 s, skips its
 stamps ahead, which no publisher can make up). The topics' rate under load is bench's.
 
 Motions stay cheap: a valid move is small by construction (near the current joints / TCP);
@@ -69,7 +69,7 @@ LIMIT_TOL = 5e-3        # rad, servo overshoot allowed at a joint limit
 MIN_RATE = 110          # messages per 1 s window of sample stamps, each state topic
 #: s a thread of this process that only sleeps 5 ms at a time must be held for the machine to
 #: count as stalled in a window (the floor of the same run: MachineStalls)
-MACHINE_STALL = 0.15
+MACHINE_STALL = 0.1
 HOME_RADIUS = 1.0       # rad: farther from START than this, the arm is brought home
 STILL_SPEED = 0.02      # rad/s: a joint faster than this is moving
 SETTLE = 0.05           # s a payload change is given to show that the arm cannot hold it
