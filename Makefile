@@ -4,6 +4,10 @@ ENV   := source devel/setup.bash &&
 MODEL ?= zu5
 BACKEND ?= sim
 PYTEST_ARGS ?=
+# make test's worker processes (pytest-xdist), measured on 2 cores shared with other sessions:
+# 2 workers 358 s (load 2), 3 314-383 s (load 5-7), 4 223 s (load 3.5-5) but 376 s with 13
+# timing failures at load 11; the tests mostly wait on real-time motion, and 3 failed least
+TEST_WORKERS ?= 3
 
 .PHONY: setup run test unit fuzz bench emulator clean
 
@@ -14,9 +18,10 @@ setup:
 run: setup
 	@$(ENV) roslaunch jaka_driver jaka_driver.launch backend:=$(BACKEND) model:=$(MODEL)
 
-## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node).
+## The whole suite: test/unit, test/integration (MuJoCo, TCP, no ROS), test/ros (rosmaster, node),
+## on TEST_WORKERS processes (a module's tests stay on one: test/conftest.py; 0 runs in this one).
 test: setup
-	@$(ENV) python -m pytest test $(PYTEST_ARGS)
+	@$(ENV) python -m pytest test -n $(TEST_WORKERS) $(PYTEST_ARGS)
 
 ## The unit layer only: no rosmaster, no subprocess, seconds.
 unit: setup

@@ -110,7 +110,7 @@ def main(argv=None) -> int:
     parser.add_argument("--node", help="another checkout's scripts/jaka_driver_node")
     parser.add_argument("--top", type=int, default=12)
     args = parser.parse_args(argv)
-    import ros_harness
+    from support import ros_harness
     if args.node:
         ros_harness.NODE = Path(args.node)
     from .state_topics import TOPICS

@@ -1,4 +1,4 @@
-"""The ROS side of the benchmarks, on the test harness (``test/ros_harness.py``): a private
+"""The ROS side of the benchmarks, on the test harness (``test/support/ros_harness.py``): a private
 rosmaster on a free port, this process as a rospy node, and the driver node as a subprocess.
 
 Everything started here is registered on a :class:`contextlib.ExitStack`, so it is stopped
@@ -15,8 +15,8 @@ if str(ROOT / "test") not in sys.path:
     sys.path.insert(0, str(ROOT / "test"))
 
 
-from ros_harness import (DriverProcess, Recorder, RosMaster, Services,  # noqa: E402,F401
-                         forget_sim_time, stop_process, wait_until)
+from support.ros_harness import (DriverProcess, Recorder, RosMaster, Services,  # noqa: E402,F401
+                                 forget_sim_time, stop_process, wait_until)
 
 
 def start_ros(stack: ExitStack) -> RosMaster:

@@ -14,11 +14,11 @@ import threading
 import numpy as np
 import pytest
 
-from fake_controller import backend, fake  # noqa: F401 - fixtures
-from fake_controller import (RECORDED_PACKET, FakeController, load_status_packet, load_transcript,
-                             start_backend)
-from move_helpers import run_move
-from ros_harness import wait_until
+from support.fake_controller import backend, fake  # noqa: F401 - fixtures
+from support.fake_controller import (RECORDED_PACKET, FakeController, load_status_packet,
+                                     load_transcript, start_backend)
+from support.move_helpers import run_move
+from support.ros_harness import wait_until
 
 from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import pose_to_matrix, rpy_to_matrix

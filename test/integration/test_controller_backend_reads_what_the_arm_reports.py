@@ -1,5 +1,5 @@
-"""The controller backend against the scripted fake controller (test/fake_controller.py, which
-answers from the fixtures in test/data/, not the emulator): frames defined on the teach pendant
+"""The controller backend against the scripted fake controller (test/support/fake_controller.py,
+which answers from the fixtures in test/data/, not the emulator): frames defined on the teach pendant
 are read back by id (at connection, and when the pendant activates another one); the arm's
 kinematic parameters (get_dh_param) and identity strings are read at connection, compared with
 the model's own chain and shown in describe(), with a warning when they are another arm's;
@@ -16,10 +16,11 @@ import math
 import numpy as np
 import pytest
 
-from fake_controller import backend, fake  # noqa: F401 - fixtures
-from fake_controller import FakeController, load_status_packet, load_transcript, start_backend
-from move_helpers import run_move
-from ros_harness import wait_until
+from support.fake_controller import backend, fake  # noqa: F401 - fixtures
+from support.fake_controller import (FakeController, load_status_packet, load_transcript,
+                                     start_backend)
+from support.move_helpers import run_move
+from support.ros_harness import wait_until
 
 from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import pose_mm_rpy_to_matrix, pose_to_matrix

@@ -12,7 +12,7 @@ import logging
 import numpy as np
 import pytest
 
-from move_helpers import run_move
+from support.move_helpers import run_move
 
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import Code

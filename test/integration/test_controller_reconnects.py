@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import free_port, wait_until
+from support.ros_harness import free_port, wait_until
 
 from jaka_driver.backend.robot_state import MotionState
 from jaka_driver.common.models import load_model
@@ -19,7 +19,7 @@ from jaka_driver.common.results import Code
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.process import EmulatorProcess
-from move_helpers import run_move
+from support.move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 FAR = HOME + np.array([1.2, 0, 0, 0, 0, 0])   # ~4 s at 0.3 rad/s: long enough to interrupt

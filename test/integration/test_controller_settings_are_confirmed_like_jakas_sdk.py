@@ -1,5 +1,5 @@
-"""The controller backend against the scripted fake controller (test/fake_controller.py, which
-answers from the fixtures in test/data/, not the emulator): a setting is believed only once the
+"""The controller backend against the scripted fake controller (test/support/fake_controller.py,
+which answers from the fixtures in test/data/, not the emulator): a setting is believed only once the
 controller reports it, as JAKA's SDK reads it back — drag mode through torque_control_enable and
 get_drag_status, servo mode through is_in_servomove (fw 1.5.14 acknowledges servo_move while
 moves are queued and stays out of it), the active tool and user frame through get_curr_*_id, an
@@ -13,8 +13,8 @@ import threading
 import numpy as np
 import pytest
 
-from fake_controller import backend, fake  # noqa: F401 - fixtures
-from ros_harness import wait_until
+from support.fake_controller import backend, fake  # noqa: F401 - fixtures
+from support.ros_harness import wait_until
 
 from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import pose_to_matrix

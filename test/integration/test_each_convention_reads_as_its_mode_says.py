@@ -19,7 +19,7 @@ from jaka_driver.driver import RobotDriver
 from jaka_driver.ros import messages
 from jaka_driver.sim import SimBackend
 
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 Q_START = [-1.2, 1.57, -1.57, 1.57, 1.57, 0.0]   # rad
 #: the issue's example: what a program written for JAKA's node sends (RPY, rad)

@@ -20,8 +20,8 @@ import zlib
 
 import pytest
 
-from fake_controller import RECORDED_PACKET, load_status_packet, load_transcript
-from raw_client import RawClient
+from support.fake_controller import RECORDED_PACKET, load_status_packet, load_transcript
+from support.raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import PROFILES
@@ -44,10 +44,8 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
              "tio_dout": ("digital", 1, 1), "tio_ain": ("analog", 1, 0)}
 
 
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14") as emulator:
-        yield emulator
+# the recorded Zu 5s (fw 1.5.14), whose answers the transcripts hold
+EMULATOR = dict(profile="zu5s-1.5.14")
 
 
 def controller_text(value) -> str:

@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from raw_client import RawClient
+from support.raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE

@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from raw_client import call_once
+from support.raw_client import call_once
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import (ALIASES, DEFAULT_PROFILE, PROFILES, START_WORDS,
@@ -69,8 +69,12 @@ def test_each_profile_starts_pushes_and_answers_as_it_says(name):
         packet = call_once(emu.command_port, "get_data")
         assert len(packet["din"]) == profile.io_sizes[("digital", 0, 0)]
         assert len(packet["ain"]) == profile.io_sizes[("analog", 0, 0)]
+        assert emu.period == profile.period
+        # Never faster than the period; a broadcaster woken later than a whole period
+        # resynchronises instead of bursting, so a busy machine costs packets: the lower bound
+        # allows it half of them, still far from the other profiles' periods (8 and 30 ms)
         rate = _packets_per_second(emu.status_port)
-        assert 0.75 / profile.period < rate < 1.15 / profile.period, (name, rate)
+        assert 0.5 / profile.period < rate < 1.15 / profile.period, (name, rate)
 
 
 def test_start_and_period_override_the_profile():

@@ -10,9 +10,10 @@ import time
 import numpy as np
 import pytest
 
-from raw_client import RawClient
+from support.emulated_arm import emulator
+from support.raw_client import RawClient
+from support.threads import run_all
 
-from jaka_driver.emulator import Emulator
 
 HOME_DEG = [0.0, 90.0, -90.0, 90.0, 90.0, 0.0]
 REQUIRED_STATUS_FIELDS = (
@@ -45,13 +46,9 @@ def read_status(port: int, seconds: float) -> list[tuple[dict, int]]:
     return packets
 
 
-@pytest.fixture(scope="module")
-def emu():
-    # the recorded Zu 5s (fw 1.5.14: its version, its 30 ms, its recorded answers), found
-    # powered on and enabled
-    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14",
-                  start="enabled") as emulator:
-        yield emulator
+# the recorded Zu 5s (fw 1.5.14: its version, its 30 ms, its recorded answers), found powered
+# on and enabled
+EMULATOR = dict(profile="zu5s-1.5.14", start="enabled")
 
 
 @pytest.fixture
@@ -132,18 +129,17 @@ def test_several_clients_at_once(emu):
         finally:
             c.close()
 
-    threads = [threading.Thread(target=work, args=(k,)) for k in range(5)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(10)
+    run_all([threading.Thread(target=work, args=(k,), name=f"client {k}") for k in range(5)], 10.0)
     assert not errors
 
 
 def test_status_stream_at_the_profiles_period_with_the_fields(emu):
     assert emu.period == 0.030       # the recorded Zu 5s: about 30 ms per packet
     packets = read_status(emu.status_port, 1.0)
-    assert 25 <= len(packets) <= 36, len(packets)
+    # Never faster than the period (33 a second, one more at each edge of the window). A
+    # broadcaster woken later than a whole period resynchronises instead of bursting, so a
+    # machine that late costs packets: the lower bound allows it half of them.
+    assert 0.5 / emu.period <= len(packets) <= 1 / emu.period + 2, len(packets)
     for packet, size in packets[:5]:
         assert set(REQUIRED_STATUS_FIELDS) <= set(packet)
         assert packet["len"] == size                    # len is the packet's own byte count
@@ -158,10 +154,9 @@ def test_status_stream_at_the_profiles_period_with_the_fields(emu):
 def test_moves_are_acknowledged_at_once_queued_and_inpos_follows_the_queue(emu, client):
     target = HOME_DEG.copy()
     target[0] += 10.0
-    t0 = time.monotonic()
     reply = client.call("joint_move", jointPosition=target, speed=60.0, accel=300.0, relFlag=0)
-    replied = time.monotonic() - t0
-    assert reply["errorCode"] == "0" and replied < 0.1
+    # acknowledged at once: the answer did not wait for the move (0.37 s), which still runs
+    assert reply["errorCode"] == "0" and not emu.controller.inpos
     # a second move while the first runs is queued, not refused (as a real controller does)
     queued = client.call("joint_move", jointPosition=HOME_DEG, speed=60.0, accel=300.0,
                          relFlag=0)
@@ -297,8 +292,7 @@ def test_io_types_3_to_6_show_in_their_status_arrays():
     """On a controller whose packet carries the relay and fieldbus arrays (the default profile;
     the packet recorded on fw 1.5.14 has none of them)."""
     arrays = {3: "relay_io", 4: "mb_slave_dout", 5: "pn_dev_dout", 6: "eip_adpt_dout"}
-    with Emulator("zu5", command_port=0, status_port=0) as emulator, \
-            RawClient(emulator.command_port) as client:
+    with emulator() as arm, RawClient(arm.command_port) as client:
         for io_type, key in arrays.items():
             assert client.call("set_digital_output", type=io_type, index=2,
                                value=1)["errorCode"] == "0"

@@ -12,8 +12,8 @@ import time
 import numpy as np
 import pytest
 
-from emulated_arm import driver_on_emulator
-from ros_harness import wait_until
+from support.emulated_arm import driver_on_emulator
+from support.ros_harness import wait_until
 
 from jaka_driver.conventions import JAKA_CODE
 

@@ -7,7 +7,7 @@ each service of JAKA's node makes (its node's code) and the request that SDK cal
 ``tol`` on every move, ``ori_vel``/``ori_acc`` on moveL, ``stepNum`` on servo commands, IO
 index + 1, a setting read back by its get, one ``emergency_stop_status`` inside every move and
 jog). This driver's side is what RobotDriver on the
-controller backend really sends to the scripted fake controller (test/fake_controller.py).
+controller backend really sends to the scripted fake controller (test/support/fake_controller.py).
 
 They are compared by command name, keys and values (poses as positions and rotations, since
 RPY has more than one spelling of a rotation). The only differences allowed are the named
@@ -29,8 +29,8 @@ from typing import Callable, Dict, List, Sequence
 import numpy as np
 import pytest
 
-from ros_harness import wait_until
-from fake_controller import FakeController, start_backend
+from support.ros_harness import wait_until
+from support.fake_controller import FakeController, start_backend
 
 from jaka_driver.common.transforms import matrix_to_pose, pose_to_matrix, rpy_to_matrix
 from jaka_driver.conventions import JAKA_CODE

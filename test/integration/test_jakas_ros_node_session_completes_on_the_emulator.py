@@ -1,7 +1,7 @@
-"""JAKA's official ROS 1 node, as its code calls JAKA's SDK (test/jaka_sdk_model.py: the SDK's
-requests and its strict reading of replies, from the measured evidence), runs its whole session
-against the emulator in its default profile (the controller JAKA's SDK is written for; found
-powered off, so the node's own power-on runs): start-up
+"""JAKA's official ROS 1 node, as its code calls JAKA's SDK (test/support/jaka_sdk_model.py: the
+SDK's requests and its strict reading of replies, from the measured evidence), runs its whole
+session against the emulator in its default profile (the controller JAKA's SDK is written for;
+found powered off, so the node's own power-on runs): start-up
 (login, status over port 10004, power, enable, the servo filter), its state loop polling
 get_program_state and the status about 8 times a second the whole time, and one call of every
 service. Nothing would abort the SDK (a number for programState killed the real node 5.5 s
@@ -16,16 +16,12 @@ import time
 import numpy as np
 import pytest
 
-from jaka_ros_node_model import JakaRosNode
-from jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
+from support.jaka_ros_node_model import JakaRosNode
+from support.jaka_sdk_model import RC_OK, RC_TIMEOUT, JakaSdk
+from support.ros_harness import wait_until
 
-from jaka_driver.emulator import Emulator
-
-
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0, start="off") as emulator:
-        yield emulator
+# found powered off, so the node's own power-on runs
+EMULATOR = dict(start="off")
 
 
 @pytest.fixture(scope="module")
@@ -36,9 +32,11 @@ def node(emu):
     ros.identity = ros.start_up()
     ros.start_polling()
     yield ros
+    # the state loop ran the whole module without anything that would abort the SDK: ten
+    # polls at least (eight a second, however long a busy machine makes them take)
+    assert wait_until(lambda: ros.polls > 10 or ros.failures, 30.0), ros.polls
     ros.stop_polling()
     sdk.close()
-    # the state loop ran the whole module without anything that would abort the SDK
     assert not ros.failures, ros.failures
     assert ros.polls > 10
 

@@ -14,8 +14,8 @@ import json
 import numpy as np
 import pytest
 
-from jaka_sdk_model import ABS, ASKS_ESTOP, CONTINUE, COORD_JOINT, RC_FAILED, RC_OK, JakaSdk
-from ros_harness import wait_until
+from support.jaka_sdk_model import ABS, ASKS_ESTOP, CONTINUE, COORD_JOINT, RC_FAILED, RC_OK, JakaSdk
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator.process import EmulatorProcess
 

@@ -1,5 +1,5 @@
-"""JAKA's SDK's own calls (test/jaka_sdk_model.py: its requests and its strict reading, from the
-measured evidence) against the emulator in its default profile (the controller the SDK is
+"""JAKA's SDK's own calls (test/support/jaka_sdk_model.py: its requests and its strict reading,
+from the measured evidence) against the emulator in its default profile (the controller the SDK is
 written for): get_robot_status parses every field right (the IO
 count in element 0, monitor_data, instVel, torqsensor, the errcode rules); frames come back by
 id; every setting the SDK waits on reads back within its 1 s (also on another connection);
@@ -15,18 +15,15 @@ import time
 import numpy as np
 import pytest
 
-from jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, JakaSdk
-from ros_harness import wait_until
+from support.jaka_sdk_model import ABS, RC_BAD_ARGUMENT, RC_FAILED, RC_OK, RC_TIMEOUT, JakaSdk
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.kinematics import Kinematics
 from jaka_driver.kinematics.controller_dh import DHParameters, dh_of_model, flange_pose
 
 
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
-        yield emulator
+EMULATOR = dict(start="enabled")
 
 
 @pytest.fixture

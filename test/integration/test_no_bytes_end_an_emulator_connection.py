@@ -12,10 +12,9 @@ import time
 
 import pytest
 
-from raw_client import RawClient
-from ros_harness import wait_until
+from support.raw_client import RawClient
+from support.ros_harness import wait_until
 
-from jaka_driver.emulator import Emulator
 
 VALID = b'{"cmdName":"get_program_state"}'
 
@@ -54,10 +53,7 @@ class Connection(RawClient):
         return reply["errorCode"] == "0" and reply["programState"] == "idle"
 
 
-@pytest.fixture(scope="module")
-def emu():
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled") as emulator:
-        yield emulator
+EMULATOR = dict(start="enabled")
 
 
 @pytest.fixture(params=["command", "data"])

@@ -13,7 +13,9 @@ from jaka_driver.protocol import (CommandClient, ConnectFailed, ConnectionLost, 
                                   StatusReceiver, TimeoutError, commands, encode_status)
 from jaka_driver.protocol.errors import JakaProtocolError
 from jaka_driver.protocol.wire import encode_json
-from scripted_server import ScriptedServer, requests_of
+from support.ros_harness import free_port
+from support.scripted_server import ScriptedServer, requests_of
+from support.threads import run_all
 
 
 def reply_to(request, code="0", msg="", **fields):
@@ -81,13 +83,6 @@ def no_leaked_threads():
     while time.monotonic() < deadline and set(threading.enumerate()) - before:
         time.sleep(0.01)
     assert not set(threading.enumerate()) - before
-
-
-def free_port():
-    """A port with nobody listening on it."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 # ---- CommandClient -------------------------------------------------------------------------
@@ -197,11 +192,8 @@ def test_concurrent_calls_each_get_their_own_reply(client):
                 assert pose[:2] == pytest.approx([k, i])
         except Exception as exc:  # noqa: BLE001 - reported below
             errors.append(exc)
-    threads = [threading.Thread(target=worker, args=(k,)) for k in range(4)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(5)
+    run_all([threading.Thread(target=worker, args=(k,), name=f"caller {k}") for k in range(4)],
+            5.0)
     assert errors == []
 
 

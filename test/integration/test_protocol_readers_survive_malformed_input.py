@@ -16,8 +16,8 @@ from jaka_driver.protocol import (CommandClient, ProtocolError, StatusPoller, St
                                   commands, encode_status)
 from jaka_driver.protocol.command_client import MAX_REPLY_BYTES
 from jaka_driver.protocol.errors import MalformedInput
-from malformed_inputs import DEEP, STATUS_KEYS_READ
-from scripted_server import ScriptedServer, requests_of
+from support.malformed_inputs import DEEP, STATUS_KEYS_READ
+from support.scripted_server import ScriptedServer, requests_of
 
 OK_VERSION = b'{"errorCode": "0", "errorMsg": "", "cmdName": "get_version", "version": "1.5.14"}'
 

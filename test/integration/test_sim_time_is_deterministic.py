@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 from jaka_driver.backend.clock import SimClock
 from jaka_driver.common.constants import SERVO_CYCLE as CYCLE

@@ -13,7 +13,7 @@ import pytest
 from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.sim.snapshot import BACKGROUND, TwinCamera, write_png
 from jaka_driver.sim.twin_model import build_twin_model
-from pictures import arm_pixels, read_png
+from support.pictures import arm_pixels, read_png
 
 ROOT = Path(__file__).resolve().parents[2]
 HOME = [0.0, 1.5708, -1.5708, 1.5708, 1.5708, 0.0]

@@ -17,7 +17,7 @@ import pytest
 from jaka_driver.common.models import load_model
 from jaka_driver.sim import SimBackend
 from jaka_driver.sim.overload import FOLLOWING_ERROR_LIMIT, holding_torque
-from move_helpers import run_move
+from support.move_helpers import run_move
 
 
 @pytest.fixture

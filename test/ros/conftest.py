@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from ros_harness import Recorder, RosMaster, Services, start_driver
+from support.ros_harness import Recorder, RosMaster, Services, start_driver
 
 
 @pytest.fixture(scope="session")

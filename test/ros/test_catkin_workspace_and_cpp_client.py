@@ -24,7 +24,7 @@ import math
 import numpy as np
 import pytest
 
-from ros_harness import ROOT, stop_process, wait_until
+from support.ros_harness import ROOT, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from ros_harness import DriverProcess, start_driver, wait_until
+from support.ros_harness import DriverProcess, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 

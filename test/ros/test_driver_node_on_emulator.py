@@ -11,7 +11,8 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import START, Recorder, free_port, position, start_driver, wait_until
+from support.ros_harness import (START, Recorder, moving_span, position, start_driver, stamp,
+                                 wait_until)
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool
@@ -26,8 +27,7 @@ PROFILE = "zu5s-1.5.14"
 
 @pytest.fixture(scope="module")
 def emulator():
-    emu = EmulatorProcess("zu5", command_port=free_port(), status_port=free_port(),
-                          profile=PROFILE).start()
+    emu = EmulatorProcess("zu5", profile=PROFILE).start()   # on free ports it picks and names
     yield emu
     emu.stop()
 
@@ -37,8 +37,12 @@ def sim_driver(request, rospy_node, emulator):
     """Overrides conftest's twin-backed node for this module, so conftest's ``call`` and
     ``joints`` fixtures talk to the controller-backed node (the same override runs any
     integration module on the emulator)."""
+    # servo_timeout 0.5 s (0.1 by default): the joint stream below comes from this process at
+    # 125 Hz, and on a loaded machine its messages can pause past 0.1 s; the stream then counts
+    # as stopped and the next target is checked against the lagging arm, not the last target
     return start_driver(request, backend="controller", model="zu5", ip="127.0.0.1",
-                        command_port=emulator.command_port, status_port=emulator.status_port)
+                        command_port=emulator.command_port, status_port=emulator.status_port,
+                        servo_timeout=0.5)
 
 
 def test_joint_move_through_ros_reaches_the_target(call, joints):
@@ -52,12 +56,21 @@ def test_joint_move_through_ros_reaches_the_target(call, joints):
     assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
 
 
+#: s without a packet after which the node publishes the latest state again (its ~rate is
+#: 125 Hz: STALL_PERIODS = 5 periods of 8 ms, jaka_driver.ros.node)
+STALL_WINDOW = 5 * 0.008
+
+
 def emulator_period() -> float:
     """s between two status packets of the emulator's profile."""
     return profile_named(PROFILE).period
 
 
 def test_robot_states_come_from_the_controller(sim_driver, joints):
+    """One message per packet. A message is stamped with its packet's arrival; the node
+    publishes the latest state again only when no packet came for STALL_PERIODS of its own
+    periods (5 × 8 ms: the topics stay alive through a stall and say so), so a stamp repeats
+    only after such a gap — on a busy machine a packet can come that late."""
     states = Recorder(sim_driver.name("robot_states"), RobotMsg)
     try:
         msg = wait_until(states.latest, 3.0)
@@ -65,11 +78,16 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         assert (msg.power_state, msg.motion_state) == (1, 0)
         t0 = time.time()
         time.sleep(2.0)
-        got = joints.since(t0)
-        stamps = [m.header.stamp.to_sec() for _, m in got]
-        assert len(set(stamps)) == len(stamps), "a packet published twice"
-        # one message per packet: the recorded Zu 5s pushes every 30 ms
-        rate = len(got) / (got[-1][0] - got[0][0])
+        stamps = np.array([stamp(m) for _, m in joints.since(t0)])
+        packets, copies = np.unique(stamps, return_counts=True)
+        assert np.all(np.diff(stamps) >= 0), "stamps go backwards"
+        gaps = np.diff(packets)
+        again = copies[:-1] - 1                        # repeats before the next packet came
+        assert np.all(again <= np.floor(gaps / STALL_WINDOW + 1e-9)), \
+            [(g, n) for g, n in zip(gaps, again) if n > np.floor(g / STALL_WINDOW + 1e-9)]
+        # one message per packet: the recorded Zu 5s pushes every 30 ms (the arrival stamps'
+        # own jitter is the measurement's resolution)
+        rate = (len(packets) - 1) / (packets[-1] - packets[0])
         assert 1 / (emulator_period() * 1.3) < rate < 1 / (emulator_period() * 0.8), \
             f"joint_position at {rate:.1f} Hz"
     finally:
@@ -101,7 +119,7 @@ def test_the_twin_s_services_are_offered_only_by_a_twin(sim_driver, call):
         assert reply.ret == -9 and "not a twin" in reply.message, reply
 
 
-def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, emulator):
+def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, joints, emulator):
     """set_speed_ratio through ROS is rapid_rate on the wire, read back with get_rapid_rate
     (the controller backend's set answers only then); ~speed_ratio shows it; a joint_move
     then takes twice as long; a ratio outside (0, 1] is refused."""
@@ -110,18 +128,25 @@ def test_the_speed_ratio_goes_to_the_controller_and_back(sim_driver, call, emula
     ratio = Recorder(sim_driver.name("speed_ratio"), Float64)
     target = [0.4, 1.3, -1.2, 1.7, 1.4, 0.5]
     try:
-        t0 = time.monotonic()
+        asked = time.time()
         assert call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0).ret == 1
-        full = time.monotonic() - t0
+        first, last = moving_span(joints, asked)
+        full = last - first
         assert call("joint_move", Move, pose=START, mvvelo=1.0, mvacc=3.0).ret == 1
         reply = call("set_speed_ratio", SetSpeedRatio, ratio=0.5)
         assert reply.ret == 1, reply.message
         assert wait_until(lambda: ratio.latest() is not None and ratio.latest().data == 0.5, 3.0)
-        t0 = time.monotonic()
+        asked = time.time()
         assert call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0).ret == 1
-        half = time.monotonic() - t0
-        # wall-clock round trips and the 30 ms status packets blur a move's end by ~0.1 s
-        assert 1.7 <= half / full <= 2.3, (full, half)
+        first, last = moving_span(joints, asked)
+        half = last - first
+        # each move as the controller's packets show it (the emulator is another process):
+        # from the first to the last packet in which the arm moves, stamped on arrival at the
+        # node: each end blurred by a 30 ms packet or two and a busy machine's delivery (2.36
+        # seen at load 4). The exact doubling is the emulator's own plan, checked in-process by
+        # test_speed_ratio_scales_moves_on_both_backends; here a ratio that did not reach the
+        # controller would read 1
+        assert 1.6 <= half / full <= 2.5, (full, half)
         refused = call("set_speed_ratio", SetSpeedRatio, ratio=1.5)
         assert refused.ret == -2 and "ratio is 1.5" in refused.message, refused
     finally:
@@ -136,8 +161,10 @@ def test_the_joint_stream_topic_drives_the_controller(sim_driver, call, joints, 
     from std_msgs.msg import Float64MultiArray
     import rospy
     from jaka_msgs.srv import ServoMoveEnable
+    # a queue for the whole stream: rospy drops what a queue of 10 cannot hold while a busy
+    # machine holds its sending thread, and the arm then stops short of the last target
     pub = rospy.Publisher(sim_driver.name("joint_position_command"), Float64MultiArray,
-                          queue_size=10)
+                          queue_size=200)
     assert wait_until(lambda: pub.get_num_connections() > 0, 5.0)
     assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
     try:

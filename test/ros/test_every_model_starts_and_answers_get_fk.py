@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ros_harness import LaunchProcess, Services, position
+from support.ros_harness import LaunchProcess, Services, position
 
 from jaka_driver.common.models import MODEL_NAMES, load_model
 from jaka_driver.common.transforms import pose_mm_to_matrix, rotation_angle_between
@@ -40,7 +40,7 @@ def launched(request, rospy_node):
 def test_launch_starts_the_model_answers_get_fk_and_moves(launched):
     from jaka_msgs.srv import GetFK, Move
     from sensor_msgs.msg import JointState
-    from ros_harness import Recorder
+    from support.ros_harness import Recorder
     name, launch, call = launched
     for rec in POSES[name]:
         reply = call("get_fk", GetFK, joint=rec["q"])

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty, SetBool
 
-from ros_harness import START, at_rest, go_home, wait_until
+from support.ros_harness import START, at_rest, go_home, wait_until
 from jaka_msgs.srv import (ClearErr, GetFK, GetIK, GetIO, Move, ServoMove, ServoMoveEnable,
                            SetCollision, SetIO, SetPayload, SetTcpFrame, SetUserFrame)
 

@@ -7,13 +7,16 @@ mode, drag mode, unpowered, disabled, e-stopped, protective stop).
 
 Properties, checked on every example:
   * the node stays alive (its process still runs);
-  * every call answers within 1 s — a blocking move within its planned duration + 1 s (the
-    plan is recomputed here from the request, as the twin plans it);
+  * every call answers within 3 s — a blocking move within its planned duration + 3 s (the
+    plan is recomputed here from the request, as the twin plans it; ANSWER says why 3 s);
   * no reply is an internal failure (-3 "failed inside the driver": there is no
     communication to fail in the twin) and every ``ret`` is one of the codes of
     docs/interface.md, "Result codes";
   * the measured joints never leave the model's limits (the whole joint_position stream);
-and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window.
+and over the whole fuzz the state topics keep ≥ 110 Hz in every 1 s window of their stamps, but
+for a second in which the machine held the node: a thread of this process that only sleeps was
+held ≥ 0.1 s, or the twin reported a skip (its physics thread, held past 0.2 s, skips its
+stamps ahead, which no publisher can make up). The topics' rate under load is bench's.
 
 Motions stay cheap: a valid move is small by construction (near the current joints / TCP);
 when random fields happen to make a valid move whose plan is longer than MAX_PLAN it is not
@@ -27,6 +30,7 @@ from __future__ import annotations
 import collections
 import math
 import os
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from concurrent.futures import TimeoutError as CallTimeout
@@ -39,7 +43,7 @@ from hypothesis import strategies as st
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from ros_harness import START, go_home, Recorder, wait_until
+from support.ros_harness import START, go_home, Recorder, wait_until
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import CommandRefused
 from jaka_driver.common.transforms import matrix_to_rpy, pose_to_matrix
@@ -56,10 +60,16 @@ pytestmark = [pytest.mark.fuzz, pytest.mark.ros]
 EXAMPLES = int(os.environ.get("JAKA_FUZZ_EXAMPLES", "200"))
 VERBOSE = int(os.environ.get("JAKA_FUZZ_VERBOSE", "0"))   # print N replies of each kind (-s)
 MODEL = load_model("zu5")
-ANSWER = 1.0            # s, any call
+#: s, any call, beyond a blocking move's plan: a service round trip on a busy machine (2.3 s
+#: seen with both cores loaded by other programs); a call that hangs, or waits for what it should
+#: not, takes the client's whole budget + 10 s
+ANSWER = 3.0
 MAX_PLAN = 1.5          # s, longest valid move sent
 LIMIT_TOL = 5e-3        # rad, servo overshoot allowed at a joint limit
-MIN_RATE = 110          # messages per 1 s window, each state topic
+MIN_RATE = 110          # messages per 1 s window of sample stamps, each state topic
+#: s a thread of this process that only sleeps 5 ms at a time must be held for the machine to
+#: count as stalled in a window (the floor of the same run: MachineStalls)
+MACHINE_STALL = 0.1
 HOME_RADIUS = 1.0       # rad: farther from START than this, the arm is brought home
 STILL_SPEED = 0.02      # rad/s: a joint faster than this is moving
 SETTLE = 0.05           # s a payload change is given to show that the arm cannot hold it
@@ -151,13 +161,71 @@ class StreamMonitor(Recorder):
         seconds = range(math.ceil(t0), math.floor(t1))
         return min(((self.bins.get(s, 0), s) for s in seconds), default=(None, None))
 
+    def windows(self, t0: float, t1: float):
+        """(second, messages stamped in it) for every whole second inside [t0, t1]."""
+        return [(s, self.bins.get(s, 0)) for s in range(math.ceil(t0), math.floor(t1))]
+
     def count(self, t0: float, t1: float, bins=None) -> int:
         bins = self.bins if bins is None else bins
         return sum(bins.get(s, 0) for s in range(math.ceil(t0), math.floor(t1)))
 
 
+class MachineStalls:
+    """The floor of this run, so a second the state topics missed can be told apart from one in
+    which the machine held the node: a thread of this process that sleeps 5 ms at a time and
+    records each time it was held for MACHINE_STALL s or more (wall-clock spans), and the
+    twin's own count of skips (``overruns`` on /diagnostics, once a second: a physics thread
+    held past STALL_CYCLES skips its stamps ahead)."""
+
+    def __init__(self):
+        import rospy
+        from diagnostic_msgs.msg import DiagnosticArray
+        self.spans: list = []
+        self.overruns: list = []           # (wall time, the twin's overruns so far)
+        self._quit = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True, name="machine-stalls")
+        self._thread.start()
+        self._diagnostics = rospy.Subscriber("/diagnostics", DiagnosticArray, self._on_diagnostics)
+
+    def _on_diagnostics(self, msg):
+        for status in msg.status:
+            values = {kv.key: kv.value for kv in status.values}
+            if "overruns" in values:
+                self.overruns.append((msg.header.stamp.to_sec(), int(values["overruns"])))
+
+    def twin_skipped(self, second: int) -> bool:
+        """Did the twin skip cycles between the reports around the second at ``second``?"""
+        before = [n for t, n in self.overruns if t <= second]
+        after = [n for t, n in self.overruns if t >= second + 1]
+        return bool(before and after) and after[0] > before[-1]
+
+    def _run(self):
+        last = time.time()
+        while not self._quit.wait(0.005):
+            now = time.time()
+            if now - last >= MACHINE_STALL:
+                self.spans.append((last, now))
+            last = now
+
+    def within(self, second: int) -> bool:
+        """Did the machine stall within the wall-clock second starting at ``second``?"""
+        return any(a < second + 1 and b > second for a, b in self.spans)
+
+    def close(self):
+        self._quit.set()
+        self._diagnostics.unregister()
+        self._thread.join(1.0)
+
+
 @pytest.fixture(scope="module")
-def monitors(sim_driver, rospy_node):
+def stalls(sim_driver, rospy_node):
+    watch = MachineStalls()
+    yield watch
+    watch.close()
+
+
+@pytest.fixture(scope="module")
+def monitors(sim_driver, rospy_node, stalls):
     mons = {"joint_position": StreamMonitor(sim_driver.name("joint_position"), JointState,
                                             joint_limits=True),
             "tool_position": StreamMonitor(sim_driver.name("tool_position"), TwistStamped),
@@ -651,7 +719,7 @@ def test_random_requests_keep_the_node_alive_answering_and_within_limits(
     restore(call)
 
 
-def test_state_topics_kept_110_hz_through_the_fuzz(monitors):
+def test_state_topics_kept_110_hz_through_the_fuzz(monitors, stalls):
     if "end" not in WINDOW:
         pytest.skip("no fuzz ran")
     t0, t1 = WINDOW["start"], WINDOW["end"]
@@ -668,10 +736,16 @@ def test_state_topics_kept_110_hz_through_the_fuzz(monitors):
         fewest, second = mon.worst_window(t0, t1)
         print(f"  {name}: fewest {fewest} in 1 s, mean "
               f"{mon.count(t0, t1) / (math.floor(t1) - math.ceil(t0)):.1f} Hz")
+    print(f"  the machine stalled {len(stalls.spans)} times (≥ {MACHINE_STALL} s): "
+          f"{[round(b - a, 2) for a, b in stalls.spans]}; the twin skipped ahead "
+          f"{stalls.overruns[-1][1] - stalls.overruns[0][1] if stalls.overruns else '?'} times")
     for name in ("joint_position", "tool_position", "/joint_states"):
         fewest, second = monitors[name].worst_window(t0, t1)
-        assert fewest is not None and fewest >= MIN_RATE, \
-            f"{name}: {fewest} messages in the second {second - t0:.0f} s into the fuzz"
+        assert fewest is not None, f"{name}: no message"
+        short = [(n, s) for s, n in monitors[name].windows(t0, t1) if n < MIN_RATE]
+        missed = [(n, s) for n, s in short if not (stalls.within(s) or stalls.twin_skipped(s))]
+        assert not missed, f"{name}: {missed[0][0]} messages in the second " \
+                           f"{missed[0][1] - t0:.0f} s into the fuzz, the machine not stalled"
     # robot_states has no stamp (its seconds are of receipt, which this busy process delays);
     # it is published in the same loop iteration as joint_position: as many messages means
     # the stamped topics' windows hold for it too

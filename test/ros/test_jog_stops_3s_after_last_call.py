@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty
 
-from ros_harness import (START, go_home, position, sample_at, sim_sleep,
-                         start_sim_time_driver, stamp, wait_until)
+from support.ros_harness import (START, go_home, position, sample_at,
+                                 start_sim_time_driver, stamp, wait_until)
 from jaka_msgs.srv import Move
+from jaka_driver_msgs.srv import PauseTwin, StepTwin
 
 pytestmark = pytest.mark.ros
 
@@ -105,14 +106,20 @@ def test_jog_stops_3_s_after_the_last_call(call, joints):
 
 def test_calling_again_keeps_the_jog_alive(call, joints):
     t0 = stamp(rest_at(joints, START))
-    # Calls paced by the test's subscriber: 0.5 s of its samples apart. The twin runs as fast
-    # as it can and the subscriber can fall behind it, by more as the machine gets busier, so
-    # two calls can be more than 0.5 s of sim time apart; at 0.5 s the subscriber may fall
-    # 2.5 s further behind between two calls before the 3 s watchdog would end the jog.
-    for _ in range(9):
-        assert jog(call, 0, 1, 0.1).ret == 1
-        sim_sleep(joints, 0.5)
-    assert moving(joints), "jog stopped although it was called every 0.5 s"
+    # Calls 0.504 s of the twin's time apart, exactly: the twin paused, stepped 63 cycles
+    # between two calls. (Paced by the test's subscriber instead, the calls drifted apart by however
+    # far a busy machine let the subscriber fall behind the twin, past the 3 s watchdog.)
+    assert call("sim/pause", PauseTwin, pause=True).ret == 1
+    try:
+        for _ in range(9):
+            assert jog(call, 0, 1, 0.1).ret == 1
+            stepped = call("sim/step", StepTwin, cycles=63)
+            assert stepped.ret == 1, stepped.message
+    finally:
+        assert call("sim/pause", PauseTwin, pause=False).ret == 1
+    last_call = sample_at(joints, stepped.sim_time)
+    assert np.max(np.abs(last_call.velocity)) > 1e-3, \
+        "jog stopped although it was called every 0.5 s"
     # the last call came ≥ 4 s after the motion began; its 3 s run out after 6.9 s
     end = stamp(sample_at(joints, stamp(first_moving(joints, t0)) + 8.5))
     first, last = moving_span(joints, t0, end)

@@ -11,7 +11,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from ros_harness import START, Recorder, start_sim_time_driver, stamp, wait_until
+from support.ros_harness import START, Recorder, start_sim_time_driver, stamp, wait_until
 from jaka_msgs.srv import ServoMove, ServoMoveEnable
 from jaka_driver_msgs.srv import PauseTwin, ResetTwin, StepTwin
 

@@ -5,7 +5,7 @@ import time
 import numpy as np
 import pytest
 
-from ros_harness import START, at_rest, go_home, position, wait_until
+from support.ros_harness import START, at_rest, go_home, position, wait_until
 from jaka_msgs.srv import GetFK, Move
 
 pytestmark = pytest.mark.ros

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ros_harness import stop_launch, wait_until
+from support.ros_harness import stop_launch, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from ros_harness import START, at_rest, position, start_driver, wait_until
+from support.ros_harness import START, at_rest, position, start_driver, wait_until
 from jaka_msgs.srv import ClearErr, GetIO, Move, SetCollision, SetIO
 
 pytestmark = pytest.mark.ros

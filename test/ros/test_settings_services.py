@@ -8,7 +8,7 @@ import rosservice
 from geometry_msgs.msg import TwistStamped
 from std_srvs.srv import Empty, SetBool
 
-from ros_harness import START, Recorder, at_rest, position, wait_until
+from support.ros_harness import START, Recorder, at_rest, position, wait_until
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, SetCollision,
                            SetIO, SetPayload, SetTcpFrame, SetUserFrame)

@@ -6,7 +6,7 @@ controller backend asked for sim_time runs on the wall clock and leaves /use_sim
 import pytest
 from rosgraph_msgs.msg import Clock
 
-from ros_harness import DriverProcess, free_port, start_driver, wait_until
+from support.ros_harness import DriverProcess, free_port, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -6,8 +6,8 @@ import pytest
 
 from jaka_driver.common.models import load_model
 from jaka_driver.sim.snapshot import TwinCamera
-from pictures import read_png
-from ros_harness import at_rest
+from support.pictures import read_png
+from support.ros_harness import at_rest
 
 pytestmark = pytest.mark.ros
 

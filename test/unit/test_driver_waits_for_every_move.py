@@ -14,7 +14,7 @@ from fake_backend import START, FakeBackend
 from jaka_driver.common.constants import move_deadline
 from jaka_driver.common.results import Code, Result
 from jaka_driver.driver import RobotDriver
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 TARGET = START + np.array([0.3, 0, 0, 0, 0, 0])
 MOVES = {

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from jaka_driver.protocol import StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.errors import MalformedInput
 from jaka_driver.protocol.wire import MAX_NESTING, HeadDecoder
-from malformed_inputs import DEEP, STATUS_KEYS_READ as READ_KEYS
+from support.malformed_inputs import DEEP, STATUS_KEYS_READ as READ_KEYS
 
 FIXTURE = json.loads((Path(__file__).parents[1] / "data" / "status_packet.json").read_text())
 

@@ -15,7 +15,7 @@ from jaka_driver.common.transforms import pose_mm_to_matrix
 from jaka_driver.driver import RobotDriver
 from jaka_driver.motion.linear_path import line_duration
 from jaka_driver.motion.profiles import SyncJointProfile, joint_move_profile
-from ros_harness import wait_until
+from support.ros_harness import wait_until
 
 TARGET = START + np.array([0.3, -0.2, 0.1, 0, 0, 0.4])
 

@@ -189,8 +189,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "jaka_cpp_client");
   const std::string mode = argc > 1 ? argv[1] : "services";
   ros::NodeHandle nh;
-  ros::Subscriber joint_sub = nh.subscribe("/jaka_driver/joint_position", 10, on_joints);
-  ros::Subscriber state_sub = nh.subscribe("/jaka_driver/robot_states", 10, on_state);
+  // Queues long enough for every message of the session (topic_rates_hz counts what the node
+  // published): on a busy machine the spinner falls behind, and a queue of 10 drops messages.
+  ros::Subscriber joint_sub = nh.subscribe("/jaka_driver/joint_position", 2000, on_joints);
+  ros::Subscriber state_sub = nh.subscribe("/jaka_driver/robot_states", 2000, on_state);
   ros::AsyncSpinner spinner(1);
   spinner.start();
   if (!ros::service::waitForService("/jaka_driver/servo_j", ros::Duration(60)))

@@ -3,6 +3,7 @@ subprocess, service calls and topic capture. Every process started here is stopp
 from __future__ import annotations
 
 import os
+import random
 import signal
 import socket
 import subprocess
@@ -15,14 +16,38 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]     # the repository
 NODE = ROOT / "scripts" / "jaka_driver_node"
 
 
+#: First port of the blocks free_port draws from, below the kernel's ephemeral range (32768 and
+#: up on Linux), where bind(0) and outgoing connections take theirs
+PORT_BLOCKS = 20000
+PORT_BLOCK = 1000
+_handed_out: set = set()
+
+
 def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+    """A TCP port of 127.0.0.1 that nobody listens on, for a server this test starts by port
+    number (rosmaster, an emulator restarted on the same ports). Each of pytest-xdist's worker
+    processes draws from its own block (``gw<N>``: 20000 + 1000·N …), at random within it and
+    never the same port twice, so no other worker can pick it before its server binds it (with
+    bind(0) it could: the kernel hands a released port to the next caller)."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
+    block = PORT_BLOCKS + PORT_BLOCK * (int(worker[2:] or 0) % 12)
+    pick = random.SystemRandom()
+    for _ in range(200):
+        port = pick.randrange(block, block + PORT_BLOCK)
+        if port in _handed_out:
+            continue
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+        _handed_out.add(port)
+        return port
+    raise RuntimeError(f"no free port in {block}..{block + PORT_BLOCK - 1}")
 
 
 def wait_until(predicate, timeout: float, period: float = 0.02):
@@ -39,27 +64,30 @@ class RosMaster:
     """``rosmaster --core`` on a free port, with ROS_* variables pointing at it."""
 
     def __init__(self):
-        self.port = free_port()
-        self.uri = f"http://localhost:{self.port}/"
         self.home = tempfile.mkdtemp(prefix="jaka_ros_home_")
+        for attempt in range(3):       # a port taken between its pick and the bind: another
+            self.port = free_port()
+            self.uri = f"http://localhost:{self.port}/"
+            self.proc = subprocess.Popen(["rosmaster", "--core", "-p", str(self.port)],
+                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                         start_new_session=True)
+            proxy = xmlrpc.client.ServerProxy(self.uri)
+
+            def up():
+                try:
+                    proxy.getSystemState("/test")
+                    return True
+                except OSError:
+                    return self.proc.poll() is not None      # exited: stop waiting
+
+            if wait_until(up, 15.0, 0.05) and self.proc.poll() is None:
+                break
+            self.stop()
+        else:
+            raise RuntimeError("rosmaster did not come up in 15 s")
         os.environ.update(ROS_MASTER_URI=self.uri, ROS_HOSTNAME="localhost",
                           ROS_HOME=self.home, ROS_LOG_DIR=os.path.join(self.home, "log"))
         os.environ.pop("ROS_IP", None)
-        self.proc = subprocess.Popen(["rosmaster", "--core", "-p", str(self.port)],
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                     start_new_session=True)
-        proxy = xmlrpc.client.ServerProxy(self.uri)
-
-        def up():
-            try:
-                proxy.getSystemState("/test")
-                return True
-            except OSError:
-                return False
-
-        if not wait_until(up, 15.0, 0.05):
-            self.stop()
-            raise RuntimeError("rosmaster did not come up in 15 s")
 
     def stop(self):
         stop_process(self.proc)
@@ -308,6 +336,31 @@ def position(recorder, timeout=5.0) -> np.ndarray:
     msg = wait_until(current, timeout)
     assert msg is not None, f"no joint_position message stamped after {now:.3f} within {timeout} s"
     return np.array(msg.position)
+
+
+def moving_span(recorder, after: float, until: float = float("inf"),
+                speed: float = 1e-3) -> tuple:
+    """(first, last) stamp (s) of the samples stamped in [``after``, ``until``] in which a joint
+    moves faster than ``speed`` rad/s: a motion's duration as the arm's own samples tell it
+    (the twin's 8 ms cycles; a controller's status packets, stamped on arrival), without the
+    time a test's call and its answer take on a busy machine's wall clock."""
+    with recorder._lock:
+        moved = [stamp(m) for _, m in recorder.samples
+                 if after <= stamp(m) <= until and np.max(np.abs(m.velocity)) > speed]
+    assert moved, f"no sample moving faster than {speed:g} rad/s after {after:.3f} s"
+    return moved[0], moved[-1]
+
+
+def moving_cycles(recorder, after: float, until: float = float("inf"),
+                  speed: float = 1e-3) -> int:
+    """How many samples stamped in [``after``, ``until``] show a joint moving faster than
+    ``speed`` rad/s: on the twin, the 8 ms cycles a motion took. Where the stamps' span
+    (:func:`moving_span`) can only be longer than the motion (a twin that stalled for more than
+    STALL_CYCLES skips its stamps ahead), the count can only be shorter (a sample its publisher
+    had to drop is missing), so together they bound the motion from both sides."""
+    with recorder._lock:
+        return len({stamp(m) for _, m in recorder.samples
+                    if after <= stamp(m) <= until and np.max(np.abs(m.velocity)) > speed})
 
 
 def at_rest(recorder, timeout=3.0, speed=1e-3) -> np.ndarray:

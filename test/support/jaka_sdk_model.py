@@ -39,10 +39,10 @@ import time
 import zlib
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-from jaka_sdk_json import (FIXED_DECIMALS, SdkCrash, SdkGarbage, as_bool, as_double, as_int,
-                           as_string, deg, doubles, element, member, pose_deg, pose_rad,
-                           sdk_json)
-from jaka_sdk_status import RobotStatus, parse_robot_status
+from .jaka_sdk_json import (FIXED_DECIMALS, SdkCrash, SdkGarbage, as_bool, as_double, as_int,
+                             as_string, deg, doubles, element, member, pose_deg, pose_rad,
+                             sdk_json)
+from .jaka_sdk_status import RobotStatus, parse_robot_status
 
 SDK_VERSION = "libadd jakaAPI_version: V2.1.14stable_linux"
 DATA_BUFFER = 8200          # bytes the SDK reads a data_request reply into

@@ -43,7 +43,7 @@ import pytest
 
 from jaka_driver.protocol.tcp_server import TcpServer
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"     # test/data
 PERIOD = 0.008   # s between two status packets
 
 

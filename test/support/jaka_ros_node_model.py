@@ -11,9 +11,10 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from jaka_sdk_model import (ABS, COORD_BASE, COORD_JOINT, COORD_TOOL, CONTINUE, INCR, RC_OK,
-                            RC_TIMEOUT, JakaSdk)
-from jaka_sdk_status import RobotStatus
+from .jaka_sdk_model import (ABS, COORD_BASE, COORD_JOINT, COORD_TOOL, CONTINUE, INCR, RC_OK,
+                              RC_TIMEOUT, JakaSdk)
+from .jaka_sdk_status import RobotStatus
+from .threads import join_all
 
 
 def _rotvec_to_rpy(rotvec: Sequence[float]) -> List[float]:
@@ -90,9 +91,10 @@ class JakaRosNode:
         self._poller.start()
 
     def stop_polling(self) -> None:
+        """End the loop; fails if its thread is still alive after 5 s (a poll that hangs)."""
         self._stop.set()
         if self._poller is not None:
-            self._poller.join(5.0)
+            join_all([self._poller], 5.0)
 
     # -- services --
     def linear_move(self, pose: Sequence[float], mvvelo: float, mvacc: float) -> int:

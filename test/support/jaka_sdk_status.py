@@ -10,8 +10,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional
 
-from jaka_sdk_json import (SdkCrash, SdkGarbage, as_bool, as_double, as_int, as_string, doubles,
-                           element, member, pose_rad)
+from .jaka_sdk_json import (SdkCrash, SdkGarbage, as_bool, as_double, as_int, as_string, doubles,
+                             element, member, pose_rad)
 
 
 @dataclass

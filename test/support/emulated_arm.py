@@ -1,0 +1,77 @@
+"""The controller path end to end, for tests: an emulator (the twin behind JAKA's protocol) on free
+ports of 127.0.0.1, a RobotDriver on the controller backend talking to it, and what the
+emulator's twin planned for each move. One set-up for the tests that drive it, so each says only
+what it checks."""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from typing import Iterator, List
+
+import pytest
+
+from jaka_driver.controller import ControllerBackend
+from jaka_driver.driver import RobotDriver
+from jaka_driver.emulator import Emulator
+
+#: The emulator's twin paces its 8 ms cycles to the wall clock and, after a stall, catches up
+#: at most this long (s: STALL_CYCLES cycles, jaka_driver.sim.physics) faster than real time,
+#: so a move can end on the wall clock that much before its plan's duration has passed.
+CATCH_UP = 25 * 0.008
+
+
+@contextmanager
+def emulator(model: str = "zu5", **options) -> Iterator[Emulator]:
+    """The emulator of ``model`` on free ports (``options`` to :class:`Emulator`: ``start``,
+    ``profile``, ``period`` …; by default its default profile and start state), stopped on
+    leaving."""
+    with Emulator(model, command_port=0, status_port=0, **options) as emu:
+        yield emu
+
+
+@pytest.fixture(scope="module")
+def emu(request) -> Iterator[Emulator]:
+    """The emulator a test module's tests share (test/integration/conftest.py offers it): zu5 on
+    free ports, in its default profile and start state, or with the options of the module's
+    ``EMULATOR`` (``EMULATOR = dict(start="enabled")``)."""
+    with emulator(**getattr(request.module, "EMULATOR", {})) as shared:
+        yield shared
+
+
+@contextmanager
+def driver_on_emulator(model: str = "zu5", **driver_args):
+    """``(emulator, driver)``: the emulator of ``model`` (its default profile) and a started
+    RobotDriver on a ControllerBackend connected to it (``driver_args`` to RobotDriver); the
+    driver is shut down and the emulator stopped on leaving."""
+    with emulator(model) as emu:
+        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+        driver = RobotDriver(backend, **driver_args)
+        driver.start()
+        try:
+            yield emu, driver
+        finally:
+            driver.shutdown()
+
+
+@contextmanager
+def planned_moves(backend) -> Iterator[List[float]]:
+    """The duration (s) of every joint and linear move ``backend`` starts, as it planned it, in
+    order: on the emulator's twin (``emu.backend``), the time the controller takes to play the
+    move; on a ControllerBackend, the time the driver expects it to take. What the code decided,
+    where a clock read by the test would add when it noticed the end (the next status packet,
+    a busy machine's scheduling) to it."""
+    planned: List[float] = []
+    names = ("start_joint_move", "start_linear_move")
+    for name in names:
+        start = getattr(backend, name)
+
+        def recording(*args, _start=start, **kwargs):
+            result = _start(*args, **kwargs)
+            if result.ok:
+                planned.append(float(result.value[1]))
+            return result
+        setattr(backend, name, recording)
+    try:
+        yield planned
+    finally:
+        for name in names:
+            delattr(backend, name)        # the class's method again
