@@ -17,6 +17,10 @@ class MotionState(IntEnum):
     ERROR = 4
 
 
+# ProgramState's numbers (JAKA's SDK's), without importing the facet into every sample
+_PROGRAM_RUNNING, _PROGRAM_PAUSED = 1, 2
+
+
 def _zeros6() -> np.ndarray:
     return np.zeros(6)
 
@@ -49,6 +53,9 @@ class RobotState:
     moving: bool = False
     error_code: int = 0
     error_message: str = ""
+    #: the program's state as JAKA's SDK numbers it: 0 idle, 1 running, 2 paused
+    #: (:class:`~.programs.ProgramState`)
+    program_state: int = 0
 
     @property
     def in_error(self) -> bool:
@@ -57,11 +64,14 @@ class RobotState:
 
     @property
     def motion_state(self) -> MotionState:
-        """Derived like JAKA's driver: e-stop beats error beats running."""
+        """Derived like JAKA's driver: e-stop beats error beats a paused program (1) beats
+        running (moving, drag mode, or a program running: 3)."""
         if self.emergency_stop:
             return MotionState.EMERGENCY_STOP
         if self.in_error or not self.connected:
             return MotionState.ERROR
-        if self.moving or self.drag_mode:
+        if self.program_state == _PROGRAM_PAUSED:
+            return MotionState.PAUSE
+        if self.moving or self.drag_mode or self.program_state == _PROGRAM_RUNNING:
             return MotionState.RUNNING
         return MotionState.STOP

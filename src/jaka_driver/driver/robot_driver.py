@@ -24,7 +24,9 @@ from ..common.results import Code, CommandRefused, Result, invalid
 from ..common.transforms import rpy_to_matrix
 from ..conventions import DOCUMENT, Conventions, ServoIncrements, cartesian
 from ..conventions.jog_speed import explained, jog_speed_field
+from ..programs.executor import MoveHold
 from . import checks as check
+from .program_steps import PausedTime, ProgramSteps
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
@@ -78,6 +80,8 @@ class RobotDriver:
         self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
                                            backend.forward_kinematics) \
             if self.conventions.servo_increment else None
+        if backend.programs is not None:     # a program's steps come through this door
+            backend.programs.bind(ProgramSteps(self))
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:
@@ -100,8 +104,10 @@ class RobotDriver:
         return self.backend.states_since(after)
 
     # ---- state machine -----------------------------------------------------------------
-    def _ready(self, *, servo: bool = False, allow_servo_mode: bool = False) -> RobotState:
-        """The arm may move: connected, no e-stop, powered, enabled, no error, right mode."""
+    def _ready(self, *, servo: bool = False, allow_servo_mode: bool = False,
+               program_step: bool = False) -> RobotState:
+        """The arm may move: connected, no e-stop, powered, enabled, no error, right mode, and
+        no program running or paused (unless this is a step of that program)."""
         st = self.backend.state()
         if not st.connected:
             raise CommandRefused(Code.NOT_CONNECTED, "not connected to the controller")
@@ -121,6 +127,9 @@ class RobotDriver:
         if not servo and not allow_servo_mode and st.servo_mode:
             raise CommandRefused(Code.WRONG_MODE, "refused in servo mode "
                                  "(leave it with servo_move_enable false)")
+        if st.program_state and not program_step:
+            raise CommandRefused(Code.BUSY, "a program is running or paused (program/stop "
+                                 "ends it)")
         return st
 
     @staticmethod
@@ -157,9 +166,10 @@ class RobotDriver:
     # ---- motion ------------------------------------------------------------------------
     @_answers
     def joint_move(self, pose: Sequence[float], mvvelo: float, mvacc: float,
-                   mvtime: float = 0.0) -> Result:
+                   mvtime: float = 0.0, hold: MoveHold | None = None) -> Result:
         """Synchronised joint move to ``pose`` (rad) at ``mvvelo`` rad/s, ``mvacc`` rad/s²;
-        ``mvtime`` > 0 stretches it to that many seconds. Blocks."""
+        ``mvtime`` > 0 stretches it to that many seconds. Blocks. ``hold``: a program step's
+        pause switch (the step of a running program may move; it pauses through it)."""
         q = check.joint_targets("pose", pose, self.model)
         notes: list[str] = []
         v = check.speed("mvvelo", mvvelo, float(np.max(self.model.max_velocity)), "rad/s",
@@ -174,17 +184,17 @@ class RobotDriver:
                                             np.minimum(a, self.model.max_acceleration),
                                             duration or None, mvvelo, mvacc) / self._ratio()
         result = self._run_move("joint_move", lambda st: self.backend.start_joint_move(
-            q, v, a, planned))
+            q, v, a, planned), hold=hold)
         return _with_notes(result, notes)
 
     @_answers
     def linear_move(self, pose: Sequence[float], mvvelo: float, mvacc: float,
                     coord_mode: int = 0, has_ref: bool = False,
-                    ref_joint: Sequence[float] = ()) -> Result:
+                    ref_joint: Sequence[float] = (), hold: MoveHold | None = None) -> Result:
         """Straight-line move to ``pose`` (mm + rotation vector, or RPY with ``jaka_code``
         conventions) at ``mvvelo`` mm/s, ``mvacc`` mm/s²; ``coord_mode`` 0 user frame, 1 base
         frame, 2 relative in the tool frame (``jaka_code``: always 0, no IK seed, as JAKA's
-        code passes neither on). Blocks."""
+        code passes neither on). Blocks. ``hold``: as :meth:`joint_move`'s."""
         target_mm = check.vector("pose", pose)
         notes: list[str] = []
         if not self.conventions.linear_move_frame_fields:
@@ -213,7 +223,43 @@ class RobotDriver:
                                                  mvacc) / self._ratio()
             return self.backend.start_linear_move(target, v, a, ref_q, planned)
 
-        return _with_notes(self._run_move("linear_move", start), notes)
+        return _with_notes(self._run_move("linear_move", start, hold=hold), notes)
+
+    @_answers
+    def circular_move(self, pose_mid: Sequence[float], pose_end: Sequence[float],
+                      mvvelo: float, mvacc: float, turns: float = 0.0,
+                      attitude_mode: int = 0, coord_mode: int = 0,
+                      hold: MoveHold | None = None) -> Result:
+        """Arc from the TCP through ``pose_mid`` to ``pose_end`` (mm + rotation vector, or RPY
+        with ``jaka_code`` conventions; ``coord_mode`` 0 the active user frame, 1 the base
+        frame) at ``mvvelo`` mm/s, ``mvacc`` mm/s² (0: the default), ``turns`` more times
+        round and attitude rule ``attitude_mode`` 0–3 (docs/interface.md, "circular_move";
+        jaka_driver.motion.circular_path). The whole arc is checked before anything moves.
+        Blocks. ``hold``: as :meth:`joint_move`'s."""
+        mid_mm, end_mm = check.vector("pose_mid", pose_mid), check.vector("pose_end", pose_end)
+        notes: list[str] = []
+        # one note is enough: the two poses are read alike
+        _note(notes, cartesian.reading_note(self.conventions, "pose_mid", mid_mm)
+              or cartesian.reading_note(self.conventions, "pose_end", end_mm))
+        mode = check.integer_in("coord_mode", coord_mode, 0, 1)
+        rule = check.integer_in("attitude_mode", attitude_mode, 0, 3)
+        n_turns = check.turns(turns)
+        v = check.speed("mvvelo", mvvelo, self.model.max_tcp_speed * 1000.0, "mm/s",
+                        notes=notes) / 1000.0
+        a = check.speed("mvacc", mvacc, self.model.max_tcp_accel * 1000.0, "mm/s²",
+                        default=self.model.default_tcp_accel * 1000.0, notes=notes) / 1000.0
+
+        def start(st: RobotState) -> Result:
+            mid, end = (cartesian.pose_to_matrix_mm(self.conventions, p)
+                        for p in (mid_mm, end_mm))
+            if mode == 1:
+                base_to_user = np.linalg.inv(self.backend.frames()[1])
+                mid, end = base_to_user @ mid, base_to_user @ end
+            planned = check.circular_move_duration(st.tcp_pose, mid, end, v, a, n_turns,
+                                                   rule, mvvelo, mvacc) / self._ratio()
+            return self.backend.start_circular_move(mid, end, v, a, n_turns, rule, planned)
+
+        return _with_notes(self._run_move("circular_move", start, hold=hold), notes)
 
     @_answers
     def jog(self, coord_mode: int, index: int, mvvelo: float, mvacc: float = 0.0) -> Result:
@@ -268,37 +314,54 @@ class RobotDriver:
 
     def _run_move(self, what: str, start: Callable[[RobotState], Result],
                   monitor: "Callable[[float, RobotState], str | None] | None" = None,
-                  period: float = 0.02) -> Result:
+                  period: float = 0.02, hold: MoveHold | None = None) -> Result:
         """The one place a move is waited for: checks the arm may move, ``start(state)`` asks
         the backend to start it (``Result.value`` = completion, planned duration s), then waits
         for the completion. A move still running ``constants.move_deadline(planned)`` s after
         its start, or one ``monitor`` objects to, is stopped and answered -12; a stop_move or
-        fault meanwhile finishes the completion with -12 itself."""
+        fault meanwhile finishes the completion with -12 itself. ``hold`` (a program step's)
+        pauses the move on its path while it runs; the time it stands paused does not count
+        towards the deadline."""
         self._not_jogging()
         with self._blocking_move(what):
-            started = start(self._ready())
+            started = start(self._ready(program_step=hold is not None))
             if not started.ok:
                 return started
             completion, planned = started.value
             deadline = move_deadline(planned)
             clock = self.clock                  # wall time, or the twin's sim time
-            t0 = clock.now()
-            while True:
-                remaining = deadline - (clock.now() - t0)
-                # without a monitor there is nothing to do until the move ends or overruns
-                wait = min(period, remaining) if monitor is not None else remaining
-                result = completion.wait(max(wait, 1e-3), clock)
-                if result is not None:
-                    return result
-                elapsed = clock.now() - t0
-                reason = monitor(elapsed, self.backend.state()) if monitor else None
-                if reason is None and elapsed > deadline:
-                    reason = (f"{what} not in position {elapsed:.2f} s after its start "
-                              f"(planned {planned:.2f} s, allowed {deadline:.2f} s); stopped")
-                if reason is not None:
-                    self.backend.stop_move()
-                    completion.wait(1.0, clock)
-                    return Result.failure(Code.MOTION_STOPPED, reason)
+            paused = PausedTime(clock)
+            if hold is not None:
+                hold.attach(lambda: paused.began(self.backend.pause_motion()),
+                            lambda: paused.ended(self.backend.resume_motion()))
+            try:
+                return self._wait_for(what, completion, planned, deadline, paused, monitor,
+                                      period)
+            finally:
+                if hold is not None:
+                    hold.detach()
+
+    def _wait_for(self, what: str, completion, planned: float, deadline: float,
+                  paused: PausedTime, monitor, period: float) -> Result:
+        clock = self.clock
+        t0 = clock.now()
+        while True:
+            remaining = deadline - (clock.now() - t0 - paused.total())
+            # without a monitor there is nothing to do until the move ends or overruns
+            wait = min(period, remaining) if monitor is not None else remaining
+            result = completion.wait(max(wait, 1e-3), clock)
+            if result is not None:
+                return result
+            elapsed = clock.now() - t0
+            reason = monitor(elapsed, self.backend.state()) if monitor else None
+            if reason is None and elapsed - paused.total() > deadline:
+                reason = (f"{what} not in position {elapsed:.2f} s after its start "
+                          f"(planned {planned:.2f} s, allowed {deadline:.2f} s"
+                          f"{paused.describe()}); stopped")
+            if reason is not None:
+                self.backend.stop_move()
+                completion.wait(1.0, clock)
+                return Result.failure(Code.MOTION_STOPPED, reason)
 
     def _jog_expired(self) -> None:
         log.info("jog stopped: no jog call for %.1f s", self._jog.timeout)
@@ -338,9 +401,12 @@ class RobotDriver:
 
     @_answers
     def stop_move(self) -> Result:
-        """Decelerate whatever moves; a blocking move returns -12."""
+        """Decelerate whatever moves; a blocking move returns -12; a running or paused
+        program ends, as a controller's stop does."""
         self._jog.clear()
         self._twist.clear()
+        if self.backend.programs is not None and self.backend.state().program_state:
+            self.backend.programs.stop()
         return self.backend.stop_move()
 
     # ---- speed ratio ---------------------------------------------------------------------

@@ -26,7 +26,9 @@ from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.transforms import matrix_to_pose_mm
 from ..kinematics import Kinematics
-from ..motion.linear_path import PlanningError, plan_linear_move
+from ..motion.cartesian_path import PlanningError
+from ..motion.circular_path import plan_circular_move
+from ..motion.linear_path import plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
@@ -73,7 +75,7 @@ class SimBackend(Backend):
         self._lock = threading.RLock()
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
-        self._cache: tuple[tuple, np.ndarray] | None = None
+        self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
 
     def _defaults(self) -> None:
         """The controller's state of a fresh twin: powered, enabled, no error, default frames,
@@ -131,14 +133,16 @@ class SimBackend(Backend):
     def _state_of(self, sample) -> RobotState:
         tool, user = self.frames()
         # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
-        # flags are read fresh, a mode may change between two physics samples.
-        key = (sample.stamp, self._tool_id, self._user_id)
+        # flags are read fresh, a mode may change between two physics samples. The sample
+        # itself is the key, not its stamp: a reset in sim time records a new sample with the
+        # stamp of the one before.
+        key = (self._tool_id, self._user_id)
         cached = self._cache
-        if cached is not None and cached[0] == key:
-            tcp = cached[1]
+        if cached is not None and cached[0] is sample and cached[1] == key:
+            tcp = cached[2]
         else:
             tcp = self._kin.tcp_pose(sample.q, tool, user)
-            self._cache = (key, tcp)
+            self._cache = (sample, key, tcp)
         return RobotState(
             stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
             joint_effort=sample.tau, tcp_pose=tcp, tool_id=self._tool_id, user_id=self._user_id,
@@ -212,7 +216,8 @@ class SimBackend(Backend):
         """Hand a planned trajectory to the physics thread; ``Result.value`` is the
         :class:`Completion` to wait on (the emulator replies at once, like a controller)."""
         completion = Completion()
-        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion)
+        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion,
+                            accel=self.model.max_acceleration)
         with self._lock:
             if self._physics.motion.active:
                 return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
@@ -241,23 +246,54 @@ class SimBackend(Backend):
         hand it to the physics thread. The line is timed by the law the driver planned
         ``duration`` with, from the setpoint's TCP, at the speed ratio, and sampled every
         cycle."""
+        m = self.model
+        return self._start_cartesian("linear_move", lambda start, q0, ik, r: plan_linear_move(
+            start, target, speed * r, accel * r * r, q0, ik, m.lower, m.upper, m.max_velocity,
+            cycle=SERVO_CYCLE, ref_q=ref_q))
+
+    def start_circular_move(self, mid, end, speed, accel, turns=0.0, mode=0,
+                            duration=None) -> Result:
+        """The exact arc (:mod:`jaka_driver.motion.circular_path`), planned and checked like a
+        line and played the same way."""
+        m = self.model
+        return self._start_cartesian("circular_move", lambda start, q0, ik, r:
+                                     plan_circular_move(start, mid, end, speed * r,
+                                                        accel * r * r, q0, ik, m.lower,
+                                                        m.upper, m.max_velocity, turns, mode,
+                                                        cycle=SERVO_CYCLE))
+
+    def _start_cartesian(self, label: str, plan) -> Result:
+        """Plan a Cartesian move from the setpoint's TCP — ``plan(start pose, start joints,
+        ik, speed ratio)`` (time scaled by 1/r: speeds × r, accelerations × r²) — and hand it to
+        the physics thread; a path that cannot be followed is refused before anything moves."""
         tool, user = self.frames()
         q0 = self._physics.servo.setpoint.copy()
-        start = self._kin.tcp_pose(q0, tool, user)
 
         def ik(pose, seed):
             solution = self._kin.ik(pose, seed=seed, tool=tool, user=user)
             return solution.q if solution.success else None
 
-        r = self._speed_ratio               # time scaled by 1/r: speeds × r, accelerations × r²
         try:
-            trajectory = plan_linear_move(start, target, speed * r, accel * r * r, q0, ik,
-                                          self.model.lower,
-                                          self.model.upper, self.model.max_velocity,
-                                          cycle=SERVO_CYCLE, ref_q=ref_q)
+            trajectory = plan(self._kin.tcp_pose(q0, tool, user), q0, ik, self._speed_ratio)
         except PlanningError as exc:
             return Result.failure(exc.code, str(exc))
-        return self._start_run(trajectory, "linear_move")
+        return self._start_run(trajectory, label)
+
+    def pause_motion(self) -> Result:
+        with self._lock:
+            run = self._physics.motion
+            if not (isinstance(run, TrajectoryRun) and run.active):
+                return Result.success("nothing moving to pause")
+            run.pause()
+        return Result.success(f"{run.label} pausing on its path")
+
+    def resume_motion(self) -> Result:
+        with self._lock:
+            run = self._physics.motion
+            if not (isinstance(run, TrajectoryRun) and run.active):
+                return Result.success("no paused move to resume")
+            run.resume()
+        return Result.success(f"{run.label} resumed")
 
     def start_trajectory(self, trajectory: JointTrajectory) -> Result:
         return self._start_run(trajectory, "trajectory")

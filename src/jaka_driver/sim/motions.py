@@ -54,7 +54,13 @@ class Hold(Motion):
 @dataclass(eq=False)
 class TrajectoryRun(Motion):
     """Play a planned joint trajectory, then settle: success once every joint is within
-    ``tolerance`` rad of the goal and almost at rest."""
+    ``tolerance`` rad of the goal and almost at rest.
+
+    It can be paused on its path, as a controller pauses a program: :meth:`pause` slows the
+    trajectory's own time to a stop (its path unchanged: the setpoint is always a point of
+    the planned path), :meth:`resume` brings it back to full speed and the move ends where it
+    was planned to. The slowing takes ``|qd| / accel`` for the fastest joint (``accel`` rad/s²,
+    the arm's limits), at least two cycles."""
 
     trajectory: JointTrajectory
     cycle: float                 # s
@@ -62,11 +68,35 @@ class TrajectoryRun(Motion):
     label: str
     # every caller gives it; the default is only because Motion's class attribute is one
     completion: Optional[Completion] = None
+    accel: Optional[np.ndarray] = None                 # rad/s², for pause and resume
     t: float = field(default=0.0, init=False)          # s into the trajectory
     goal: np.ndarray = field(init=False)
+    rate: float = field(default=1.0, init=False)       # trajectory s per s (1 = as planned)
+    _rate_to: float = field(default=1.0, init=False)
+    _rate_step: float = field(default=1.0, init=False)  # per cycle
+    _lock: threading.Lock = field(default_factory=threading.Lock, init=False)
 
     def __post_init__(self):
         self.goal = self.trajectory.q[-1]
+
+    def pause(self) -> None:
+        """Slow to rest on the path (from the physics thread's next cycle on)."""
+        _, qd = self.trajectory.sample(self.t)
+        self._ramp_to(0.0, np.abs(qd))
+
+    def resume(self) -> None:
+        """Back to the planned speed along the rest of the path."""
+        self._ramp_to(1.0, np.max(np.abs(self.trajectory.qd), axis=0))
+
+    @property
+    def paused(self) -> bool:
+        return self._rate_to == 0.0
+
+    def _ramp_to(self, rate: float, speed: np.ndarray) -> None:
+        accel = np.full_like(speed, np.inf) if self.accel is None else self.accel
+        ramp = max(2.0 * self.cycle, float(np.max(speed / accel)))
+        with self._lock:
+            self._rate_to, self._rate_step = rate, self.cycle / ramp
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         # Called at the end of a cycle: the arm now stands where the setpoint of time
@@ -81,7 +111,14 @@ class TrajectoryRun(Motion):
                 self.completion.finish(Result.success(
                     f"{self.label} done in {elapsed:.3f} s (planned "
                     f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
-        self.t += self.cycle
+        with self._lock:
+            to, step = self._rate_to, self._rate_step
+        # the mean of the cycle's start and end rates: the path time the cycle covers
+        start = self.rate
+        self.rate = min(to, start + step) if to > start else max(to, start - step)
+        self.t += 0.5 * (start + self.rate) * self.cycle
+        if elapsed < self.trajectory.duration:
+            self.moving = self.rate > 0.0
         q, _ = self.trajectory.sample(self.t)
         return np.asarray(q, float)
 

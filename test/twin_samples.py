@@ -1,0 +1,41 @@
+"""Every sample a twin produces, for tests that measure a whole motion: a consumer of the twin's
+samples (with simulated time the twin waits for it, so none is missed)."""
+from __future__ import annotations
+
+import threading
+
+from jaka_driver.backend.robot_state import RobotState
+from jaka_driver.common.constants import SERVO_CYCLE
+
+
+class Collector:
+    """Every sample of ``driver``'s backend from now on, in ``states`` (oldest first) and by
+    cycle number in ``q`` / ``qd`` (joints rad, rad/s)."""
+
+    def __init__(self, driver):
+        self.driver = driver
+        self.states: list[RobotState] = []
+        self.q, self.qd = {}, {}
+        self._done = threading.Event()
+        driver.clock.add_consumer()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        last = -1.0
+        while not self._done.is_set():
+            self.driver.wait_for_sample(last, 0.05)
+            for st in self.driver.states_since(last):
+                n = round(st.stamp / SERVO_CYCLE)
+                self.q[n], self.qd[n] = st.joint_position.copy(), st.joint_velocity.copy()
+                self.states.append(st)
+                last = st.stamp
+            self.driver.clock.consumed(last)
+
+    def since(self, stamp: float) -> list[RobotState]:
+        """The samples stamped after ``stamp`` (s)."""
+        return [st for st in list(self.states) if st.stamp > stamp]
+
+    def close(self):
+        self._done.set()
+        self._thread.join(2.0)
