@@ -17,7 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend
+from ..backend import Backend, Programs, ProgramStatus
 from ..backend.robot_state import RobotState
 from ..common.constants import move_deadline
 from ..common.results import Code, CommandRefused, Result, invalid
@@ -516,6 +516,70 @@ class RobotDriver:
             self._servo.accepted(result.value if result.value is not None
                                  else st.joint_position)
         return _with_gap(result, gap, self._servo.timeout)
+
+    # ---- programs (backend.programs: docs/programs.md) --------------------------------------
+    def _programs(self) -> Programs:
+        programs = self.backend.programs
+        if programs is None:
+            raise CommandRefused(Code.WRONG_MODE, "programs are not available on this backend")
+        return programs
+
+    @_answers
+    def load_program(self, name: str) -> Result:
+        """Load the program ``name`` (".jks", as JAKA's SDK appends it, is taken off)."""
+        text = str(name).strip()
+        if not text:
+            raise invalid("name is empty, expected a program's name")
+        return self._programs().load(text)
+
+    @_answers
+    def loaded_program(self) -> Result:
+        """The loaded program's name in ``Result.value`` ("" when none)."""
+        return self._programs().loaded()
+
+    @_answers
+    def play_program(self) -> Result:
+        """Run the loaded program from its start: the arm must be free to move (no other
+        move, jog, servo or drag mode; powered, enabled, no error)."""
+        programs = self._programs()
+        self._not_jogging()
+        if self._move_lock.locked():
+            raise CommandRefused(Code.BUSY, "play refused: a move is running")
+        self._ready(program_step=True)
+        return programs.play()
+
+    @_answers
+    def pause_program(self) -> Result:
+        """Hold the running program: between steps, or its move at rest on its path."""
+        return self._programs().pause()
+
+    @_answers
+    def resume_program(self) -> Result:
+        """Continue the paused program (the arm must be ready to move again)."""
+        programs = self._programs()
+        self._ready(program_step=True)
+        return programs.resume()
+
+    @_answers
+    def stop_program(self) -> Result:
+        """End the running or paused program; its move comes to rest."""
+        return self._programs().stop()
+
+    def program_status(self) -> ProgramStatus:
+        """State, loaded name, current line, last error (idle without programs)."""
+        programs = self.backend.programs
+        return programs.status() if programs is not None else ProgramStatus()
+
+    @_answers
+    def program_variables(self) -> Result:
+        """Every user variable (``Result.value``: :class:`UserVariable` list, by id)."""
+        return self._programs().variables()
+
+    @_answers
+    def set_program_variable(self, var_id: int, value: float, alias: str = "") -> Result:
+        """User variable ``var_id`` = ``value``, renamed ``alias`` unless it is empty."""
+        v = check.finite("value", value)
+        return self._programs().set_variable(int(var_id), v, str(alias))
 
     # ---- frames, payload, settings --------------------------------------------------------
     @_answers

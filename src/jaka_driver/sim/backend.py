@@ -32,6 +32,7 @@ from ..motion.linear_path import plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
+from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
@@ -52,12 +53,15 @@ class SimBackend(Backend):
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
-                 sim_time: bool = False, real_time_factor: float = 1.0):
+                 sim_time: bool = False, real_time_factor: float = 1.0,
+                 programs: Optional[str] = None):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
-        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
+        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
+        ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.twin = SimTwin(self)
+        self.programs = FolderPrograms(programs)
         self._kin = Kinematics(model)
         self._mj_model = build_twin_model(model, scene)
         self._scene = scene
@@ -98,6 +102,7 @@ class SimBackend(Backend):
 
     def _reset(self, q: np.ndarray) -> None:
         """Back to a fresh start at ``q`` (rad): :class:`.twin.SimTwin`'s reset."""
+        self.programs.reset()             # first: a program's step would act on the reset arm
         with self._lock:
             with self._physics.lock:
                 self._physics.servo.released = False
@@ -149,7 +154,8 @@ class SimBackend(Backend):
             powered=self._powered, enabled=self._enabled, servo_mode=self._servo_mode,
             drag_mode=self._drag_mode, emergency_stop=self._emergency_stop,
             protective_stop=self._protective_stop, collision=self._collision,
-            moving=sample.moving, error_code=self._error_code, error_message=self._error_message)
+            moving=sample.moving, error_code=self._error_code, error_message=self._error_message,
+            program_state=int(self.programs.status().state))
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
