@@ -24,6 +24,7 @@ from ..common.results import Code, CommandRefused, Result, invalid
 from ..common.transforms import rpy_to_matrix
 from ..conventions import DOCUMENT, Conventions, ServoIncrements, cartesian
 from ..conventions.jog_speed import explained, jog_speed_field
+from ..motion.servo_filters import checked_spec
 from ..programs.executor import MoveHold
 from . import checks as check
 from .program_steps import PausedTime, ProgramSteps
@@ -516,6 +517,27 @@ class RobotDriver:
             self._servo.accepted(result.value if result.value is not None
                                  else st.joint_position)
         return _with_gap(result, gap, self._servo.timeout)
+
+    @_answers
+    def set_servo_filter(self, filter_type: int, lpf_cutoff_hz: float = 0.0,
+                         nlf_max_vr: float = 0.0, nlf_max_ar: float = 0.0,
+                         nlf_max_jr: float = 0.0, nlf_max_vp: float = 0.0,
+                         nlf_max_ap: float = 0.0, nlf_max_jp: float = 0.0,
+                         mmf_buffer: int = 0, mmf_kp: float = 0.0, mmf_kv: float = 0.0,
+                         mmf_ka: float = 0.0) -> Result:
+        """The filter servo targets pass through from the next servo mode on: JAKA's
+        ``filter_type`` 0–5 with the parameters it uses (docs/interface.md,
+        "set_servo_filter": rad/s… for joints and rotations, mm/s… for the TCP, Hz, cycles);
+        refused in servo mode, as a controller refuses it."""
+        spec = checked_spec(self.model, filter_type, dict(
+            lpf_cutoff_hz=lpf_cutoff_hz, nlf_max_vr=nlf_max_vr, nlf_max_ar=nlf_max_ar,
+            nlf_max_jr=nlf_max_jr, nlf_max_vp=nlf_max_vp, nlf_max_ap=nlf_max_ap,
+            nlf_max_jp=nlf_max_jp, mmf_buffer=mmf_buffer, mmf_kp=mmf_kp, mmf_kv=mmf_kv,
+            mmf_ka=mmf_ka))
+        if self.backend.state().servo_mode:
+            raise CommandRefused(Code.WRONG_MODE, "servo filter refused in servo mode: leave "
+                                 "it first (servo_move_enable false), as a controller asks")
+        return self.backend.set_servo_filter(spec)
 
     # ---- programs (backend.programs: docs/programs.md) --------------------------------------
     def _programs(self) -> Programs:

@@ -30,6 +30,7 @@ from ..motion.cartesian_path import PlanningError
 from ..motion.circular_path import plan_circular_move
 from ..motion.linear_path import plan_linear_move
 from ..motion.profiles import joint_move_profile
+from ..motion.servo_filters import FilterType, ServoFilterSpec, make_filter
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
 from ..programs import FolderPrograms
@@ -99,6 +100,7 @@ class SimBackend(Backend):
         self._collision_level = self._collisions.level = 2
         self._collisions.armed = True
         self._speed_ratio = 1.0
+        self._servo_filter = ServoFilterSpec()
 
     def _reset(self, q: np.ndarray) -> None:
         """Back to a fresh start at ``q`` (rad): :class:`.twin.SimTwin`'s reset."""
@@ -123,7 +125,8 @@ class SimBackend(Backend):
     def describe(self) -> dict:
         info = {"backend": "sim", **super().describe()}
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
-                    timestep_s=self._mj_model.opt.timestep)
+                    timestep_s=self._mj_model.opt.timestep,
+                    servo_filter=self._servo_filter.describe())
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")
@@ -401,11 +404,34 @@ class SimBackend(Backend):
                 if self._physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
                 # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
-                self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics))
+                self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics,
+                                                 self._make_servo_filter()))
             else:
                 self._physics.switch(Hold())
             self._servo_mode = on
         return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    def set_servo_filter(self, spec: ServoFilterSpec) -> Result:
+        """The filter servo targets pass through each cycle from the next servo mode on
+        (jaka_driver.motion.servo_filters)."""
+        with self._lock:
+            if self._servo_mode:
+                return Result.failure(Code.WRONG_MODE, "servo filter refused in servo mode: "
+                                      "leave it first (servo_move_enable false)")
+            self._servo_filter = spec
+        return Result.success(f"servo filter {spec.describe()}, from the next servo mode on")
+
+    def _make_servo_filter(self):
+        spec = self._servo_filter
+        if spec.type == FilterType.NONE:
+            return None
+        tool, user = self.frames()
+        kin = self._kin
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
+            return solution.q if solution.success else None
+        return make_filter(spec, SERVO_CYCLE, ik, lambda q: kin.tcp_pose(q, tool, user))
 
     def _servo_target(self) -> Optional[ServoTarget]:
         motion = self._physics.motion
@@ -443,7 +469,7 @@ class SimBackend(Backend):
                                   f"{self.model.joint_names[j]} at {speed:.2f} rad/s, "
                                   f"limit {self.model.max_velocity[j]:.2f} rad/s; the arm "
                                   "holds")
-        target.set(q)
+        target.set(q, np.asarray(target_pose, float))
         self.clock.streamed()
         return Result.success("servo_p target accepted", q)
 

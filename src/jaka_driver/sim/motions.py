@@ -159,7 +159,7 @@ class CycleClock(Protocol):
 class ServoTarget(Motion):
     """Servo mode: the latest servo_j / servo_p target, reached within one cycle — or, with
     ``stepNum`` (:meth:`ramp`), over ``n`` cycles interpolated linearly, as the controller
-    does.
+    does — each cycle through the servo filter, when one is chosen.
 
     A target takes effect in the cycle after the one it arrived in, by the cycles' nominal
     times (the sample stamps): the setpoint chosen at the end of cycle k takes the targets
@@ -171,33 +171,44 @@ class ServoTarget(Motion):
     moving = False
     PENDING = 64        # commands kept for the coming choices (a stream brings one a cycle)
 
-    def __init__(self, q: np.ndarray, cycles: CycleClock):
+    def __init__(self, q: np.ndarray, cycles: CycleClock, servo_filter=None):
+        """``servo_filter``: what the targets pass through each cycle before the drives follow
+        them (jaka_driver.motion.servo_filters; None: nothing)."""
         self.target = q.copy()
         self._cycles = cycles
         self._ramp: Optional[tuple] = None   # (start, end, cycles done, cycles)
-        # (arrival time, q, steps) of commands not taken yet, oldest first
-        self._pending: deque[tuple[float, np.ndarray, int]] = deque(maxlen=self.PENDING)
+        # (arrival time, q, steps, pose) of commands not taken yet, oldest first
+        self._pending: deque[tuple] = deque(maxlen=self.PENDING)
+        self._pose: Optional[np.ndarray] = None      # the taken servo_p target's pose
+        self._filter = servo_filter
+        if servo_filter is not None:
+            servo_filter.reset(q)
         self._lock = threading.Lock()
 
-    def set(self, q: np.ndarray) -> None:
-        """Go to ``q`` (rad) in the cycle after this one."""
-        self._command(q, 1)
+    def set(self, q: np.ndarray, pose: Optional[np.ndarray] = None) -> None:
+        """Go to ``q`` (rad) in the cycle after this one; ``pose`` (4x4, m): the servo_p target
+        ``q`` solves (a Cartesian filter reads it)."""
+        self._command(q, 1, pose)
 
     def ramp(self, q: np.ndarray, steps: int) -> None:
         """Go to ``q`` (rad) over ``steps`` cycles from the one after this one."""
-        self._command(q, steps)
+        self._command(q, steps, None)
 
-    def _command(self, q: np.ndarray, steps: int) -> None:
+    def _command(self, q: np.ndarray, steps: int, pose: Optional[np.ndarray]) -> None:
         with self._lock:    # stamped under the lock: the queue stays in arrival order
-            self._pending.append((self._cycles.arrival_time(), q.copy(), steps))
+            self._pending.append((self._cycles.arrival_time(), q.copy(), steps, pose))
 
     def hold(self, q: np.ndarray) -> None:
         """Hold ``q`` (rad) from the next choice on, whenever this arrives, and drop the
-        commands not taken yet: a stop does not wait for a cycle boundary."""
+        commands not taken yet: a stop does not wait for a cycle boundary (nor for a filter:
+        it starts again from ``q``)."""
         with self._lock:
             self._pending.clear()
             self._ramp = None
             self.target = q.copy()
+            self._pose = None
+            if self._filter is not None:
+                self._filter.reset(q)
 
     @property
     def goal(self) -> np.ndarray:
@@ -219,8 +230,9 @@ class ServoTarget(Motion):
         with self._lock:
             end = self._cycles.cycle_end
             while self._pending and self._pending[0][0] <= end:
-                _, q, steps = self._pending.popleft()
+                _, q, steps, pose = self._pending.popleft()
                 self._ramp = None if steps <= 1 else (self.target.copy(), q, 0, steps)
+                self._pose = pose if steps <= 1 else None
                 if steps <= 1:
                     self.target = q
             if self._ramp is not None:
@@ -229,6 +241,8 @@ class ServoTarget(Motion):
                 self.target = start + (end_q - start) * (k / n)
                 self._ramp = None if k >= n else (start, end_q, k, n)
             target = self.target
+            if self._filter is not None:
+                target = self._filter.next(target, self._pose)
         self.moving = bool(np.any(target != q_sp))
         return target
 
