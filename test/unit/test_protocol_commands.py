@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from jaka_driver.protocol import commands as c
+from jaka_driver.protocol import programs as programs
+from jaka_driver.protocol import servo_filters as filters
 from jaka_driver.protocol.errors import (CommandRejected, InvalidArgument, JakaProtocolError,
                                          ProtocolError)
 from jaka_driver.protocol.fields import COMMANDS, Cmd, CoordMap, Field, JogMode
@@ -38,6 +40,13 @@ ALL_REQUESTS = [
     c.get_drag_status(), c.get_rapid_rate(), c.get_tool_offsets(), c.get_user_offsets(),
     c.torque_control_enable(True), c.get_dh_param(),
     c.moveL(POSE, 100, 500, ori_vel_rad_s=0.5, ori_acc_rad_s2=1.0),
+    c.movc(POSE, POSE, 10, 50, 0.5, 1.5, 2),
+    programs.load_program("pick"), programs.get_loaded_program(), programs.play_program(),
+    programs.pause_program(), programs.resume_program(), programs.get_program_state(),
+    programs.get_current_line(), programs.query_user_defined_variable(),
+    programs.modify_user_defined_variable(5, 2.5, "abc"),
+    filters.servo_filter_joint_nlf(1, 2, 3), filters.servo_filter_joint_mmf(20, 0.2, 0.4, 0.2),
+    filters.servo_filter_carte_nlf(100, 500, 5000, 1, 2, 3), filters.servo_speed_foresight(15, 0.03),
 ]
 
 
