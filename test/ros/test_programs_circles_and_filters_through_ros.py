@@ -2,8 +2,12 @@
 twin: an arc measured on tool_position stays within 0.1 mm of its circle and collinear points
 are refused naming the tolerance; a program is loaded (".jks" taken off), its variables read and
 set, played, paused (robot_states.motion_state 1, the latched program/state says paused at its
-line), stopped; the servo filter is chosen, refused in servo mode, and shown in /diagnostics."""
+line), stopped; the servo filter is chosen, refused in servo mode, and shown in /diagnostics;
+the README's examples of the three run as written."""
+import os
+import subprocess
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -117,4 +121,33 @@ def test_the_servo_filter_is_chosen_outside_servo_mode_and_shown_in_diagnostics(
         assert call("servo_move_enable", ServoMoveEnable, enable=False).ret == 1
     out = call("set_servo_filter", SetServoFilter, filter_type=1, lpf_cutoff_hz=100.0)
     assert out.ret == -2 and "lpf_cutoff_hz is 100 Hz, expected [0.01, 62.5] Hz" in out.message
+    assert call("set_servo_filter", SetServoFilter, filter_type=0).ret == 1
+
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+
+
+def readme_line(start: str) -> str:
+    lines = [line for line in README.read_text().splitlines() if line.startswith(start)]
+    assert len(lines) == 1, f"README.md has {len(lines)} lines starting {start!r}"
+    return lines[0]
+
+
+@pytest.mark.parametrize("start, answers", [
+    ("rosservice call /jaka_driver/circular_move", ["ret: 1"]),
+    ("rosservice call /jaka_driver/set_servo_filter", ["ret: 1"]),
+    ("rosservice call /jaka_driver/program/load", ["ret: 1", "ret: 1", "state_name: \"running\"",
+                                                    "name: \"three_moves\""]),
+])
+def test_the_readmes_examples_run_as_written(call, program_state, start, answers):
+    go_home(call)
+    out = subprocess.run(["bash", "-c", readme_line(start)], capture_output=True, text=True,
+                         timeout=60, env=os.environ.copy())
+    assert out.returncode == 0, out.stdout + out.stderr
+    position = 0
+    for answer in answers:                       # in this order in the output
+        found = out.stdout.find(answer, position)
+        assert found >= 0, f"{answer!r} not in\n{out.stdout}"
+        position = found + len(answer)
+    assert call("program/stop", ProgramCommand).ret == 1
     assert call("set_servo_filter", SetServoFilter, filter_type=0).ret == 1

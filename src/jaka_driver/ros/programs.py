@@ -54,15 +54,16 @@ def advertise_programs(driver: RobotDriver) -> list:
                                            ret=int(result.code), message=result.message)
 
     table = [
-        ("load", LoadProgram, lambda r: _ret(LoadProgramResponse)(driver.load_program(r.name))),
-        ("play", ProgramCommand, lambda r: command(driver.play_program())),
-        ("pause", ProgramCommand, lambda r: command(driver.pause_program())),
-        ("resume", ProgramCommand, lambda r: command(driver.resume_program())),
-        ("stop", ProgramCommand, lambda r: command(driver.stop_program())),
-        ("set_variable", SetProgramVariable, lambda r: _ret(SetProgramVariableResponse)(
+        ("program/load", LoadProgram, lambda r: _ret(LoadProgramResponse)(
+            driver.load_program(r.name))),
+        ("program/play", ProgramCommand, lambda r: command(driver.play_program())),
+        ("program/pause", ProgramCommand, lambda r: command(driver.pause_program())),
+        ("program/resume", ProgramCommand, lambda r: command(driver.resume_program())),
+        ("program/stop", ProgramCommand, lambda r: command(driver.stop_program())),
+        ("program/set_variable", SetProgramVariable, lambda r: _ret(SetProgramVariableResponse)(
             driver.set_program_variable(r.id, r.value, r.alias))),
     ]
-    services = [rospy.Service(f"~program/{name}", srv, _logged(f"program/{name}", handler))
+    services = [rospy.Service(f"~{name}", srv, _logged(name, handler))
                 for name, srv, handler in table]
     services += [rospy.Service("~program/loaded", GetLoadedProgram, loaded),
                  rospy.Service("~program/get_variables", GetProgramVariables, variables)]
