@@ -1,11 +1,15 @@
 """Every sample a twin produces, for tests that measure a whole motion: a consumer of the twin's
-samples (with simulated time the twin waits for it, so none is missed)."""
+samples (with simulated time the twin waits for it, so none is missed); and a started driver on
+a twin in simulated time that keeps them (:func:`collected_twin`)."""
 from __future__ import annotations
 
 import threading
 
 from jaka_driver.backend.robot_state import RobotState
 from jaka_driver.common.constants import SERVO_CYCLE
+from jaka_driver.common.models import RobotModel
+from jaka_driver.driver import RobotDriver
+from jaka_driver.sim import SimBackend
 
 
 class Collector:
@@ -39,3 +43,18 @@ class Collector:
     def close(self):
         self._done.set()
         self._thread.join(2.0)
+
+
+def collected_twin(model: RobotModel, **backend):
+    """A started :class:`RobotDriver` on a twin of ``model`` in simulated time, stepping as fast
+    as it can (``backend``: more of SimBackend's arguments), its samples in
+    ``driver.samples`` (a :class:`Collector`); shut down when the generator ends (a fixture's
+    ``yield from``)."""
+    driver = RobotDriver(SimBackend(model, sim_time=True, real_time_factor=0, **backend))
+    driver.samples = Collector(driver)
+    driver.start()
+    try:
+        yield driver
+    finally:
+        driver.samples.close()
+        driver.shutdown()

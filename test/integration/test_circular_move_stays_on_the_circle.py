@@ -9,16 +9,14 @@ import threading
 import numpy as np
 import pytest
 
-from twin_samples import Collector
+from twin_samples import collected_twin
 
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import (matrix_to_pose_mm, pose_mm_to_matrix,
                                            rotation_angle_between)
-from jaka_driver.driver import RobotDriver
 from jaka_driver.motion.circular_path import arc_through, stop_pose
 from jaka_driver.programs.executor import MoveHold
-from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
 RADIUS = 80.0                                    # mm
@@ -26,12 +24,7 @@ RADIUS = 80.0                                    # mm
 
 @pytest.fixture(scope="module")
 def twin():
-    driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0))
-    driver.samples = Collector(driver)
-    driver.start()
-    yield driver
-    driver.samples.close()
-    driver.shutdown()
+    yield from collected_twin(MODEL)
 
 
 @pytest.fixture

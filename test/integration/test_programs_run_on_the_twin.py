@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from ros_harness import wait_until
-from twin_samples import Collector
+from twin_samples import collected_twin
 
 from jaka_driver.backend import MotionState, ProgramState
 from jaka_driver.common.models import load_model, repo_root
@@ -28,13 +28,7 @@ ARC_START, ARC_MID, ARC_END = (np.array(p) for p in ([482, 114, 393], [562, 194,
 
 @pytest.fixture(scope="module")
 def twin():
-    driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0,
-                                    programs=str(PROGRAMS)))
-    driver.samples = Collector(driver)
-    driver.start()
-    yield driver
-    driver.samples.close()
-    driver.shutdown()
+    yield from collected_twin(MODEL, programs=str(PROGRAMS))
 
 
 @pytest.fixture

@@ -6,25 +6,18 @@ description (/diagnostics)."""
 import numpy as np
 import pytest
 
-from twin_samples import Collector
+from twin_samples import collected_twin
 
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import matrix_to_rpy
-from jaka_driver.driver import RobotDriver
-from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
 
 
 @pytest.fixture(scope="module")
 def twin():
-    driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0))
-    driver.samples = Collector(driver)
-    driver.start()
-    yield driver
-    driver.samples.close()
-    driver.shutdown()
+    yield from collected_twin(MODEL)
 
 
 @pytest.fixture

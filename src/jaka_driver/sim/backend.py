@@ -289,20 +289,19 @@ class SimBackend(Backend):
         return self._start_run(trajectory, label)
 
     def pause_motion(self) -> Result:
-        with self._lock:
-            run = self._physics.motion
-            if not (isinstance(run, TrajectoryRun) and run.active):
-                return Result.success("nothing moving to pause")
-            run.pause()
-        return Result.success(f"{run.label} pausing on its path")
+        return self._pause_run(True)
 
     def resume_motion(self) -> Result:
+        return self._pause_run(False)
+
+    def _pause_run(self, pause: bool) -> Result:
+        """Slow the running planned move to rest on its path, or bring it back to speed."""
         with self._lock:
             run = self._physics.motion
             if not (isinstance(run, TrajectoryRun) and run.active):
-                return Result.success("no paused move to resume")
-            run.resume()
-        return Result.success(f"{run.label} resumed")
+                return Result.success(f"no move to {'pause' if pause else 'resume'}")
+            run.pause() if pause else run.resume()
+        return Result.success(f"{run.label} {'pausing on its path' if pause else 'resumed'}")
 
     def start_trajectory(self, trajectory: JointTrajectory) -> Result:
         return self._start_run(trajectory, "trajectory")
