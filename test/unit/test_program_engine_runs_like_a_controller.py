@@ -77,7 +77,8 @@ class FakeExecutor:
         move = Move(kind, args)
         self.moves.append(move)
         hold.attach(lambda: move.log.append("paused") or Result.success("p"),
-                    lambda: move.log.append("resumed") or Result.success("r"))
+                    lambda: move.log.append("resumed") or Result.success("r"),
+                    lambda: self._stop(move))
         move.done.wait(10.0)
         return move.result
 
@@ -99,11 +100,9 @@ class FakeExecutor:
     def read_io(self, signal, path, io_type, index):
         return Result.success("read", self.inputs.get((signal, io_type, index), 0.0))
 
-    def stop_motion(self):
+    def _stop(self, move):
         self.stops += 1
-        for move in self.moves:
-            if not move.done.is_set():
-                move.finish(Result.failure(Code.MOTION_STOPPED, "stopped by stop_move"))
+        move.finish(Result.failure(Code.MOTION_STOPPED, "stopped by stop_move"))
         return Result.success("stopping")
 
 
@@ -169,15 +168,21 @@ def test_pause_inside_a_move_pauses_that_move_and_resume_continues_it(engine):
     assert running_move(executor, 2).kind == "linear_move"
 
 
-def test_a_pause_before_the_move_has_started_reaches_the_move_when_it_starts():
+def test_a_pause_or_stop_before_the_move_has_started_reaches_the_move_when_it_starts():
     hold, log = MoveHold(), []
     hold.pause()                                 # the step's move is not running yet
-    hold.attach(lambda: log.append("paused"), lambda: log.append("resumed"))
+    hold.attach(lambda: log.append("paused"), lambda: log.append("resumed"),
+                lambda: log.append("stopped"))
     assert log == ["paused"]
     hold.resume()
     hold.detach()
     hold.pause()                                 # after the move: nothing to pause
     assert log == ["paused", "resumed"]
+    stopped, log = MoveHold(), []
+    stopped.stop()
+    stopped.attach(lambda: log.append("paused"), lambda: log.append("resumed"),
+                   lambda: log.append("stopped"))
+    assert log == ["stopped"]
 
 
 def test_pause_between_steps_holds_the_next_step_until_resume(engine):

@@ -3,7 +3,7 @@ on a backend that runs the driver's program engine (the twin: ``backend.programs
 
 Every step is the service call it stands for, through RobotDriver's door — the same field,
 state and whole-path checks, the same planned duration and overrun rule — with the program's
-pause switch (:class:`~jaka_driver.programs.executor.MoveHold`) handed to the move. A program's
+pause and stop switch (:class:`~jaka_driver.programs.executor.MoveHold`) handed to the move. A program's
 poses are mm + rotation vector whatever ``~conventions`` says (docs/programs.md): they are
 turned into the reading the driver was built with before they go in.
 
@@ -50,10 +50,6 @@ class ProgramSteps:
 
     def read_io(self, signal, path, io_type, index) -> Result:
         return self._driver.get_io(signal, path, io_type, index)
-
-    def stop_motion(self) -> Result:
-        # the backend's own stop: RobotDriver.stop_move would stop the program again
-        return self._driver.backend.stop_move()
 
 
 class PausedTime:

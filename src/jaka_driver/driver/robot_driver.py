@@ -170,7 +170,8 @@ class RobotDriver:
                    mvtime: float = 0.0, hold: MoveHold | None = None) -> Result:
         """Synchronised joint move to ``pose`` (rad) at ``mvvelo`` rad/s, ``mvacc`` rad/s²;
         ``mvtime`` > 0 stretches it to that many seconds. Blocks. ``hold``: a program step's
-        pause switch (the step of a running program may move; it pauses through it)."""
+        pause and stop switch (the step of a running program may move; it is paused and stopped
+        through it)."""
         q = check.joint_targets("pose", pose, self.model)
         notes: list[str] = []
         v = check.speed("mvvelo", mvvelo, float(np.max(self.model.max_velocity)), "rad/s",
@@ -321,8 +322,8 @@ class RobotDriver:
         for the completion. A move still running ``constants.move_deadline(planned)`` s after
         its start, or one ``monitor`` objects to, is stopped and answered -12; a stop_move or
         fault meanwhile finishes the completion with -12 itself. ``hold`` (a program step's)
-        pauses the move on its path while it runs; the time it stands paused does not count
-        towards the deadline."""
+        pauses the move on its path while it runs, and stops it; the time it stands paused does
+        not count towards the deadline."""
         self._not_jogging()
         with self._blocking_move(what):
             started = start(self._ready(program_step=hold is not None))
@@ -332,9 +333,10 @@ class RobotDriver:
             deadline = move_deadline(planned)
             clock = self.clock                  # wall time, or the twin's sim time
             paused = PausedTime(clock)
-            if hold is not None:
-                hold.attach(lambda: paused.began(self.backend.pause_motion()),
-                            lambda: paused.ended(self.backend.resume_motion()))
+            if hold is not None:         # the backend's own stop: stop_move would stop the
+                hold.attach(lambda: paused.began(self.backend.pause_motion()),   # program too
+                            lambda: paused.ended(self.backend.resume_motion()),
+                            self.backend.stop_move)
             try:
                 return self._wait_for(what, completion, planned, deadline, paused, monitor,
                                       period)

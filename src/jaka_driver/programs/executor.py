@@ -1,5 +1,5 @@
 """What a program's steps are carried out by: the :class:`Executor` interface, and
-:class:`MoveHold`, the pause switch of the move a step runs.
+:class:`MoveHold`, the pause and stop switch of the move a step runs.
 
 On the twin the executor is the driver's door (RobotDriver, through
 :class:`jaka_driver.driver.program_steps.ProgramSteps`): every step passes the same checks as
@@ -19,26 +19,31 @@ from ..common.results import Result
 
 
 class MoveHold:
-    """A pause switch for the move one program step runs. The runner pauses and resumes it;
-    whoever runs the move attaches the move's own pause and resume to it while the move runs
-    (:meth:`attach` … :meth:`detach`). A pause that comes before the move has started is kept
-    and applied the moment it is attached, so no move slips through a pause."""
+    """A pause and stop switch for the move one program step runs. The runner pauses, resumes
+    and stops it; whoever runs the move attaches the move's own pause, resume and stop to it
+    while the move runs (:meth:`attach` … :meth:`detach`). A pause or a stop that comes before
+    the move has started is kept and applied the moment it is attached, so no move slips
+    through either."""
 
     def __init__(self):
         self._lock = threading.Lock()
         self._paused = False
-        self._move: Optional[tuple[Callable[[], Result], Callable[[], Result]]] = None
+        self._stopped = False
+        self._move: Optional[tuple[Callable[[], Result], ...]] = None
 
     @property
     def paused(self) -> bool:
         return self._paused
 
-    def attach(self, pause: Callable[[], Result], resume: Callable[[], Result]) -> None:
+    def attach(self, pause: Callable[[], Result], resume: Callable[[], Result],
+               stop: Callable[[], Result]) -> None:
         """The move now running: ``pause()`` brings it to rest on its path, ``resume()``
-        continues it."""
+        continues it, ``stop()`` ends it (its waiter answered -12)."""
         with self._lock:
-            self._move = (pause, resume)
-            if self._paused:
+            self._move = (pause, resume, stop)
+            if self._stopped:
+                stop()
+            elif self._paused:
                 pause()
 
     def detach(self) -> None:
@@ -57,6 +62,12 @@ class MoveHold:
             if self._move is not None:
                 self._move[1]()
 
+    def stop(self) -> None:
+        with self._lock:
+            self._stopped = True
+            if self._move is not None:
+                self._move[2]()
+
 
 class StepClock(Protocol):
     """The executor's time (a backend clock: wall or the twin's simulated time)."""
@@ -69,7 +80,7 @@ class StepClock(Protocol):
 class Executor(Protocol):
     """Carries out program steps; every method answers a :class:`Result` (a failure stops the
     program with its line and message). Moves block until the move has ended and accept a
-    :class:`MoveHold` the runner pauses them with."""
+    :class:`MoveHold` the runner pauses, resumes and stops them with."""
 
     clock: StepClock
 
@@ -93,6 +104,3 @@ class Executor(Protocol):
     def read_io(self, signal: str, path: int, io_type: int, index: int) -> Result:
         """Read an input (``path`` 0) or output (1), as ``get_io``; the value in
         ``Result.value``."""
-
-    def stop_motion(self) -> Result:
-        """Bring whatever the program moves to rest (the program is being stopped)."""

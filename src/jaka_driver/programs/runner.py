@@ -144,10 +144,10 @@ class ProgramRunner:
             if self._state == ProgramState.IDLE:
                 return Result.success("no program running")
             self._stop = True
-            moving = self._hold is not None
+            hold = self._hold
             self._wake.set()
-        if moving and self.executor is not None:
-            self.executor.stop_motion()   # the move under way ends (-12) and the run unwinds
+        if hold is not None:
+            hold.stop()                   # the move under way ends (-12) and the run unwinds
         thread = self._thread
         if thread is not None and thread is not threading.current_thread():
             thread.join(5.0)
