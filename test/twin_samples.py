@@ -4,6 +4,7 @@ a twin in simulated time that keeps them (:func:`collected_twin`)."""
 from __future__ import annotations
 
 import threading
+import time
 
 from jaka_driver.backend.robot_state import RobotState
 from jaka_driver.common.constants import SERVO_CYCLE
@@ -36,8 +37,14 @@ class Collector:
                 last = st.stamp
             self.driver.clock.consumed(last)
 
-    def since(self, stamp: float) -> list[RobotState]:
-        """The samples stamped after ``stamp`` (s)."""
+    def since(self, stamp: float, until: float | None = None) -> list[RobotState]:
+        """The samples stamped after ``stamp`` (s) — with ``until`` (s), once the collector
+        has reached a sample stamped then (it may be a few cycles behind the twin)."""
+        if until is not None:
+            deadline = time.monotonic() + 10.0
+            while not (self.states and self.states[-1].stamp >= until):
+                assert time.monotonic() < deadline, f"no sample stamped {until:.3f} s yet"
+                time.sleep(0.005)
         return [st for st in list(self.states) if st.stamp > stamp]
 
     def close(self):

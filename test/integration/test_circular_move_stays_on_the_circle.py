@@ -40,7 +40,8 @@ def arc(twin):
 
 
 def measured(twin, since):
-    return np.array([st.tcp_pose for st in twin.samples.since(since)])
+    """Every TCP pose (4x4, m) sampled after ``since`` up to now."""
+    return np.array([st.tcp_pose for st in twin.samples.since(since, twin.state().stamp)])
 
 
 def test_every_sample_of_an_arc_with_a_turn_lies_within_0_1_mm_of_the_circle(twin, arc):
@@ -71,7 +72,7 @@ def test_collinear_points_are_refused_and_nothing_moves(twin, arc):
 
 
 def _attitudes(twin, t0):
-    return np.array([st.tcp_pose[:3, :3] for st in twin.samples.since(t0)])
+    return measured(twin, t0)[:, :3, :3]
 
 
 def test_short_and_long_way_turn_the_tool_as_their_rules_say(twin, arc):

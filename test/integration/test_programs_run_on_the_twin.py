@@ -53,7 +53,7 @@ def test_three_moves_play_to_idle_at_the_end_pose(fresh):
     assert idle(fresh)
     assert fresh.program_status().error == ""
     np.testing.assert_allclose(tcp_mm(fresh), ARC_END, atol=0.05)
-    during = fresh.samples.since(t0)
+    during = fresh.samples.since(t0, fresh.state().stamp)
     states = {st.motion_state for st in during}
     assert MotionState.RUNNING in states and MotionState.PAUSE not in states
     assert ProgramState.RUNNING in {st.program_state for st in during}

@@ -46,7 +46,8 @@ def test_the_joint_low_pass_makes_a_held_step_a_first_order_lag(fresh):
     q0 = fresh.state().joint_position.copy()
     target = q0 + np.array([0, 0, 0, 0, 0, 0.02])
     t0 = hold_target(fresh, lambda: fresh.servo_j(target), 60)
-    q6 = np.array([st.joint_position[5] - q0[5] for st in fresh.samples.since(t0)])
+    q6 = np.array([st.joint_position[5] - q0[5]
+                   for st in fresh.samples.since(t0, fresh.state().stamp)])
     assert q6[2] < 0.02 * 0.3                       # not at once (unfiltered: 2 cycles)
     assert 0.02 * 0.5 < q6[12] < 0.02 * 0.8         # ~63 % after ~80 ms (+ the drive's lag)
     assert q6[-1] == pytest.approx(0.02, abs=0.001)
@@ -60,7 +61,7 @@ def test_the_cartesian_nonlinear_filter_holds_the_tcp_within_its_speed(fresh):
     target = np.concatenate([start[:3, 3] + [0.0, 0.0, -0.004], matrix_to_rpy(start[:3, :3])])
     # servo_p's step check allows 4 mm in one cycle only at 500 mm/s: well within the zu5's
     t0 = hold_target(fresh, lambda: fresh.servo_p(target), 80)
-    z = np.array([st.tcp_pose[2, 3] for st in fresh.samples.since(t0)])
+    z = np.array([st.tcp_pose[2, 3] for st in fresh.samples.since(t0, fresh.state().stamp)])
     speed = np.abs(np.diff(z)) / 0.008
     assert speed.max() < 0.050 * 1.2                 # 50 mm/s (+ the drives' following)
     assert z[-1] == pytest.approx(start[2, 3] - 0.004, abs=1e-4)
