@@ -16,12 +16,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import TYPE_CHECKING
-
 from ..common.results import Result
-
-if TYPE_CHECKING:
-    from ..programs.executor import Executor
 
 
 class ProgramState(IntEnum):
@@ -62,9 +57,11 @@ class UserVariable:
 class Programs(ABC):
     """Load, play, pause, resume and stop programs; their state and user variables."""
 
-    def bind(self, executor: "Executor") -> None:
-        """The executor every step of a program goes through, for a backend that runs the
-        driver's program engine (the twin); a controller runs its own steps and ignores it."""
+    def bind(self, executor) -> None:
+        """The executor every step of a program goes through (a
+        :class:`jaka_driver.programs.Executor`; not imported here: the engine builds on this
+        facet, not the other way round), for a backend that runs the driver's program engine
+        (the twin); a controller runs its own steps and ignores it."""
 
     @abstractmethod
     def load(self, name: str) -> Result:

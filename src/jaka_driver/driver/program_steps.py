@@ -12,21 +12,19 @@ it (RobotDriver._run_move).
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional, Sequence
+from typing import Optional, Sequence
 
 from ..common.results import Result
 from ..common.transforms import pose_mm_to_matrix
 from ..conventions import cartesian
 from ..programs.executor import MoveHold
 
-if TYPE_CHECKING:
-    from .robot_driver import RobotDriver
-
 
 class ProgramSteps:
-    """:class:`~jaka_driver.programs.executor.Executor` on a :class:`RobotDriver`."""
+    """:class:`~jaka_driver.programs.executor.Executor` on a RobotDriver (handed in: the
+    driver builds this, so it is not imported here)."""
 
-    def __init__(self, driver: "RobotDriver"):
+    def __init__(self, driver):
         self._driver = driver
         self.clock = driver.clock
 

@@ -17,7 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend, Programs, ProgramStatus
+from ..backend import Backend, Camera, Programs, ProgramStatus, Twin
 from ..backend.robot_state import RobotState
 from ..common.constants import move_deadline
 from ..common.results import Code, CommandRefused, Result, invalid
@@ -31,6 +31,14 @@ from .program_steps import PausedTime, ProgramSteps
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
+
+#: Why a twin's own request is refused on a controller (-9).
+NOT_A_TWIN = ("refused: this backend is a controller, not a twin (reset, pause and step are "
+              "the twin's own)")
+NOT_A_TWIN_FAULTS = ("refused: this backend is a controller, not a twin (faults and inputs "
+                     "are injected on a twin only)")
+#: the most cycles one step request runs (80 s of sim time)
+MAX_STEP = 10000
 
 
 def _answers(method: Callable | None = None, *, react: bool = True) -> Callable:
@@ -435,17 +443,48 @@ class RobotDriver:
         """The ratio the robot runs at (the controller's, read back)."""
         return float(self.backend.speed_ratio())
 
-    # ---- the twin's own controls -------------------------------------------------------------
+    # ---- what only a twin can do (backend.twin): faults, inputs, its time, the camera -----------
+    @property
+    def has_twin(self) -> bool:
+        """The backend offers what only a twin can do (:class:`~jaka_driver.backend.Twin`):
+        the node then serves its fault, input and snapshot services."""
+        return self.backend.twin is not None
+
+    def _twin(self, refusal: str) -> Twin:
+        """The backend's twin; without one, a -9 refusal saying ``refusal``."""
+        twin = self.backend.twin
+        if twin is None:
+            raise CommandRefused(Code.WRONG_MODE, refusal)
+        return twin
+
+    @_answers
+    def emergency_stop(self, pressed: bool) -> Result:
+        """Press (True) or release (False) the twin's emergency stop. In sim time it happens
+        between two cycles, at the sim time the request arrived, as every request does."""
+        twin = self._twin(f"emergency stop {NOT_A_TWIN_FAULTS}")
+        return twin.press_emergency_stop() if pressed else twin.release_emergency_stop()
+
+    @_answers
+    def protective_stop(self) -> Result:
+        """A protective stop on the twin, as after a collision; clear_err recovers."""
+        return self._twin(f"protective stop {NOT_A_TWIN_FAULTS}").trigger_protective_stop()
+
+    @_answers
+    def set_input(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
+        """Drive the twin's input ``index`` (from 0) of ``signal`` on IO ``type`` to ``value``
+        as the outside world would (digital non-zero → 1, analog V)."""
+        sig = check.io_signal(signal)
+        check.io_address(self.model, sig, 0, type, index)
+        v = check.io_value(sig, value)
+        return self._twin(f"set_input {NOT_A_TWIN_FAULTS}").set_input(sig, int(type),
+                                                                       int(index), v)
+
     @_answers
     def reset_twin(self, joints: Sequence[float] = ()) -> Result:
         """A twin back to a fresh start (:meth:`jaka_driver.backend.Twin.reset`) at ``joints``
         (rad; empty: home); the driver forgets its jogs and servo stream. -9 without a twin.
         In sim time it happens between two cycles, at the sim time the request arrived."""
-        twin = self.backend.twin
-        if twin is None:
-            return Result.failure(Code.WRONG_MODE, "reset refused: this backend is a "
-                                  "controller, not a twin (reset, pause and step are the "
-                                  "twin's own)")
+        twin = self._twin(f"reset {NOT_A_TWIN}")
         q = check.joint_targets("joints", joints, self.model) if len(joints) else None
         self._jog.clear()
         self._twist.clear()
@@ -453,6 +492,39 @@ class RobotDriver:
         if self._increments is not None:
             self._increments.reset()
         return twin.reset(q)
+
+    @_answers
+    def pause_twin(self, pause: bool) -> Result:
+        """Stop (True) or run on (False) the twin's simulated time."""
+        twin = self._twin(NOT_A_TWIN)
+        return twin.pause() if pause else twin.unpause()
+
+    @_answers
+    def step_twin(self, cycles: int) -> Result:
+        """While paused, run ``cycles`` (1–:data:`MAX_STEP`) 8 ms cycles; ``Result.value`` is the
+        sim time (s) after them."""
+        twin = self._twin(NOT_A_TWIN)
+        if not 1 <= cycles <= MAX_STEP:
+            raise invalid(f"cycles is {cycles}, expected 1–{MAX_STEP}")
+        return twin.step(cycles)
+
+    def camera(self, width: int, height: int) -> Camera:
+        """The twin's offscreen camera (:meth:`jaka_driver.backend.Twin.camera`: made in the
+        thread that renders with it; raises ImportError or RuntimeError where rendering is
+        unavailable, RuntimeError without a twin)."""
+        twin = self.backend.twin
+        if twin is None:
+            raise RuntimeError(f"no camera: {NOT_A_TWIN_FAULTS}")
+        return twin.camera(width, height)
+
+    # ---- what the backend reports of itself ---------------------------------------------------
+    def frames(self) -> tuple[np.ndarray, np.ndarray]:
+        """The active (tool, user frame) 4x4 poses, m: flange → tool, base → user frame."""
+        return self.backend.frames()
+
+    def describe(self) -> dict:
+        """Facts for diagnostics (:meth:`Backend.describe`)."""
+        return self.backend.describe()
 
     @_answers
     def servo_move_enable(self, enable: bool) -> Result:
@@ -650,10 +722,7 @@ class RobotDriver:
         """Set an output (docs/interface.md, "set_io"); digital non-zero → 1."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, 1, type, index)
-        if sig == "digital":
-            v = 1.0 if check.finite("value", value) != 0 else 0.0
-        else:
-            v = check.analog_value(value)
+        v = check.io_value(sig, value, analog_limit=check.ANALOG_LIMIT)
         return self.backend.set_io(sig, int(type), int(index), v)
 
     @_answers

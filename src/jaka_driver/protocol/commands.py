@@ -23,7 +23,7 @@ import numpy as np
 
 from . import units
 from .errors import InvalidArgument
-from .fields import Cmd, CoordMap, Field, JogMode, ServoFilter
+from .fields import Cmd, CoordMap, Field, JogMode
 # Replies live in their own module; re-exported so requests and their accessors read together.
 from .replies import (DHParam, PowerState, Reply, command_names_match,  # noqa: F401
                       parse_reply, MotionState, reply_clsn_sensitivity, reply_dh_param,
@@ -291,20 +291,6 @@ def servo_p(pose_mm_rpy, relative: bool = False, step_num: int = 1) -> Request:
                                 Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
 
 
-def set_servo_move_filter(filter_type: int, lpf_cutoff_hz: Optional[float] = None) -> Request:
-    """Servo filter :attr:`ServoFilter.NONE`, or :attr:`ServoFilter.JOINT_LPF` with a cut-off
-    frequency in Hz (the others, with their parameters: :mod:`.servo_filters`). Only accepted
-    outside servo mode."""
-    from . import servo_filters     # it builds on this module's helpers
-    kind = _integer(filter_type, "servo filter type", 0)
-    if kind == ServoFilter.JOINT_LPF:
-        return servo_filters.servo_filter_joint_lpf(lpf_cutoff_hz)
-    if kind != ServoFilter.NONE:
-        raise InvalidArgument(f"servo filter type {kind}: use 0 (none) or 1 (joint low-pass) "
-                              "here, protocol.servo_filters for the others")
-    return servo_filters.servo_filter_none()
-
-
 # ---- positions and kinematics ---------------------------------------------------------------
 
 def get_joint_pos() -> Request:
@@ -485,7 +471,7 @@ def end_move(pose_mm_rpy, speed_rad_s: float, accel_rad_s2: float) -> Request:
 
 
 def data_request() -> Request:
-    """Port 10004 only: one status packet, zlib-compressed (see :class:`.client.StatusPoller`)."""
+    """Port 10004 only: one status packet, zlib-compressed (see :class:`.status_client.StatusPoller`)."""
     return _cmd(Cmd.DATA_REQUEST)
 
 
