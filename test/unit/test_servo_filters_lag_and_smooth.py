@@ -158,16 +158,16 @@ MODEL = load_model("zu5")
     (6, {}, "filter_type is 6, expected 0–5"),
     (1, {"lpf_cutoff_hz": 0.0}, "lpf_cutoff_hz is 0 Hz, expected [0.01, 62.5] Hz"),
     (1, {"lpf_cutoff_hz": 100.0}, "lpf_cutoff_hz is 100 Hz, expected [0.01, 62.5] Hz"),
-    (2, {"nlf_max_vr": 10.0, "nlf_max_ar": 1, "nlf_max_jr": 1}, "nlf_max_vr is 10 rad/s, "
-     "expected (0, 3.14] rad/s"),
+    (2, {"nlf_max_vr": 40.0, "nlf_max_ar": 1, "nlf_max_jr": 1}, "nlf_max_vr is 40 rad/s, "
+     "expected (0, 31.4] rad/s"),
     (2, {"nlf_max_vr": 1.0, "nlf_max_ar": 0.0, "nlf_max_jr": 1}, "nlf_max_ar is 0 rad/s²"),
-    (4, {"nlf_max_vr": 1, "nlf_max_ar": 1, "nlf_max_jr": 1, "nlf_max_vp": 5000,
-         "nlf_max_ap": 1, "nlf_max_jp": 1}, "nlf_max_vp is 5000 mm/s, expected (0, "),
+    (4, {"nlf_max_vr": 1, "nlf_max_ar": 1, "nlf_max_jr": 1, "nlf_max_vp": 50000,
+         "nlf_max_ap": 1, "nlf_max_jp": 1}, "nlf_max_vp is 50000 mm/s, expected (0, "),
     (3, {"mmf_buffer": 0, "mmf_kp": 1}, "mmf_buffer is 0, expected a whole number 1–200"),
     (3, {"mmf_buffer": 2.5, "mmf_kp": 1}, "mmf_buffer is 2.5"),
     (3, {"mmf_buffer": 10}, "mmf_kp, mmf_kv and mmf_ka are all 0"),
     (3, {"mmf_buffer": 10, "mmf_kp": -1}, "mmf_kp is -1, expected [0, 1000]"),
-    (5, {"mmf_buffer": 10, "mmf_kp": 2}, "mmf_kp is 2, expected (0, 1]"),
+    (5, {"mmf_buffer": 10, "mmf_kp": 0}, "mmf_kp is 0, expected (0, 1000]"),
 ])
 def test_a_parameter_out_of_its_range_is_refused_with_field_value_and_range(filter_type,
                                                                            params, message):
@@ -189,3 +189,18 @@ def test_a_checked_spec_makes_its_filter_and_says_what_it_is():
     assert checked_spec(MODEL, 0, {}).describe() == "none"
     assert checked_spec(MODEL, 5, {"mmf_buffer": 15, "mmf_kp": 0.03}).describe() == \
         "speed foresight (buffer 15, kp 0.03)"
+
+
+@pytest.mark.parametrize("filter_type, params", [
+    (1, {"lpf_cutoff_hz": 0.5}),                         # JAKA's MoveIt server
+    (5, {"mmf_buffer": 15, "mmf_kp": 0.03}),             # JAKA's ROS node
+    (5, {"mmf_buffer": 200, "mmf_kp": 2}),               # JAKA's examples: kp 2, buffers to 200
+    (3, {"mmf_buffer": 20, "mmf_kp": 2, "mmf_kv": 4, "mmf_ka": 2}),
+    (4, {"nlf_max_vp": 50, "nlf_max_ap": 200, "nlf_max_jp": 800,    # carte_NLF(50, 200, 800,
+         "nlf_max_vr": math.radians(30), "nlf_max_ar": math.radians(60),   # 30, 60, 100)
+         "nlf_max_jr": math.radians(100)}),
+    (2, {"nlf_max_vr": math.radians(360), "nlf_max_ar": math.radians(720),  # above the arm's
+         "nlf_max_jr": math.radians(1440)}),                                # own: not binding
+])
+def test_the_values_jakas_examples_send_are_accepted(filter_type, params):
+    assert checked_spec(MODEL, filter_type, params).type == filter_type

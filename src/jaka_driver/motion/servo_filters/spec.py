@@ -43,11 +43,16 @@ CUTOFF_HZ = (0.01, 0.5 / SERVO_CYCLE)
 #: cycles — a mean filter's buffer (JAKA: under 3 risks planning failure; 200 is the most its
 #: own examples use: 1.6 s)
 BUFFER = (1, 200)
-#: the largest weight of a multi-order mean (only their ratios matter)
+#: the largest weight of a multi-order mean (only their ratios matter), and the largest
+#: foresight ``kp`` (JAKA's examples send 0.03 and 2; above 1 the twin's foresight closes the
+#: whole gap to its prediction each cycle, as at 1: it never runs past it)
 MAX_WEIGHT = 1000.0
 #: jerk limits up to this many times the acceleration limit's range (1/s)
 JERK_PER_ACCEL = 1000.0
-ACCEL_FACTOR = 10.0          # acceleration limits up to 10 × the model's
+#: speed and acceleration limits up to 10 × the model's: a limit the arm cannot reach does not
+#: bind (a controller accepts it, and JAKA's examples send such), a larger one is taken for a
+#: unit mistake (deg for rad, m for mm), as the driver's other speed checks take it
+LIMIT_FACTOR = 10.0
 
 
 @dataclass(frozen=True)
@@ -130,14 +135,16 @@ def checked_spec(model: RobotModel, filter_type: int, params: Dict[str, float]
                                                 *CUTOFF_HZ, " Hz", open_low=False))
     if kind in (FilterType.JOINT_NLF, FilterType.CARTESIAN_NLF):
         rotation = kind == FilterType.CARTESIAN_NLF
-        v_hi, a_hi = ((MAX_TOOL_ROTATION_SPEED, ACCEL_FACTOR * MAX_TOOL_ROTATION_ACCEL)
-                      if rotation else (vmax, ACCEL_FACTOR * amax))
+        v_hi, a_hi = ((LIMIT_FACTOR * MAX_TOOL_ROTATION_SPEED,
+                       LIMIT_FACTOR * MAX_TOOL_ROTATION_ACCEL)
+                      if rotation else (LIMIT_FACTOR * vmax, LIMIT_FACTOR * amax))
         v = _in("nlf_max_vr", p.get("nlf_max_vr", 0.0), 0.0, v_hi, " rad/s")
         a = _in("nlf_max_ar", p.get("nlf_max_ar", 0.0), 0.0, a_hi, " rad/s²")
         j = _in("nlf_max_jr", p.get("nlf_max_jr", 0.0), 0.0, JERK_PER_ACCEL * a_hi, " rad/s³")
         if not rotation:
             return ServoFilterSpec(kind, velocity=v, accel=a, jerk=j)
-        vp_hi, ap_hi = model.max_tcp_speed * 1e3, ACCEL_FACTOR * model.max_tcp_accel * 1e3
+        vp_hi, ap_hi = (LIMIT_FACTOR * model.max_tcp_speed * 1e3,
+                        LIMIT_FACTOR * model.max_tcp_accel * 1e3)
         vp = _in("nlf_max_vp", p.get("nlf_max_vp", 0.0), 0.0, vp_hi, " mm/s")
         ap = _in("nlf_max_ap", p.get("nlf_max_ap", 0.0), 0.0, ap_hi, " mm/s²")
         jp = _in("nlf_max_jp", p.get("nlf_max_jp", 0.0), 0.0, JERK_PER_ACCEL * ap_hi, " mm/s³")
@@ -146,7 +153,7 @@ def checked_spec(model: RobotModel, filter_type: int, params: Dict[str, float]
     buffer = _buffer(p.get("mmf_buffer", 0.0))
     if kind == FilterType.SPEED_FORESIGHT:
         return ServoFilterSpec(kind, buffer=buffer,
-                               kp=_in("mmf_kp", p.get("mmf_kp", 0.0), 0.0, 1.0, ""))
+                               kp=_in("mmf_kp", p.get("mmf_kp", 0.0), 0.0, MAX_WEIGHT, ""))
     kp, kv, ka = (_in(name, p.get(name, 0.0), 0.0, MAX_WEIGHT, "", open_low=False)
                   for name in ("mmf_kp", "mmf_kv", "mmf_ka"))
     if kp + kv + ka <= 0.0:
