@@ -46,7 +46,9 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
 
 @pytest.fixture(scope="module")
 def emu():
-    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14") as emulator:
+    # the recorded controller had no programs ("nothing configured"): neither has this one
+    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14",
+                  programs=None) as emulator:
         yield emulator
 
 
