@@ -11,11 +11,13 @@ from jaka_driver.emulator import Emulator
 
 
 @contextmanager
-def driver_on_emulator(model: str = "zu5", **driver_args):
-    """``(emulator, driver)``: the emulator of ``model`` (its default profile) and a started
-    RobotDriver on a ControllerBackend connected to it (``driver_args`` to RobotDriver); the
-    driver is shut down and the emulator stopped on leaving."""
-    with Emulator(model, command_port=0, status_port=0) as emu:
+def driver_on_emulator(model: str = "zu5", *, programs: str | None = "default",
+                       **driver_args):
+    """``(emulator, driver)``: the emulator of ``model`` (its default profile; ``programs`` its
+    programs folder, default the package's examples) and a started RobotDriver on a
+    ControllerBackend connected to it (``driver_args`` to RobotDriver); the driver is shut down
+    and the emulator stopped on leaving."""
+    with Emulator(model, command_port=0, status_port=0, programs=programs) as emu:
         backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
         driver = RobotDriver(backend, **driver_args)
         driver.start()

@@ -16,6 +16,8 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
   is not an error the arm must be cleared of: it is jogged out of);
 * ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
 * servo mode: not in the stream; the backend's, from ``is_in_servomove``;
+* the program's state: not in the stream on record; the backend's programs facet's, read with
+  ``get_program_state`` (:mod:`.programs`);
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -111,11 +113,11 @@ class StatusView:
             return self._arrived.wait_for(
                 lambda: self._status is not None and shows(self._status), timeout)
 
-    def state(self, connected: bool, servo_mode: bool) -> RobotState:
+    def state(self, connected: bool, servo_mode: bool, program_state: int = 0) -> RobotState:
         with self._lock:
             status, received, serial = self._status, self._received, self._serial
             velocity, tcp, q = self._velocity, self._tcp, self._q
-            key = (serial, connected, servo_mode)
+            key = (serial, connected, servo_mode, program_state)
             if connected and self._cache is not None and self._cache[0] == key:
                 return self._cache[1]
         if status is None:
@@ -136,7 +138,7 @@ class StatusView:
             collision=is_collision(status), moving=not status.inpos,
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
-            else f"torque sensor error {status.sensor_errcode}")
+            else f"torque sensor error {status.sensor_errcode}", program_state=program_state)
         with self._lock:
             self._cache = (key, st)
         return st
