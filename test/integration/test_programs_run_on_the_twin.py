@@ -147,5 +147,7 @@ def test_a_failing_step_stops_the_program_with_its_line_and_the_refusal(tmp_path
         missing = driver.load_program("nothing")
         assert "no nothing.jdp" in missing.message and "bad, broken" in missing.message
         assert driver.load_program("../etc/passwd").code == Code.INVALID_PARAMETER
+        too_long = driver.load_program("x" * 300)      # the file system's limit: refused first
+        assert too_long.code == Code.INVALID_PARAMETER and "at most 200" in too_long.message
     finally:
         driver.shutdown()

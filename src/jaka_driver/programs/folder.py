@@ -25,6 +25,8 @@ SUFFIX = ".jdp"
 #: what JAKA's SDK appends to every program name it loads
 JKS = ".jks"
 _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
+#: the longest name (characters): a file name's limit (255 bytes) less the suffix
+MAX_NAME = 200
 
 
 def program_name(requested: str) -> str:
@@ -55,6 +57,9 @@ class FolderPrograms(Programs):
 
     def load(self, name: str) -> Result:
         wanted = program_name(name)
+        if len(wanted) > MAX_NAME:
+            return Result.failure(Code.INVALID_PARAMETER, f"name has {len(wanted)} characters, "
+                                  f"at most {MAX_NAME}")
         if not _NAME.fullmatch(wanted) or wanted in (".", ".."):
             return Result.failure(Code.INVALID_PARAMETER, f"name is {name!r}, expected a "
                                   "program's name (letters, digits, '_', '-', '.'; no path)")
