@@ -3,7 +3,9 @@ twin: an arc measured on tool_position stays within 0.1 mm of its circle and col
 are refused naming the tolerance; a program is loaded (".jks" taken off), its variables read and
 set, played, paused (robot_states.motion_state 1, the latched program/state says paused at its
 line), stopped; the servo filter is chosen, refused in servo mode, and shown in /diagnostics;
-the README's examples of the three run as written."""
+~io_states carries every IO kind of the arm, shows an output set_io changed within one sample
+(counted in joint_position samples, not wall time) and runs at 10 Hz or more of sample time;
+the README's examples run as written."""
 import os
 import subprocess
 import time
@@ -15,11 +17,11 @@ import rosservice
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import TwistStamped
 from jaka_msgs.msg import RobotMsg
-from jaka_msgs.srv import GetFK, ServoMoveEnable
+from jaka_msgs.srv import GetFK, ServoMoveEnable, SetIO
 
 from ros_harness import START, Recorder, go_home, wait_until
 from jaka_driver.motion.circular_path import arc_through
-from jaka_driver_msgs.msg import ProgramState
+from jaka_driver_msgs.msg import IOStates, ProgramState
 from jaka_driver_msgs.srv import (CircularMove, GetLoadedProgram, GetProgramVariables,
                                   LoadProgram, ProgramCommand, SetProgramVariable,
                                   SetServoFilter)
@@ -122,6 +124,36 @@ def test_the_servo_filter_is_chosen_outside_servo_mode_and_shown_in_diagnostics(
     out = call("set_servo_filter", SetServoFilter, filter_type=1, lpf_cutoff_hz=100.0)
     assert out.ret == -2 and "lpf_cutoff_hz is 100 Hz, expected [0.01, 62.5] Hz" in out.message
     assert call("set_servo_filter", SetServoFilter, filter_type=0).ret == 1
+
+
+def test_io_states_shows_an_output_within_one_sample_of_set_io(call, sim_driver, joints):
+    io = Recorder(sim_driver.name("io_states"), IOStates)
+    try:
+        first = wait_until(io.latest, 5.0)                       # latched: there at once
+        groups = {g.type: g for g in first.groups}
+        assert sorted(groups) == [0, 1, 2] and groups[0].name == "cabinet"
+        assert (len(groups[0].digital_out), len(groups[1].digital_in)) == (16, 2)  # zu5's
+        assert call("set_io", SetIO, signal="digital", type=0, index=5, value=1).ret == 1
+        answered = time.time()
+        shown = wait_until(lambda: next((m for _, m in io.since(answered - 1.0)
+                                         if m.groups[0].digital_out[5]), None), 2.0)
+        assert shown, "~io_states never showed cabinet output 5"
+        # the first joint_position sample received after set_io answered may have been on
+        # its way already: the output shows in it or in the next one
+        after = wait_until(lambda: next((m for t, m in joints.since(answered)), None), 2.0)
+        between = [m for _, m in joints.since(answered - 1.0)
+                   if after.header.stamp <= m.header.stamp < shown.header.stamp]
+        assert len(between) <= 1, [m.header.stamp.to_sec() for m in between]
+        # unchanged, it is published again every 0.1 s of sample time: to the next 8 ms
+        # sample (a stalled physics cycle, on a loaded machine, may stretch one gap)
+        t0 = time.time()
+        time.sleep(1.2)
+        stamps = [m.header.stamp.to_sec() for _, m in io.since(t0)]
+        assert len(stamps) >= 10, stamps
+        assert np.percentile(np.diff(stamps), 90) <= 0.1 + 0.008 + 1e-6, stamps
+    finally:
+        assert call("set_io", SetIO, signal="digital", type=0, index=5, value=0).ret == 1
+        io.close()
 
 
 README = Path(__file__).resolve().parents[2] / "README.md"

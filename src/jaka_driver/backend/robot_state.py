@@ -3,6 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import IntEnum
+from types import MappingProxyType
+from typing import Mapping, Tuple
 
 import numpy as np
 
@@ -19,6 +21,14 @@ class MotionState(IntEnum):
 
 # ProgramState's numbers (JAKA's SDK's), without importing the facet into every sample
 _PROGRAM_RUNNING, _PROGRAM_PAUSED = 1, 2
+
+
+#: Every IO point of a sample: (signal, type, path) → the values, index 0 first — signal
+#: "digital" (0 / 1) or "analog" (V), type as set_io numbers it (0 cabinet, 1 tool, 2 extension,
+#: 3 relay, 4–6 fieldbus slaves), path 0 inputs, 1 outputs; a kind the arm has no points of is
+#: absent. Read-only.
+IoValues = Mapping[Tuple[str, int, int], Tuple[float, ...]]
+NO_IO: IoValues = MappingProxyType({})
 
 
 def _zeros6() -> np.ndarray:
@@ -56,6 +66,8 @@ class RobotState:
     #: the program's state as JAKA's SDK numbers it: 0 idle, 1 running, 2 paused
     #: (:class:`~.programs.ProgramState`)
     program_state: int = 0
+    #: every IO point as it came in this sample (:data:`IoValues`)
+    io: IoValues = field(default_factory=lambda: NO_IO)
 
     @property
     def in_error(self) -> bool:

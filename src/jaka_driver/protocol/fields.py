@@ -417,6 +417,14 @@ del F
 COMMANDS: Mapping[str, CommandSpec] = MappingProxyType({s.name: s for s in _SPECS})
 
 
+#: The fieldbus slaves' arrays in the status packet: (key prefix, IO type); each prefix has
+#: ``_din``, ``_dout`` (ints) and ``_ain``, ``_aout`` (doubles), as JAKA's SDK reads them.
+FIELDBUS_SLAVES = (("mb_slave", IOType.MODBUS_SLAVE), ("pn_dev", IOType.PROFINET_SLAVE),
+                   ("eip_adpt", IOType.EIP_SLAVE))
+#: The four arrays of an IO group, in the order ``extio``'s ``status`` lists them.
+IO_ARRAYS = ("din", "dout", "ain", "aout")
+
+
 class StatusField:
     """Keys of a status packet (port 10000, port 10004 and the ``get_data`` reply) that this
     library reads; a real packet has more (docs/protocol.md, "Status packet")."""
@@ -461,3 +469,4 @@ class StatusField:
     # [status, errcode, [6] actual contact force, [6] raw reading, [6] real contact force]]
     RELAY_IO = "relay_io"
     EXTIO = "extio"                                   # {num, status: [[din],[dout],[ain],[aout]]}
+    # the fieldbus slaves: <prefix>_din, _dout, _ain, _aout for each prefix of FIELDBUS_SLAVES

@@ -156,7 +156,7 @@ class SimBackend(Backend):
             drag_mode=flags.drag_mode, emergency_stop=flags.emergency_stop,
             protective_stop=flags.protective_stop, collision=flags.collision,
             moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
-            program_state=int(self.programs.status().state))
+            program_state=int(self.programs.status().state), io=self._io.values())
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
