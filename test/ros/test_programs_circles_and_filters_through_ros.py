@@ -170,6 +170,8 @@ def readme_line(start: str) -> str:
     ("rosservice call /jaka_driver/set_servo_filter", ["ret: 1"]),
     ("rosservice call /jaka_driver/program/load", ["ret: 1", "ret: 1", "state_name: \"running\"",
                                                     "name: \"three_moves\""]),
+    ("rostopic echo -n1 /jaka_driver/io_states", ["name: \"cabinet\"", "name: \"tool\"",
+                                                   "name: \"extension\""]),
 ])
 def test_the_readmes_examples_run_as_written(call, program_state, start, answers):
     go_home(call)

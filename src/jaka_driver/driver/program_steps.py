@@ -8,7 +8,7 @@ poses are mm + rotation vector whatever ``~conventions`` says (docs/programs.md)
 turned into the reading the driver was built with before they go in.
 
 :class:`PausedTime`: how long a move has stood paused, so that the overrun rule does not count
-it (RobotDriver._run_move).
+it (:meth:`.moves.MoveRequests.run_move`).
 """
 from __future__ import annotations
 
