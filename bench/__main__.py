@@ -125,26 +125,26 @@ def _sim(run: Run) -> None:
         run.raw["lines"] = lines["lines"]
 
 
-def _streams(run: Run) -> None:
-    from . import ros_session, stream_inputs
+def _on_a_twin_node(run: Run, name: str, measure) -> None:
+    """``measure(driver, calls)`` on a node of its own on the zu5 twin; its rows are kept."""
+    from . import ros_session
     with ExitStack() as stack:
-        run.log("streams node: starting")
-        driver = ros_session.start_driver(stack, "bench_streams", backend="sim", model="zu5")
-        calls = ros_session.services(stack, driver)
-        run.rows += stream_inputs.run(STREAMS, driver, calls,
-                                      seconds=3 if run.quick else 16,
-                                      trials=4 if run.quick else stream_inputs.TWIST_TRIALS,
-                                      log=run.log)
+        run.log(f"{name} node: starting")
+        driver = ros_session.start_driver(stack, f"bench_{name}", backend="sim", model="zu5")
+        run.rows += measure(driver, ros_session.services(stack, driver))
+
+
+def _streams(run: Run) -> None:
+    from . import stream_inputs
+    _on_a_twin_node(run, "streams", lambda driver, calls: stream_inputs.run(
+        STREAMS, driver, calls, seconds=3 if run.quick else 16,
+        trials=4 if run.quick else stream_inputs.TWIST_TRIALS, log=run.log))
 
 
 def _filters(run: Run) -> None:
-    from . import ros_session, servo_filters
-    with ExitStack() as stack:
-        run.log("filters node: starting")
-        driver = ros_session.start_driver(stack, "bench_filters", backend="sim", model="zu5")
-        calls = ros_session.services(stack, driver)
-        run.rows += servo_filters.run(FILTERS, driver, calls,
-                                      seconds=3 if run.quick else 8, log=run.log)
+    from . import servo_filters
+    _on_a_twin_node(run, "filters", lambda driver, calls: servo_filters.run(
+        FILTERS, driver, calls, seconds=3 if run.quick else 8, log=run.log))
 
 
 def _sim_time(run: Run) -> None:

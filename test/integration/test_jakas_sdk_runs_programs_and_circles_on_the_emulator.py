@@ -8,37 +8,27 @@ three points on one line are refused."""
 from __future__ import annotations
 
 import json
-import shutil
 import time
 
 import numpy as np
 import pytest
 
+from emulated_arm import programs_folder
 from jaka_sdk_model import ABS, RC_FAILED, RC_OK, JakaSdk
 from ros_harness import wait_until
 
-from jaka_driver.common.models import repo_root
 from jaka_driver.emulator import Emulator
 
 #: the example's end: its half circle ends here (mm), 50 mm below and 160 mm beside home
 THREE_MOVES_END_MM = (642.0, 114.0, 393.0)
 LINE_OF_THE_LINE, LINE_OF_THE_ARC = 6, 7            # three_moves.jdp's linear and circular move
-COUNT_CYCLES = """# counts the cycles a supervisor asks for
-var 1 cycles = 2
-var 2 done = 0
-repeat cycles
-  set done = done + 1
-end
-"""
 
 
 @pytest.fixture(scope="module")
 def emu(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("programs")
-    shutil.copy(repo_root() / "config" / "programs" / "three_moves.jdp", folder)
-    (folder / "count_cycles.jdp").write_text(COUNT_CYCLES)
+    folder = programs_folder(tmp_path_factory.mktemp("programs"))
     with Emulator("zu5", command_port=0, status_port=0, start="enabled",
-                  programs=str(folder)) as emulator:
+                  programs=folder) as emulator:
         yield emulator
 
 

@@ -12,39 +12,29 @@ for the measurement's own resolution — the status period and the time the paus
 out and come back, measured in the same run."""
 from __future__ import annotations
 
-import shutil
 import threading
 import time
 
 import numpy as np
 import pytest
 
-from emulated_arm import driver_on_emulator
+from emulated_arm import driver_on_emulator, programs_folder
 from ros_harness import wait_until
 
 from jaka_driver.backend import ProgramState
 from jaka_driver.backend.robot_state import MotionState
-from jaka_driver.common.models import repo_root
 from jaka_driver.common.transforms import matrix_to_pose_mm, pose_mm_to_matrix
 from jaka_driver.motion.circular_path import arc_through
 
 END_MM = np.array([642.0, 114.0, 393.0])     # where three_moves.jdp's half circle ends
 LINE_OF_THE_LINE = 6                         # its linear move: 50 mm down at 100 mm/s
 LINE_SPEED, LINE_ACCEL = 100.0, 500.0        # mm/s, mm/s² of that move
-COUNT_CYCLES = """var 1 cycles = 2
-var 2 done = 0
-repeat cycles
-  set done = done + 1
-end
-"""
 
 
 @pytest.fixture(scope="module")
 def arm(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("programs")
-    shutil.copy(repo_root() / "config" / "programs" / "three_moves.jdp", folder)
-    (folder / "count_cycles.jdp").write_text(COUNT_CYCLES)
-    with driver_on_emulator(programs=str(folder)) as (emu, driver):
+    with driver_on_emulator(programs=programs_folder(tmp_path_factory.mktemp("programs"))) \
+            as (emu, driver):
         yield emu, driver
 
 

@@ -208,35 +208,27 @@ class MoveCommands(RequestPart):
     def _check_arc(self, mid, end, speed: float, accel: float, turns: float,
                    mode: int) -> None:
         """The whole-path check of an arc, as :meth:`_check_line`'s of a line: every cycle
-        of the arc through ``mid`` to ``end`` from the joints the latest packet reports, on
-        :attr:`kinematics` and the active frames (-2 collinear points, -4 where it leaves the
+        of the arc through ``mid`` to ``end`` (-2 collinear points, -4 where it leaves the
         workspace or the limits, or a joint would jump)."""
-        self.send.require_link()
-        latest = self.view.latest
-        if latest is None or not np.all(np.isfinite(latest.joint_position)):
-            return
-        q0 = np.asarray(latest.joint_position, float)
-        tool, user = self.settings.frames()
-        kin = self.kinematics()
-        plan_circular_move(kin.tcp_pose(q0, tool, user), mid, end, speed, accel, q0,
-                           self._ik(kin, tool, user), self.model.lower, self.model.upper,
-                           LINE_JUMP * self.model.max_velocity, turns, mode,
-                           cycle=SERVO_CYCLE)
-
-    @staticmethod
-    def _ik(kin: Kinematics, tool, user):
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
-            return solution.q if solution.success else None
-        return ik
+        m = self.model
+        self._check_path(lambda start, q0, ik: plan_circular_move(
+            start, mid, end, speed, accel, q0, ik, m.lower, m.upper,
+            LINE_JUMP * m.max_velocity, turns, mode, cycle=SERVO_CYCLE))
 
     def _check_line(self, target, speed: float, accel: float) -> None:
         """The whole-path check of a line (IK at every cycle, joint limits, no joint faster
-        than :data:`LINE_JUMP` × its limit) from the joints the latest packet reports, on
-        :attr:`kinematics` and the active frames, seeded there as the controller's ``moveL``
-        is (it is not sent ``ref_joint``); a
-        :class:`~jaka_driver.motion.linear_path.PlanningError` (-4) says where it fails.
-        Without a link the move is refused as any other (-1), unchecked."""
+        than :data:`LINE_JUMP` × its limit); a
+        :class:`~jaka_driver.motion.cartesian_path.PlanningError` (-4) says where it fails."""
+        m = self.model
+        self._check_path(lambda start, q0, ik: plan_linear_move(
+            start, target, speed, accel, q0, ik, m.lower, m.upper,
+            LINE_JUMP * m.max_velocity, cycle=SERVO_CYCLE))
+
+    def _check_path(self, plan) -> None:
+        """Run ``plan(start pose, start joints, ik)`` — a Cartesian path's whole-path check —
+        from the joints the latest packet reports, on :attr:`kinematics` and the active
+        frames, seeded there as the controller's ``moveL`` / ``movc`` is (it is not sent
+        ``ref_joint``). Without a link the move is refused as any other (-1), unchecked."""
         self.send.require_link()
         latest = self.view.latest
         if latest is None or not np.all(np.isfinite(latest.joint_position)):
@@ -244,10 +236,11 @@ class MoveCommands(RequestPart):
         q0 = np.asarray(latest.joint_position, float)
         tool, user = self.settings.frames()
         kin = self.kinematics()
-        plan_linear_move(kin.tcp_pose(q0, tool, user), target, speed, accel, q0,
-                         self._ik(kin, tool, user),
-                         self.model.lower, self.model.upper,
-                         LINE_JUMP * self.model.max_velocity, cycle=SERVO_CYCLE)
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
+            return solution.q if solution.success else None
+        plan(kin.tcp_pose(q0, tool, user), q0, ik)
 
     # ---- trajectories ---------------------------------------------------------------------------
     @answers
