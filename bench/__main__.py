@@ -3,8 +3,8 @@
 Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
 idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
-service (:mod:`bench.stream_inputs`), and the node on the controller backend
-through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
+service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
+(:mod:`bench.servo_filters`), and the node on the controller backend through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
 A group that fails is reported as "not run" with the reason and the others still run; every
 process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
@@ -31,10 +31,11 @@ OUT = ROOT / "bench" / "results"
 SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
-GROUPS = ("ik", "twin", "startup", "sim", "streams", "sim_time", "controller")
+GROUPS = ("ik", "twin", "startup", "sim", "streams", "filters", "sim_time", "controller")
 #: the groups that need a rosmaster
-ROS_GROUPS = ("startup", "sim", "streams", "sim_time", "controller")
+ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "controller")
 STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
+FILTERS = "Servo filters beside the unfiltered stream (zu5 twin through ROS), report only"
 
 
 class Run:
@@ -124,16 +125,26 @@ def _sim(run: Run) -> None:
         run.raw["lines"] = lines["lines"]
 
 
-def _streams(run: Run) -> None:
-    from . import ros_session, stream_inputs
+def _on_a_twin_node(run: Run, name: str, measure) -> None:
+    """``measure(driver, calls)`` on a node of its own on the zu5 twin; its rows are kept."""
+    from . import ros_session
     with ExitStack() as stack:
-        run.log("streams node: starting")
-        driver = ros_session.start_driver(stack, "bench_streams", backend="sim", model="zu5")
-        calls = ros_session.services(stack, driver)
-        run.rows += stream_inputs.run(STREAMS, driver, calls,
-                                      seconds=3 if run.quick else 16,
-                                      trials=4 if run.quick else stream_inputs.TWIST_TRIALS,
-                                      log=run.log)
+        run.log(f"{name} node: starting")
+        driver = ros_session.start_driver(stack, f"bench_{name}", backend="sim", model="zu5")
+        run.rows += measure(driver, ros_session.services(stack, driver))
+
+
+def _streams(run: Run) -> None:
+    from . import stream_inputs
+    _on_a_twin_node(run, "streams", lambda driver, calls: stream_inputs.run(
+        STREAMS, driver, calls, seconds=3 if run.quick else 16,
+        trials=4 if run.quick else stream_inputs.TWIST_TRIALS, log=run.log))
+
+
+def _filters(run: Run) -> None:
+    from . import servo_filters
+    _on_a_twin_node(run, "filters", lambda driver, calls: servo_filters.run(
+        FILTERS, driver, calls, seconds=3 if run.quick else 8, log=run.log))
 
 
 def _sim_time(run: Run) -> None:
@@ -242,6 +253,9 @@ def main(argv=None) -> int:
             run.guarded(STREAMS, "joint stream and twist topics beside the servo_j service",
                         "topic p99 ≤ floor + 3 ms; CPU ≤ the service stream's",
                         lambda: _streams(run))
+        if ros_up and "filters" in chosen:
+            run.guarded(FILTERS, "servo command → observed per servo filter", "report",
+                        lambda: _filters(run))
         if ros_up and "sim_time" in chosen:
             run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
                         "60 s of sim time through ROS; determinism idle vs loaded",

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from support.fake_controller import backend, fake  # noqa: F401 - fixtures
+from support.fake_controller import foreground
 from support.ros_harness import wait_until
 
 from jaka_driver.common.results import Code
@@ -21,9 +22,10 @@ from jaka_driver.common.transforms import pose_to_matrix
 
 
 def names_after(fake, count):
-    """cmdNames of the requests received after the first ``count``."""
+    """cmdNames of the requests received after the first ``count`` (the background program
+    state poll's left out)."""
     with fake.lock:
-        return [r["cmdName"] for r in fake.requests[count:]]
+        return [r["cmdName"] for r in foreground(fake.requests[count:])]
 
 
 def sent_so_far(fake):

@@ -44,8 +44,9 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
              "tio_dout": ("digital", 1, 1), "tio_ain": ("analog", 1, 0)}
 
 
-# the recorded Zu 5s (fw 1.5.14), whose answers the transcripts hold
-EMULATOR = dict(profile="zu5s-1.5.14")
+# the recorded Zu 5s (fw 1.5.14), whose answers the transcripts hold; the recorded controller
+# had no programs ("nothing configured"): neither has this one
+EMULATOR = dict(profile="zu5s-1.5.14", programs=None)
 
 
 def controller_text(value) -> str:

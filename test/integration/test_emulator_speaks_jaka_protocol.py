@@ -333,6 +333,45 @@ def test_servo_filters_are_checked_by_type_and_refused_in_servo_mode(emu, client
         assert refused["errorCode"] == "2" and "servo mode" in refused["errorMsg"]
     finally:
         client.call("servo_move", relFlag=0)
+        assert client.call("set_servo_move_filter", filter_type=0)["errorCode"] == "0"
+
+
+def test_a_filter_sent_in_the_wires_units_shapes_the_twins_servo_stream(emu, client):
+    """joint_NLF at 5 deg/s (the wire's unit): a 1° servo_j step (125 deg/s asked) is
+    followed, sample by sample of the twin's 8 ms cycles, no faster than that (unfiltered it
+    is there in two cycles)."""
+    reply = client.call("set_servo_move_filter", filter_type=2, nlf_max_vr=5.0,
+                        nlf_max_ar=100.0, nlf_max_jr=2000.0)
+    assert reply["errorCode"] == "0"
+    assert "0.0872665 rad/s" in emu.backend.describe()["servo_filter"]     # 5 deg/s
+    q = client.call("get_joint_pos")["joint_pos"]
+    assert client.call("servo_move", relFlag=1)["errorCode"] == "0"
+    try:
+        since = emu.backend.state().stamp
+        target = list(q)
+        target[5] += 1.0
+        assert client.call("servo_j", jointPosition=target, relFlag=0)["errorCode"] == "0"
+        samples = []
+        deadline = time.monotonic() + 5.0
+        while time.monotonic() < deadline:
+            fresh = emu.backend.states_since(since)
+            if fresh:
+                samples += fresh
+                since = fresh[-1].stamp
+                if abs(np.degrees(samples[-1].joint_position[5]) - target[5]) < 0.01:
+                    break
+            time.sleep(0.05)
+        stamps = np.array([st.stamp for st in samples])
+        j6 = np.degrees([st.joint_position[5] for st in samples])
+        assert abs(j6[-1] - target[5]) < 0.01
+        step = np.diff(stamps)
+        one_cycle = step < 0.012                   # consecutive samples (a reader may lag)
+        speed = np.abs(np.diff(j6))[one_cycle] / step[one_cycle]
+        assert speed.max() < 5.0 * 1.15            # deg/s: the drives track within 15 %
+        assert stamps[-1] - stamps[0] >= 0.2 - 0.008   # 1° at 5 deg/s, to a cycle
+    finally:
+        assert client.call("servo_move", relFlag=0)["errorCode"] == "0"
+        assert client.call("set_servo_move_filter", filter_type=0)["errorCode"] == "0"
 
 
 def test_frames_have_slots_0_to_10_and_servo_p_outside_servo_mode_is_refused_as_recorded(client):

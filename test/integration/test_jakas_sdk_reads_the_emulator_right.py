@@ -1,10 +1,11 @@
 """JAKA's SDK's own calls (test/support/jaka_sdk_model.py: its requests and its strict reading,
 from the measured evidence) against the emulator in its default profile (the controller the SDK is
-written for): get_robot_status parses every field right (the IO
-count in element 0, monitor_data, instVel, torqsensor, the errcode rules); frames come back by
-id; every setting the SDK waits on reads back within its 1 s (also on another connection);
-programs read as an idle controller; login reads seven identity strings and get_dh_param the
-twin's own chain; the torque sensor's settings round-trip and what needs a sensor is refused;
+written for): get_robot_status parses every field right (the IO count in element 0,
+monitor_data, instVel, torqsensor, the errcode rules); frames come back by id; every setting
+the SDK waits on reads back within its 1 s (also on another connection); programs read as an
+idle controller until one is loaded (played in
+test_jakas_sdk_runs_programs_and_circles_on_the_emulator.py); login reads seven identity
+strings and get_dh_param the twin's own chain; the torque sensor's settings round-trip and what needs a sensor is refused;
 the recorded fw 1.5.14 profile's packet and the largest profile's still fit the SDK's buffer and
 show their IO."""
 from __future__ import annotations
@@ -182,7 +183,7 @@ def test_servo_mode_as_the_sdk_enters_and_leaves_it(emu, sdk):
     assert sdk.is_in_servomove() == (RC_OK, False)
 
 
-def test_programs_read_as_an_idle_controller_with_none(sdk):
+def test_programs_read_as_an_idle_controller_until_one_is_loaded(sdk):
     assert sdk.get_program_state() == (RC_OK, 0)
     assert sdk.get_loaded_program() == (RC_OK, "")
     assert sdk.get_current_line() == (RC_OK, 0)

@@ -3,13 +3,13 @@ joint samples in two runs, also with both cores loaded; a command takes effect i
 after the one it arrived in; the jog watchdog, a joint_move's duration and the servo
 stream's latency are exact in cycles; real_time_factor 0 outruns the wall clock."""
 import multiprocessing
-import threading
 import time
 
 import numpy as np
 import pytest
 
 from support.ros_harness import wait_until
+from support.twin_samples import Collector
 
 from jaka_driver.backend.clock import SimClock
 from jaka_driver.common.constants import SERVO_CYCLE as CYCLE
@@ -20,32 +20,6 @@ from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
 HOME = MODEL.home
-
-
-class Collector:
-    """Every sample the twin produces, by cycle (the twin waits for it: a consumer)."""
-
-    def __init__(self, driver: RobotDriver):
-        self.driver = driver
-        self.q, self.qd = {}, {}
-        self._done = threading.Event()
-        driver.clock.add_consumer()
-        self._thread = threading.Thread(target=self._run, daemon=True)
-        self._thread.start()
-
-    def _run(self):
-        last = -1.0
-        while not self._done.is_set():
-            self.driver.wait_for_sample(last, 0.05)
-            for st in self.driver.states_since(last):
-                n = round(st.stamp / CYCLE)
-                self.q[n], self.qd[n] = st.joint_position.copy(), st.joint_velocity.copy()
-                last = st.stamp
-            self.driver.clock.consumed(last)
-
-    def close(self):
-        self._done.set()
-        self._thread.join(2.0)
 
 
 @pytest.fixture

@@ -54,6 +54,9 @@ from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, ServoMove,
                            ServoMoveEnable, SetCollision, SetIO, SetPayload, SetTcpFrame,
                            SetUserFrame)
+from jaka_driver_msgs.srv import (CircularMove, GetLoadedProgram, GetProgramVariables,
+                                  LoadProgram, ProgramCommand, SetProgramVariable,
+                                  SetServoFilter)
 
 pytestmark = [pytest.mark.fuzz, pytest.mark.ros]
 
@@ -333,6 +336,7 @@ def restore(call) -> None:
     assert call("set_payload", SetPayload, tool_num=0, mass=0.0, xc=0.0, yc=0.0,
                 zc=0.0).ret == 1
     assert call("set_collisionlevel", SetCollision, is_enable=True, value=50).ret == 1
+    assert call("set_servo_filter", SetServoFilter, filter_type=0).ret == 1
     time.sleep(0.25)                      # a stopping motion comes to rest
     go_home(call)
 
@@ -342,7 +346,8 @@ OTHER_STATES = ["as_is", "ready", "servo", "drag", "unpowered", "disabled", "est
 # services whose requests cannot change the robot's state (or only the frames / payload /
 # collision level / IO, which do not gate motion)
 PURE = {"get_fk", "get_ik", "get_io", "set_io", "sim/set_input", "set_toolframe",
-        "set_userframe", "set_payload", "set_collisionlevel"}
+        "set_userframe", "set_payload", "set_collisionlevel", "set_servo_filter",
+        "program/load", "program/set_variable"}
 # motion services whose success or -2 refusal leaves the state as it was (a jog keeps running)
 SETTLED_BY = {"joint_move", "linear_move", "servo_j", "servo_p"}
 
@@ -425,6 +430,24 @@ def linear_move_plan(fz: Fuzz, f: dict):
     if mode == 2:
         target = start @ target
     return line_duration(start, target, v, a)
+
+
+def circular_move_plan(fz: Fuzz, f: dict):
+    """Planned duration (s) of the circular_move ``f`` (frames are base / flange), or None
+    when it is refused at the door."""
+    try:
+        mid = pose_to_matrix(check.vector("pose_mid", f["pose_mid"]), length_scale=1e-3)
+        end = pose_to_matrix(check.vector("pose_end", f["pose_end"]), length_scale=1e-3)
+        check.integer_in("coord_mode", f["coord_mode"], 0, 1)
+        mode = check.integer_in("attitude_mode", f["attitude_mode"], 0, 3)
+        turns = check.turns(f["turns"])
+        v = check.speed("mvvelo", f["mvvelo"], MODEL.max_tcp_speed * 1000, "mm/s") / 1000
+        a = check.speed("mvacc", f["mvacc"], MODEL.max_tcp_accel * 1000, "mm/s²",
+                        default=MODEL.default_tcp_accel * 1000) / 1000
+        return check.circular_move_duration(fz.tcp(), mid, end, v, a, turns, mode,
+                                            f["mvvelo"], f["mvacc"])
+    except (CommandRefused, ValueError):
+        return None
 
 
 def move_budget(duration) -> float:
@@ -661,7 +684,89 @@ def protective_stop(fz: Fuzz, data):
     fz.send("sim/protective_stop", Trigger)
 
 
+def circular_move(fz: Fuzz, data):
+    from jaka_driver.common.transforms import matrix_to_pose
+    clean = data.draw(st.booleans(), label="clean")
+    here = matrix_to_pose(fz.tcp(), length_scale=1e-3)          # mm + rotation vector
+
+    def near(label):        # a few mm from the TCP, its attitude: small, quick arcs
+        return field(data, clean, label, deltas(4.0, 3).map(
+            lambda d: (here[:3] + d).tolist() + here[3:].tolist()), wild_vector)
+    f = dict(pose_mid=near("pose_mid"), pose_end=near("pose_end"),
+             mvvelo=field(data, clean, "mvvelo", sane(150.0, 1000.0), sane(1000.0, 40000.0),
+                          wild_float),
+             mvacc=field(data, clean, "mvacc", st.one_of(st.just(0.0), sane(2000.0, 8000.0)),
+                         sane(8000.0, 100000.0), wild_float),
+             turns=field(data, clean, "turns", st.one_of(st.just(0.0), sane(0.0, 1.0)),
+                         sane(-1.0, 20.0), wild_float),
+             attitude_mode=field(data, clean, "attitude_mode", st.integers(0, 3),
+                                 around(0, 3)),
+             coord_mode=field(data, clean, "coord_mode", st.integers(0, 1), around(0, 1)))
+    plan = circular_move_plan(fz, f)
+    assume(plan is None or plan <= MAX_PLAN)
+    fz.send("circular_move", CircularMove, move_budget(plan), **f)
+
+
+def set_servo_filter(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+
+    def value(label, lo, hi):
+        return field(data, clean, label, sane(lo, hi), sane(-hi, 100.0 * hi), wild_float)
+    fz.send("set_servo_filter", SetServoFilter,
+            filter_type=field(data, clean, "filter_type", st.integers(0, 5),
+                              st.integers(0, 255)),
+            lpf_cutoff_hz=value("lpf_cutoff_hz", 0.01, 62.5),
+            **{k: value(k, 0.1, 30.0) for k in ("nlf_max_vr", "nlf_max_ar", "nlf_max_jr")},
+            **{k: value(k, 1.0, 5000.0) for k in ("nlf_max_vp", "nlf_max_ap", "nlf_max_jp")},
+            mmf_buffer=field(data, clean, "mmf_buffer", st.integers(1, 200), around(1, 200)),
+            **{k: value(k, 0.0, 5.0) for k in ("mmf_kp", "mmf_kv", "mmf_ka")})
+
+
+#: the programs folder's (the node's default: config/programs), and what is no program's name
+PROGRAMS = st.sampled_from(["three_moves", "pick_cycle", "three_moves.jks", "pick_cycle.jdp"])
+NOT_PROGRAMS = st.one_of(st.sampled_from(["", "..", "../config/programs/three_moves",
+                                          "/etc/passwd", "x" * 300, "three moves",
+                                          "nul\x00", ".jks"]),
+                         st.text(max_size=40))
+
+
+def load_program(fz: Fuzz, data):
+    fz.send("program/load", LoadProgram, name=data.draw(mostly(PROGRAMS, NOT_PROGRAMS)))
+
+
+def set_program_variable(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("program/set_variable", SetProgramVariable,
+            id=field(data, clean, "id", st.integers(1, 3), around(1, 100)),
+            value=field(data, clean, "value", sane(-10.0, 10.0), wild_float),
+            alias=field(data, clean, "alias", st.sampled_from(["", "go", "cycles"]),
+                        st.text(max_size=120)))
+
+
+def program_command(leaf: str, srv=ProgramCommand):
+    """A burst of ``leaf``; before each, now and then a program loaded and played, so that
+    a running or paused program meets it as often as none."""
+    @burst
+    def fuzz(fz: Fuzz, data):
+        if data.draw(st.booleans(), label="a program first"):
+            fz.send("program/load", LoadProgram, name=data.draw(PROGRAMS))
+            fz.send("program/play", ProgramCommand)
+            if data.draw(st.booleans(), label="paused"):
+                fz.send("program/pause", ProgramCommand)
+        fz.send(leaf, srv)
+    return fuzz
+
+
 SERVICES = {
+    "circular_move": circular_move, "set_servo_filter": set_servo_filter,
+    "program/load": load_program, "program/loaded": program_command("program/loaded",
+                                                                    GetLoadedProgram),
+    "program/play": program_command("program/play"),
+    "program/pause": program_command("program/pause"),
+    "program/resume": program_command("program/resume"),
+    "program/stop": program_command("program/stop"),
+    "program/get_variables": program_command("program/get_variables", GetProgramVariables),
+    "program/set_variable": set_program_variable,
     "joint_move": joint_move, "linear_move": linear_move, "jog": jog,
     "servo_move_enable": servo_move_enable, "servo_j": servo_j, "servo_p": servo_p,
     "stop_move": stop_move, "set_toolframe": set_toolframe, "set_userframe": set_userframe,

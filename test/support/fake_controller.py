@@ -81,6 +81,17 @@ def encode_packet(fields: Dict[str, Any]) -> bytes:
     raise AssertionError("len did not converge")
 
 
+#: What the controller backend reads in the background whatever a test does: the program state
+#: poll (src/jaka_driver/controller/programs.py, every 0.25 s and after each program command).
+#: Tests that compare what one request put on the wire leave these out (:func:`foreground`).
+PROGRAM_STATE_POLL = frozenset({"get_program_state", "get_current_line", "get_loaded_program"})
+
+
+def foreground(requests: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
+    """``requests`` without the program state poll's."""
+    return [r for r in requests if r.get("cmdName") not in PROGRAM_STATE_POLL]
+
+
 class FakeController:
     def __init__(self, *, stream: bool = True, data_port: bool = True, move_time: float = 0.3,
                  layout: str = "controller", packet: str = PACKET):

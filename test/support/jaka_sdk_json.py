@@ -107,7 +107,9 @@ def sdk_json(obj: Any, fixed: Dict[str, int], key: str = "") -> str:
     return json.dumps(obj)
 
 
-FIXED_DECIMALS = {"rate_value": 2, "mass": 2}
+#: fields the SDK writes with 2 decimals (seen: "rate_value":0.50, "mass":1.50, "tol":0.50,
+#: "circle_cnt":1.50, "value_new":2.50)
+FIXED_DECIMALS = {"rate_value": 2, "mass": 2, "tol": 2, "circle_cnt": 2, "value_new": 2}
 
 
 def deg(values) -> List[float]:

@@ -65,6 +65,7 @@ class JakaSdk:
     def __init__(self, host: str, command_port: int = 10001, data_port: int = 10004):
         self.host, self.command_port, self.data_port = host, command_port, data_port
         self.sent: List[str] = []
+        self._movc_count = 0        # movc's executing_line_id: the SDK's counter
         self._lock = threading.Lock()
         self._cmd: Optional[socket.socket] = None
         self._data: Optional[socket.socket] = None
@@ -207,10 +208,22 @@ class JakaSdk:
                                 and not as_bool(member(r, "queue_full")))
 
     def get_user_var(self) -> Tuple[int, list]:
+        """(id, value, alias) of each of the first 100 entries of ``var_list``; the output is
+        left empty when errorCode is not 0."""
         rc, reply = self.call("query_user_defined_variable")
-        items = member(reply, "var_list") or []
-        return rc, [(as_int(member(v, "id")), as_double(member(v, "value")),
-                     as_string(member(v, "alias"))) for v in items[:100]]
+        if rc != RC_OK:
+            return rc, []
+        items = member(reply, "var_list")
+        element(items, 0)           # an object or a scalar: the SDK's indexing crashes
+        return rc, [(as_int(member(element(items, i), "id")),
+                     as_double(member(element(items, i), "value")),
+                     as_string(member(element(items, i), "alias")))
+                    for i in range(min(len(items or []), 100))]
+
+    def set_user_var(self, var_id: int, value: float, alias: str) -> int:
+        """No wait and no read back: the reply's errorCode only."""
+        return self.call("modify_user_defined_variable", alias_new=alias, id_new=int(var_id),
+                          value_new=float(value))[0]
 
     def motion_abort(self) -> int:
         return self.call("stop_program")[0]
@@ -348,6 +361,23 @@ class JakaSdk:
     def servo_move_use_joint_LPF(self, cutoff_hz: float) -> int:
         return self.call("set_servo_move_filter", filter_type=1, lpf_cf=float(cutoff_hz))[0]
 
+    def servo_move_use_joint_NLF(self, max_vr: float, max_ar: float, max_jr: float) -> int:
+        """deg/s, deg/s², deg/s³, sent unconverted."""
+        return self.call("set_servo_move_filter", filter_type=2, nlf_max_vr=float(max_vr),
+                          nlf_max_ar=float(max_ar), nlf_max_jr=float(max_jr))[0]
+
+    def servo_move_use_joint_MMF(self, max_buf: int, kp: float, kv: float, ka: float) -> int:
+        return self.call("set_servo_move_filter", filter_type=3, mmf_max_buf=int(max_buf),
+                          mmf_kp=float(kp), mmf_kv=float(kv), mmf_ka=float(ka))[0]
+
+    def servo_move_use_carte_NLF(self, max_vp: float, max_ap: float, max_jp: float,
+                                 max_vr: float, max_ar: float, max_jr: float) -> int:
+        """mm/s, mm/s², mm/s³ and deg/s, deg/s², deg/s³, sent unconverted."""
+        return self.call("set_servo_move_filter", filter_type=4, nlf_max_vp=float(max_vp),
+                          nlf_max_ap=float(max_ap), nlf_max_jp=float(max_jp),
+                          nlf_max_vr=float(max_vr), nlf_max_ar=float(max_ar),
+                          nlf_max_jr=float(max_jr))[0]
+
     def servo_speed_foresight(self, max_buf: int, kp: float) -> int:
         return self.call("set_servo_move_filter", filter_type=5, mmf_max_buf=max_buf,
                           mmf_kp=float(kp))[0]
@@ -367,6 +397,25 @@ class JakaSdk:
             "moveL", cartPosition=pose_deg(pose), relFlag=int(mode == INCR), speed=float(speed),
             accel=float(accel), ori_vel=math.degrees(ori_vel), ori_acc=math.degrees(ori_acc),
             executing_line_id=0, tol=float(tol))[0])
+
+    def circular_move(self, end_pos: Sequence[float], mid_pos: Sequence[float], mode: int,
+                      is_block: bool, speed: float, accel: float, tol: float = 0.0,
+                      circle_cnt: float = 0.0, circle_mode: int = 0,
+                      block_timeout: float = 30.0) -> int:
+        """``movc`` with its keys sorted (sdk_wire_formats §9): poses mm + RPY rad (sent in
+        deg), speed, accel and tol unconverted, ``circle_cnt`` a double, ``circle_mode`` an
+        int, ``executing_line_id`` the SDK's own counter (1 for the first). It asks no
+        e-stop. ``is_block``: then waits until the motion is done (:meth:`wait_inpos`)."""
+        if mode == CONTINUE:
+            return RC_BAD_ARGUMENT
+        self._movc_count += 1
+        rc = self.call("movc", pos_end=pose_deg(end_pos), pos_mid=pose_deg(mid_pos),
+                       relFlag=int(mode == INCR), speed=float(speed), accel=float(accel),
+                       tol=float(tol), circle_cnt=float(circle_cnt),
+                       circle_mode=int(circle_mode), executing_line_id=self._movc_count)[0]
+        if rc == RC_OK and is_block and not self.wait_inpos(block_timeout):
+            return RC_TIMEOUT
+        return rc
 
     def wait_inpos(self, timeout: float) -> bool:
         """Until the status says the motion is done (how the SDK's own blocking wait reads it

@@ -1,5 +1,5 @@
 """Waiting for a move a backend started, for tests that drive a backend without RobotDriver
-(which is what waits in the driver: RobotDriver._run_move)."""
+(which is what waits in the driver: jaka_driver.driver.moves.MoveRequests.run_move)."""
 from __future__ import annotations
 
 from jaka_driver.common.constants import move_deadline

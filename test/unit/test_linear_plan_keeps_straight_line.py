@@ -14,43 +14,11 @@ import pytest
 from jaka_driver.common.results import CommandRefused
 from jaka_driver.motion.linear_path import PlanningError, line_duration, plan_linear_move
 
+from gantry_arm import gantry_fk, gantry_ik, log, pose, rot  # noqa: F401
+
 LOWER, UPPER = np.full(6, -2.0), np.full(6, 2.0)
 V_MAX = np.full(6, 3.14)
 SPEED, ACCEL = 0.1, 0.5          # m/s, m/s²
-
-
-def rot(rotvec):
-    rotvec = np.asarray(rotvec, float)
-    angle = np.linalg.norm(rotvec)
-    if angle < 1e-15:
-        return np.eye(3)
-    k = rotvec / angle
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
-
-
-def log(R):
-    """Rotation vector of R (angles well below π in these tests)."""
-    angle = np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1))
-    if angle < 1e-12:
-        return np.zeros(3)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    return w * angle / (2 * np.sin(angle))
-
-
-def pose(p, rotvec=(0, 0, 0)):
-    T = np.eye(4)
-    T[:3, :3] = rot(rotvec)
-    T[:3, 3] = p
-    return T
-
-
-def gantry_fk(q):
-    return pose(q[:3], q[3:])
-
-
-def gantry_ik(T, seed):
-    return np.concatenate([T[:3, 3], log(T[:3, :3])])
 
 
 def plan(T0, T1, ik=gantry_ik, q0=None, **kw):

@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from jaka_driver.protocol import commands as c
+from jaka_driver.protocol import programs as programs
+from jaka_driver.protocol import servo_filters as filters
 from jaka_driver.protocol.errors import (CommandRejected, InvalidArgument, JakaProtocolError,
                                          ProtocolError)
 from jaka_driver.protocol.fields import COMMANDS, Cmd, CoordMap, Field, JogMode
@@ -25,7 +27,7 @@ ALL_REQUESTS = [
     c.jog(JogMode.CONTINUOUS, CoordMap.JOINT, 2, 0.1), c.jog(JogMode.STOP, CoordMap.BASE, 0),
     c.stop_program(), c.rapid_rate(0.5),
     c.servo_move(True), c.is_in_servomove(), c.servo_j(Q, step_num=2), c.servo_p(POSE, True, 3),
-    c.set_servo_move_filter(0), c.set_servo_move_filter(1, 0.5),
+    filters.servo_filter_none(), filters.servo_filter_joint_lpf(0.5),
     c.get_joint_pos(), c.get_tcp_pos(), c.kine_forward(Q), c.kine_inverse(Q, POSE),
     c.set_tool_offsets(1, POSE, "gripper"), c.set_tool_id(1), c.get_curr_tool_id(),
     c.set_user_offsets(2, POSE, "table"), c.set_user_id(2), c.get_curr_user_id(),
@@ -38,6 +40,13 @@ ALL_REQUESTS = [
     c.get_drag_status(), c.get_rapid_rate(), c.get_tool_offsets(), c.get_user_offsets(),
     c.torque_control_enable(True), c.get_dh_param(),
     c.moveL(POSE, 100, 500, ori_vel_rad_s=0.5, ori_acc_rad_s2=1.0),
+    c.movc(POSE, POSE, 10, 50, 0.5, 1.5, 2),
+    programs.load_program("pick"), programs.get_loaded_program(), programs.play_program(),
+    programs.pause_program(), programs.resume_program(), programs.get_program_state(),
+    programs.get_current_line(), programs.query_user_defined_variable(),
+    programs.modify_user_defined_variable(5, 2.5, "abc"),
+    filters.servo_filter_joint_nlf(1, 2, 3), filters.servo_filter_joint_mmf(20, 0.2, 0.4, 0.2),
+    filters.servo_filter_carte_nlf(100, 500, 5000, 1, 2, 3), filters.servo_speed_foresight(15, 0.03),
 ]
 
 
@@ -142,8 +151,8 @@ def test_frames_payload_io():
     lambda: c.set_payload(-1, [0, 0, 0]),
     lambda: c.set_payload(1, [0, 0]),
     lambda: c.rapid_rate(1.5),
-    lambda: c.set_servo_move_filter(1),
-    lambda: c.set_servo_move_filter(9, 1.0),
+    lambda: filters.servo_filter_joint_lpf(None),
+    lambda: filters.servo_filter_joint_lpf(0),
     lambda: c.encode({"speed": 1}),
     lambda: c.encode({Field.CMD_NAME: "x", "v": object()}),
 ])

@@ -2,8 +2,10 @@
 units (:mod:`.contract`), and what travels across it.
 
 * :mod:`.contract` — :class:`Backend`: one robot, twin or controller connection;
-* :mod:`.twin` — :class:`Twin`: what only a digital twin can do, the one capability a backend
+* :mod:`.twin` — :class:`Twin`: what only a digital twin can do, a capability a backend
   may offer besides the contract (``backend.twin``);
+* :mod:`.programs` — :class:`Programs`: robot programs, the other one (``backend.programs``),
+  with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -11,8 +13,10 @@ units (:mod:`.contract`), and what travels across it.
 from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
+from .programs import ProgramState, ProgramStatus, Programs, UserVariable
 from .robot_state import MotionState, RobotState
 from .twin import Camera, Twin
 
-__all__ = ["Backend", "Twin", "Camera", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
+__all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
+           "UserVariable", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
            "make_clock"]

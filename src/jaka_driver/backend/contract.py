@@ -23,13 +23,20 @@ from typing import TYPE_CHECKING, Optional
 import numpy as np
 
 from ..common.models import RobotModel
-from ..common.results import Result
+from ..common.results import Code, Result
 from .clock import WallClock
+from .programs import Programs
 from .robot_state import RobotState
 from .twin import Twin
 
 if TYPE_CHECKING:
+    from ..motion.servo_filters import ServoFilterSpec
     from ..motion.trajectory import JointTrajectory
+
+
+def not_available(what: str) -> Result:
+    """The answer of a backend that cannot do ``what`` (-9)."""
+    return Result.failure(Code.WRONG_MODE, f"{what} is not available on this backend")
 
 
 class Backend(ABC):
@@ -39,6 +46,11 @@ class Backend(ABC):
     #: camera, what a controller built on the twin reads), or None: the one capability a backend
     #: offers besides this contract. Ask for it; never ask which backend this is.
     twin: Optional[Twin] = None
+    #: Robot programs (:class:`~.programs.Programs`: load, play, pause, resume, stop, state,
+    #: user variables), or None where the backend has none. A controller runs its own; the
+    #: twin runs the driver's program engine, whose steps go through the executor the driver
+    #: binds (:meth:`Programs.bind`). Ask for it; never ask which backend this is.
+    programs: Optional[Programs] = None
 
     def __init__(self, model: RobotModel):
         self.model = model
@@ -116,6 +128,35 @@ class Backend(ABC):
         a backend that does not time the line itself (None: the same law from where the arm
         stands). The whole path is checked before anything moves (-4 if unreachable). Returns
         at once, like :meth:`start_joint_move`."""
+
+    def start_circular_move(self, mid: np.ndarray, end: np.ndarray, speed: float, accel: float,
+                            turns: float = 0.0, mode: int = 0,
+                            duration: Optional[float] = None) -> Result:
+        """Start a circular TCP move from where the TCP stands through ``mid`` to ``end`` (4x4,
+        active tool in the active user frame, m) at ``speed`` m/s and ``accel`` m/s², ``turns``
+        more times round (whole or partial) with attitude rule ``mode`` 0–3 — JAKA's ``movc``,
+        whose rules :mod:`jaka_driver.motion.circular_path` defines; ``duration`` (s) is the
+        driver's plan of it (:func:`jaka_driver.motion.circular_path.circle_duration`). The
+        whole arc is checked before anything moves (-2 collinear points, -4 out of reach).
+        Returns at once, like :meth:`start_joint_move`. Default: -9 (not available)."""
+        return not_available("circular_move")
+
+    def pause_motion(self) -> Result:
+        """Bring the running move (joint, linear, circular) to rest on its own path, as a
+        controller's program pause does, and hold it there; its completion stays open.
+        Success also when nothing moves. Default: -9 (not available)."""
+        return not_available("pausing a move")
+
+    def resume_motion(self) -> Result:
+        """Continue a move :meth:`pause_motion` paused, along the rest of its path to the end
+        it was planned to. Default: -9 (not available)."""
+        return not_available("resuming a move")
+
+    def set_servo_filter(self, spec: "ServoFilterSpec") -> Result:
+        """Filter servo targets (servo_j, servo_p, the joint stream) with ``spec``
+        (:mod:`jaka_driver.motion.servo_filters`, already checked), from the next servo mode
+        on, as JAKA's ``set_servo_move_filter``. Default: -9 (not available)."""
+        return not_available("servo filters")
 
     @abstractmethod
     def start_trajectory(self, trajectory: "JointTrajectory") -> Result:

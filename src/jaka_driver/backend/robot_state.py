@@ -3,6 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import IntEnum
+from types import MappingProxyType
+from typing import Mapping, Tuple
 
 import numpy as np
 
@@ -15,6 +17,18 @@ class MotionState(IntEnum):
     EMERGENCY_STOP = 2
     RUNNING = 3
     ERROR = 4
+
+
+# ProgramState's numbers (JAKA's SDK's), without importing the facet into every sample
+_PROGRAM_RUNNING, _PROGRAM_PAUSED = 1, 2
+
+
+#: Every IO point of a sample: (signal, type, path) → the values, index 0 first — signal
+#: "digital" (0 / 1) or "analog" (V), type as set_io numbers it (0 cabinet, 1 tool, 2 extension,
+#: 3 relay, 4–6 fieldbus slaves), path 0 inputs, 1 outputs; a kind the arm has no points of is
+#: absent. Read-only.
+IoValues = Mapping[Tuple[str, int, int], Tuple[float, ...]]
+NO_IO: IoValues = MappingProxyType({})
 
 
 def _zeros6() -> np.ndarray:
@@ -49,6 +63,11 @@ class RobotState:
     moving: bool = False
     error_code: int = 0
     error_message: str = ""
+    #: the program's state as JAKA's SDK numbers it: 0 idle, 1 running, 2 paused
+    #: (:class:`~.programs.ProgramState`)
+    program_state: int = 0
+    #: every IO point as it came in this sample (:data:`IoValues`)
+    io: IoValues = field(default_factory=lambda: NO_IO)
 
     @property
     def in_error(self) -> bool:
@@ -57,11 +76,14 @@ class RobotState:
 
     @property
     def motion_state(self) -> MotionState:
-        """Derived like JAKA's driver: e-stop beats error beats running."""
+        """Derived like JAKA's driver: e-stop beats error beats a paused program (1) beats
+        running (moving, drag mode, or a program running: 3)."""
         if self.emergency_stop:
             return MotionState.EMERGENCY_STOP
         if self.in_error or not self.connected:
             return MotionState.ERROR
-        if self.moving or self.drag_mode:
+        if self.program_state == _PROGRAM_PAUSED:
+            return MotionState.PAUSE
+        if self.moving or self.drag_mode or self.program_state == _PROGRAM_RUNNING:
             return MotionState.RUNNING
         return MotionState.STOP

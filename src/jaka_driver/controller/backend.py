@@ -3,15 +3,17 @@ protocol, behind the same :class:`~jaka_driver.backend.Backend` contract as the 
 
 Mapping (docs/protocol.md): joint_move → ``joint_move``, linear_move → ``moveL`` with
 ``ori_vel``/``ori_acc`` (the driver's orientation limits, :func:`~jaka_driver.motion.
-linear_path.orientation_limits`), jog → ``jog``, servo → ``servo_move`` confirmed by
-``is_in_servomove`` + ``servo_j``/``servo_p`` (absolute), stop → ``stop_program``, frames →
+linear_path.orientation_limits`), circular_move → ``movc``, jog → ``jog``, servo →
+``servo_move`` confirmed by ``is_in_servomove`` + ``servo_j``/``servo_p`` (absolute), the servo
+filter → ``set_servo_move_filter``, stop → ``stop_program``, frames →
 ``set_tool_offsets``/``set_user_offsets`` + ``set_tool_id``/``set_user_id`` confirmed by
 ``get_curr_tool_id``/``get_curr_user_id``, payload → ``set_tool_id`` + ``set_payload``, drag →
 ``torque_control_enable`` confirmed by ``get_drag_status``, collision →
 ``set_clsn_sensitivity``, IO → the set commands confirmed by the get commands, clear_error →
 ``clear_error``, FK/IK → ``kine_forward``/``kine_inverse``, trajectories → a ``servo_j`` stream
-(:mod:`.servo_stream`). A setting is confirmed as JAKA's SDK confirms it: its get read back
-every 100 ms for up to 1 s (:meth:`.commander.Commander.settled`). Units are converted by the
+(:mod:`.servo_stream`), programs (the facet ``backend.programs``, :mod:`.programs`) → JAKA's
+program commands. A setting is confirmed as JAKA's SDK confirms it: its get read back every
+100 ms for up to 1 s (:meth:`.commander.Commander.settled`). Units are converted by the
 protocol library; this module speaks SI (rad, m, 4x4 poses of the active tool in the active
 user frame) like every backend.
 
@@ -27,9 +29,16 @@ backend's methods of each subject pass the request on: motion — moves, traject
 stop — (:class:`~.moves.MoveCommands`: when a move has ended, :mod:`.move_watch`), servo mode,
 servo targets and the velocity jog (:class:`~.servo_commands.ServoCommands`), and the arm's
 settings — frames, payload, drag, collision, IO, errors, the speed ratio
-(:class:`~.arm_settings.ArmSettings`).
+(:class:`~.arm_settings.ArmSettings`); a fourth is the controller's own programs, offered as
+the facet ``backend.programs`` (:class:`~.programs.ControllerPrograms`), whose state every
+sample carries.
 
-Local kinematics: ``linear_move``'s whole path is checked before ``moveL`` goes out (IK every
+``pause_motion`` / ``resume_motion`` stay -9: they serve a program step the driver's engine
+runs, and on a controller the controller runs its programs itself (``pause_program``). Whether
+``pause_program`` pauses a move sent over TCP outside a program is not on record.
+
+Local kinematics: ``linear_move``'s (and ``circular_move``'s) whole path is checked before
+``moveL`` (``movc``) goes out (IK every
 8 ms from the joints the latest packet reports, joint limits, no joint jump), on
 the arm's own chain when the controller states it (``get_dh_param``, a calibration of the
 model's) — :attr:`ControllerBackend.kinematics`. ``get_fk`` and ``get_ik`` are the controller's
@@ -59,6 +68,7 @@ from .commander import Commander, answers
 from .connection import ControllerLink
 from .frames_by_id import ControllerFrames
 from .moves import MoveCommands
+from .programs import ControllerPrograms
 from .running_motion import RunningMotion
 from .servo_commands import ServoCommands
 from .status_view import StatusView
@@ -104,6 +114,8 @@ class ControllerBackend(Backend):
         self.moves = MoveCommands(model, self.send, self.link, self.view, self.motion,
                                   self.identity, kinematics_now, self.settings, self.servo,
                                   trajectory_step_num)
+        #: the controller's own programs (``backend.programs``)
+        self.programs = ControllerPrograms(self.send)
         self._brought_up = threading.Event()
 
     # ---- life cycle -------------------------------------------------------------------
@@ -112,6 +124,7 @@ class ControllerBackend(Backend):
         cannot be reached the backend still starts: it reports ``connected`` False, answers -1
         and keeps trying in the background."""
         link = self.link
+        self.programs.start()
         if link.start(wait=link.connect_timeout + link.first_packet_timeout + 0.5):
             self._brought_up.wait(2 * self.send.confirm_timeout + 3 * link.call_timeout)
         else:
@@ -122,6 +135,7 @@ class ControllerBackend(Backend):
         self.motion.abort(Result.failure(Code.MOTION_STOPPED,
                                          "stopped: the driver is shutting down"))
         self.frames_by_id.stop()
+        self.programs.stop_polling()
         self.link.stop()
 
     @property
@@ -130,7 +144,8 @@ class ControllerBackend(Backend):
         return self.identity.version
 
     def state(self) -> RobotState:
-        return self.view.state(self.link.connected, self.motion.servo_mode)
+        return self.view.state(self.link.connected, self.motion.servo_mode,
+                               int(self.programs.status().state))
 
     @property
     def kinematics(self) -> Kinematics:
@@ -150,7 +165,8 @@ class ControllerBackend(Backend):
                      "status port": self.link.status_port,
                      "status source": self.link.status_source,
                      "connected": self.link.connected, "controller version": self.version,
-                     "reconnects": self.link.reconnects})
+                     "reconnects": self.link.reconnects,
+                     "servo_filter": self.servo.describe_filter()})
         if not self.link.connected:
             info["link"] = self.link.down_message()
         info.update(self.identity.describe())
@@ -187,6 +203,7 @@ class ControllerBackend(Backend):
             self.identity.read(self.send.read)
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
+            self.programs.refresh()
             if first:
                 self._bring_up()
         finally:
@@ -249,6 +266,10 @@ class ControllerBackend(Backend):
     def start_linear_move(self, target, speed, accel, ref_q=None, duration=None) -> Result:
         return self.moves.start_linear_move(target, speed, accel, ref_q, duration)
 
+    def start_circular_move(self, mid, end, speed, accel, turns=0.0, mode=0,
+                            duration=None) -> Result:
+        return self.moves.start_circular_move(mid, end, speed, accel, turns, mode, duration)
+
     def start_trajectory(self, trajectory) -> Result:
         return self.moves.start_trajectory(trajectory)
 
@@ -260,7 +281,6 @@ class ControllerBackend(Backend):
 
     def stop_move(self) -> Result:
         return self.moves.stop_move()
-
 
     # ---- servo mode and what runs in it: ServoCommands (servo_commands.py) --------------------
     def servo_enable(self, on: bool) -> Result:
@@ -274,6 +294,9 @@ class ControllerBackend(Backend):
 
     def velocity_jog(self, twist, in_tool) -> Result:
         return self.servo.velocity_jog(twist, in_tool)
+
+    def set_servo_filter(self, spec) -> Result:
+        return self.servo.set_filter(spec)
 
     # ---- the arm's settings: ArmSettings (arm_settings.py) -------------------------------------
     def set_speed_ratio(self, ratio: float) -> Result:

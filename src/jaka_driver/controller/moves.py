@@ -1,4 +1,4 @@
-"""Motion on a controller: moves (``joint_move``, ``moveL``), trajectories (a ``servo_j``
+"""Motion on a controller: moves (``joint_move``, ``moveL``, ``movc``), trajectories (a ``servo_j``
 stream, :mod:`.servo_stream`), the continuous jog and ``stop_move`` — what goes out on the wire
 for each, and how each is followed to its end.
 
@@ -11,8 +11,8 @@ told was refused, and ``stop_move`` always has one motion to end.
 
 :class:`MoveCommands` is a part :class:`~.backend.ControllerBackend` is composed of; what it
 works with is handed to it: the link and its requests, the status view, the slot, the arm's
-identity (motion refused while the arm is another model's), the local kinematics (a line's
-whole path is checked before ``moveL``), the arm's settings (speed ratio, frames) and servo
+identity (motion refused while the arm is another model's), the local kinematics (a line's or
+an arc's whole path is checked before ``moveL`` or ``movc``), the arm's settings (speed ratio, frames) and servo
 mode (a trajectory enters it). Units as the backend's: rad, m, 4x4 poses.
 """
 from __future__ import annotations
@@ -29,6 +29,7 @@ from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..kinematics import Kinematics
+from ..motion.circular_path import circle_duration, plan_circular_move, stop_pose
 from ..motion.linear_path import line_duration, orientation_limits, plan_linear_move
 from ..motion.profiles import joint_move_profile
 from ..protocol import commands, errors
@@ -76,6 +77,8 @@ class MoveCommands(RequestPart):
         self.trajectory_step_num = int(trajectory_step_num)
         self._send_lock = threading.Lock()   # orders sending a move against stop_move
         self._motion_state_known = True   # until the controller says it has no such command
+        #: ``movc``'s ``executing_line_id``: JAKA's SDK counts its circular moves from 1
+        self._circles = 0
 
     # ---- moves ------------------------------------------------------------------------------
     def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
@@ -170,13 +173,62 @@ class MoveCommands(RequestPart):
                                  ori_vel_rad_s=angular_speed, ori_acc_rad_s2=angular_accel)
         return self._start_move(request, watch, estimate)
 
+    @answers
+    def start_circular_move(self, mid, end, speed, accel, turns=0.0, mode=0,
+                            duration=None) -> Result:
+        """``movc`` through ``mid`` to ``end`` (4x4, m) at ``speed`` m/s and ``accel`` m/s²
+        (sent as mm/s and mm/s², as ``moveL``'s), ``turns`` more times round (``circle_cnt``)
+        with attitude rule ``mode`` (``circle_mode``), exactly as JAKA's SDK writes it
+        (docs/protocol.md, "Circular moves"), taking ``duration`` s (the driver's plan;
+        without one, the same law from the TCP the latest packet reports). The whole arc is
+        checked first on the local kinematics (:meth:`_check_arc`); waited for like
+        ``moveL``."""
+        self.identity.require_motion("circular_move")
+        self._check_arc(mid, end, speed, accel, turns, mode)
+        start = self._reported_tcp()
+        estimate = duration
+        if estimate is None:
+            estimate = UNKNOWN_MOVE_TIME if start is None else circle_duration(
+                start, mid, end, speed, accel, turns, mode) / self.settings.speed_ratio()
+        rests = end if start is None else stop_pose(start, mid, end, turns, mode)
+        self._circles += 1
+        request = commands.movc(matrix_to_pose_mm_rpy(end), matrix_to_pose_mm_rpy(mid),
+                                speed * 1000.0, accel * 1000.0, circle_cnt=float(turns),
+                                circle_mode=int(mode), executing_line_id=self._circles)
+        watch = MoveWatch("circular_move", tcp_at(matrix_to_pose_mm_rpy(rests)))
+        return self._start_move(request, watch, estimate)
+
+    def _reported_tcp(self):
+        """The TCP (4x4, m) the latest packet reports, or None."""
+        latest = self.view.latest
+        if latest is None or not np.all(np.isfinite(latest.tcp_pose)):
+            return None
+        return pose_mm_rpy_to_matrix(latest.tcp_pose)
+
+    def _check_arc(self, mid, end, speed: float, accel: float, turns: float,
+                   mode: int) -> None:
+        """The whole-path check of an arc, as :meth:`_check_line`'s of a line: every cycle
+        of the arc through ``mid`` to ``end`` (-2 collinear points, -4 where it leaves the
+        workspace or the limits, or a joint would jump)."""
+        m = self.model
+        self._check_path(lambda start, q0, ik: plan_circular_move(
+            start, mid, end, speed, accel, q0, ik, m.lower, m.upper,
+            LINE_JUMP * m.max_velocity, turns, mode, cycle=SERVO_CYCLE))
+
     def _check_line(self, target, speed: float, accel: float) -> None:
         """The whole-path check of a line (IK at every cycle, joint limits, no joint faster
-        than :data:`LINE_JUMP` × its limit) from the joints the latest packet reports, on
-        :attr:`kinematics` and the active frames, seeded there as the controller's ``moveL``
-        is (it is not sent ``ref_joint``); a
-        :class:`~jaka_driver.motion.linear_path.PlanningError` (-4) says where it fails.
-        Without a link the move is refused as any other (-1), unchecked."""
+        than :data:`LINE_JUMP` × its limit); a
+        :class:`~jaka_driver.motion.cartesian_path.PlanningError` (-4) says where it fails."""
+        m = self.model
+        self._check_path(lambda start, q0, ik: plan_linear_move(
+            start, target, speed, accel, q0, ik, m.lower, m.upper,
+            LINE_JUMP * m.max_velocity, cycle=SERVO_CYCLE))
+
+    def _check_path(self, plan) -> None:
+        """Run ``plan(start pose, start joints, ik)`` — a Cartesian path's whole-path check —
+        from the joints the latest packet reports, on :attr:`kinematics` and the active
+        frames, seeded there as the controller's ``moveL`` / ``movc`` is (it is not sent
+        ``ref_joint``). Without a link the move is refused as any other (-1), unchecked."""
         self.send.require_link()
         latest = self.view.latest
         if latest is None or not np.all(np.isfinite(latest.joint_position)):
@@ -188,10 +240,7 @@ class MoveCommands(RequestPart):
         def ik(pose, seed):
             solution = kin.ik(pose, seed=seed, tool=tool, user=user)
             return solution.q if solution.success else None
-
-        plan_linear_move(kin.tcp_pose(q0, tool, user), target, speed, accel, q0, ik,
-                         self.model.lower, self.model.upper,
-                         LINE_JUMP * self.model.max_velocity, cycle=SERVO_CYCLE)
+        plan(kin.tcp_pose(q0, tool, user), q0, ik)
 
     # ---- trajectories ---------------------------------------------------------------------------
     @answers

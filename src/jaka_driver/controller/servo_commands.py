@@ -1,7 +1,11 @@
 """Servo mode on a controller, and what runs in it: ``servo_move`` confirmed by
 ``is_in_servomove``, ``servo_j`` / ``servo_p`` targets (absolute, or a client's increments sent
 relatively as JAKA's SDK sends them) and the velocity jog, a ``servo_j`` stream the driver
-computes from a twist (:mod:`.twist_stream`: why not the protocol's ``jog``).
+computes from a twist (:mod:`.twist_stream`: why not the protocol's ``jog``) — and the servo
+filter those targets pass through (``set_servo_move_filter``, sent as JAKA's SDK writes it:
+:mod:`jaka_driver.protocol.servo_filters`). JAKA's SDK has no command that reads the filter back
+(it neither waits after setting one nor asks for it), so the filter reported is the one last
+accepted by the controller, not one read back.
 
 :class:`ServoCommands` is a part :class:`~.backend.ControllerBackend` is composed of; what it
 works with is handed to it (:class:`~.parts.RequestPart`): the link and its requests, the
@@ -19,8 +23,9 @@ import numpy as np
 from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy
+from ..motion.servo_filters import FilterType, ServoFilterSpec
 from ..motion.velocity_jog import VelocityJog
-from ..protocol import commands
+from ..protocol import commands, servo_filters
 from ..protocol.fields import Field
 from .commander import answers
 from .parts import RequestPart
@@ -36,6 +41,12 @@ SERVO_MODE_OFF_CODE = "-1"
 class ServoCommands(RequestPart):
     """Servo mode, servo targets and the velocity jog on a controller (see the module; what it
     works with: :class:`~.parts.RequestPart`)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        #: the servo filter the controller last accepted (this driver's; none until set)
+        self.filter = ServoFilterSpec()
+        self._filter_set = False
 
     @answers
     def velocity_jog(self, twist, in_tool) -> Result:
@@ -155,6 +166,22 @@ class ServoCommands(RequestPart):
                                             relative=True))
         return Result.success("servo_p increment sent")
 
+    @answers
+    def set_filter(self, spec: ServoFilterSpec) -> Result:
+        """``set_servo_move_filter`` with ``spec`` (checked already; refused by the driver in
+        servo mode, as a controller refuses it). Not read back: no command reads it."""
+        self.send.accepted(filter_request(spec))
+        self.filter, self._filter_set = spec, True
+        return Result.success(f"servo filter {spec.describe()} sent (set_servo_move_filter "
+                              f"filter_type {int(spec.type)}); a controller has no command to "
+                              "read it back")
+
+    def describe_filter(self) -> str:
+        """The filter for diagnostics: the one last sent, or what is known without one."""
+        if not self._filter_set:
+            return "not set by this driver (the controller keeps its own; it cannot be read)"
+        return f"{self.filter.describe()} (sent; a controller cannot report it)"
+
     def _servo_target(self, request) -> None:
         reply = self.send.call(request)
         if reply.ok:
@@ -166,6 +193,25 @@ class ServoCommands(RequestPart):
                                  f"({request[Field.CMD_NAME]}: {reply.error_msg})")
         raise CommandRefused(Code.CONTROLLER_REJECTED, f"controller rejected "
                              f"{request[Field.CMD_NAME]}: {reply.error_msg or reply.error_code}")
+
+
+def filter_request(spec: ServoFilterSpec) -> dict:
+    """``set_servo_move_filter`` for ``spec`` (SI: rad/s…, m/s…), in the wire's units (deg/s…,
+    mm/s…) and keys, as JAKA's SDK sends each of its six filter functions."""
+    t = spec.type
+    if t == FilterType.JOINT_LPF:
+        return servo_filters.servo_filter_joint_lpf(spec.cutoff)
+    if t == FilterType.JOINT_NLF:
+        return servo_filters.servo_filter_joint_nlf(spec.velocity, spec.accel, spec.jerk)
+    if t == FilterType.JOINT_MMF:
+        return servo_filters.servo_filter_joint_mmf(spec.buffer, spec.kp, spec.kv, spec.ka)
+    if t == FilterType.CARTESIAN_NLF:
+        return servo_filters.servo_filter_carte_nlf(
+            spec.linear_velocity * 1e3, spec.linear_accel * 1e3, spec.linear_jerk * 1e3,
+            spec.velocity, spec.accel, spec.jerk)
+    if t == FilterType.SPEED_FORESIGHT:
+        return servo_filters.servo_speed_foresight(spec.buffer, spec.kp)
+    return servo_filters.servo_filter_none()
 
 
 def _in_servomove(reply) -> bool:

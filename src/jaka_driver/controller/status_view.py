@@ -16,6 +16,10 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
   is not an error the arm must be cleared of: it is jogged out of);
 * ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
 * servo mode: not in the stream; the backend's, from ``is_in_servomove``;
+* IO: every array the packet carries (:func:`packet_io`: cabinet, tool, the extension module,
+  relays, the fieldbus slaves), as it came;
+* the program's state: not in the stream on record; the backend's programs facet's, read with
+  ``get_program_state`` (:mod:`.programs`);
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -23,12 +27,14 @@ from __future__ import annotations
 
 import threading
 import time
+from types import MappingProxyType
 from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from ..backend.robot_state import RobotState
+from ..backend.robot_state import IoValues, RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
+from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
 from ..protocol.status_stream import StatusPacket
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
@@ -38,6 +44,36 @@ def is_collision(status: StatusPacket) -> bool:
     """JAKA reports a collision as a protective stop; only its message tells them apart (the
     emulator and real controllers both name it), so ``collision_state`` follows the text."""
     return status.protective_stop and "collision" in status.errmsg.lower()
+
+
+#: an IO array's name → (signal, path) of the sample's IO (path 0 inputs, 1 outputs)
+_ARRAY_KEY = {"din": ("digital", 0), "dout": ("digital", 1), "ain": ("analog", 0),
+              "aout": ("analog", 1)}
+
+
+def packet_io(status: StatusPacket) -> IoValues:
+    """Every IO array ``status`` carries, keyed as a sample's IO is (signal, type, path): the
+    cabinet's (``din`` … ``aout``), the tool's (``tio_*``), the extension module's (``extio``),
+    the relays' (``relay_io``, outputs) and the fieldbus slaves' (``mb_slave_*``, ``pn_dev_*``,
+    ``eip_adpt_*``). Arrays the packet does not carry, or carries empty, are absent."""
+    io = {}
+
+    def put(array: str, io_type: int, values) -> None:
+        if values:
+            signal, path = _ARRAY_KEY[array]
+            io[(signal, int(io_type), path)] = tuple(values)
+    for array in IO_ARRAYS:
+        put(array, IOType.CABINET, getattr(status, array))
+    put("din", IOType.TOOL, status.tio_din)
+    put("dout", IOType.TOOL, status.tio_dout)
+    put("ain", IOType.TOOL, status.tio_ain)
+    for array, values in zip(IO_ARRAYS, status.extio):
+        put(array, IOType.EXTEND, values)
+    put("dout", IOType.RELAY, status.relay_io)
+    for prefix, io_type in FIELDBUS_SLAVES:
+        for array in IO_ARRAYS:
+            put(array, io_type, status.fieldbus.get(f"{prefix}_{array}"))
+    return MappingProxyType(io)
 
 
 class StatusView:
@@ -111,11 +147,11 @@ class StatusView:
             return self._arrived.wait_for(
                 lambda: self._status is not None and shows(self._status), timeout)
 
-    def state(self, connected: bool, servo_mode: bool) -> RobotState:
+    def state(self, connected: bool, servo_mode: bool, program_state: int = 0) -> RobotState:
         with self._lock:
             status, received, serial = self._status, self._received, self._serial
             velocity, tcp, q = self._velocity, self._tcp, self._q
-            key = (serial, connected, servo_mode)
+            key = (serial, connected, servo_mode, program_state)
             if connected and self._cache is not None and self._cache[0] == key:
                 return self._cache[1]
         if status is None:
@@ -136,7 +172,8 @@ class StatusView:
             collision=is_collision(status), moving=not status.inpos,
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
-            else f"torque sensor error {status.sensor_errcode}")
+            else f"torque sensor error {status.sensor_errcode}", program_state=program_state,
+            io=packet_io(status))
         with self._lock:
             self._cache = (key, st)
         return st

@@ -1,6 +1,13 @@
 """The door of the driver: every request of the node passes :class:`RobotDriver`.
 
-* :mod:`.robot_driver` — :class:`RobotDriver`: order of checks, motion lock, the one wait loop;
+* :mod:`.robot_driver` — :class:`RobotDriver`, assembled from the parts below;
+* :mod:`.door` — the core every part shares: the state checks in their order, the motion lock,
+  the watchdogs, the wrapper that turns any failure into an answer;
+* the parts by subject: :mod:`.moves` (moves, trajectories, stop, the one wait loop),
+  :mod:`.jogs`, :mod:`.servo_requests` (servo mode, targets, the servo filter),
+  :mod:`.program_requests`, :mod:`.arm_settings` (settings, kinematics),
+  :mod:`.twin_requests` (what only a twin can do);
+* :mod:`.program_steps` — the driver as the executor of a program's steps;
 * :mod:`.checks` — field checks (-2 naming field, value and limit) and a move's planned
   duration;
 * :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.

@@ -7,9 +7,11 @@ share with the backends (which repeat them in their own terms) are
 Units: joints rad, speeds rad/s or mm/s, accelerations rad/s² or mm/s², poses 4x4 in m unless a
 name says mm, durations s.
 
-Move durations: :func:`joint_move_duration` and :func:`linear_move_duration` are the driver's plan
-of a move's duration, by the law every backend times it with (:mod:`jaka_driver.motion.profiles`,
-:func:`jaka_driver.motion.linear_path.line_duration`); the driver hands the result to the backend,
+Move durations: :func:`joint_move_duration`, :func:`linear_move_duration` and
+:func:`circular_move_duration` are the driver's plan of a move's duration, by the law every
+backend times it with (:mod:`jaka_driver.motion.profiles`,
+:func:`jaka_driver.motion.linear_path.line_duration`,
+:func:`jaka_driver.motion.circular_path.circle_duration`); the driver hands the result to the backend,
 which plays it (the twin) or sends it as a speed (a controller). A move slower than
 :data:`~jaka_driver.motion.trajectory.MAX_MOTION_DURATION` (10 min) comes from a units mistake
 (``mvvelo`` 1e-7, ``mvtime`` 3e38) and is refused; so is an ``mvtime`` shorter than the move
@@ -26,8 +28,9 @@ import numpy as np
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.joint_limits import fastest_step, outside_limits
 from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, PAYLOAD_MARGIN, RobotModel, io_level
-from ..common.results import invalid
+from ..common.results import CommandRefused, invalid
 from ..common.transforms import pose_mm_to_matrix
+from ..motion.circular_path import MAX_TURNS, circle_duration
 from ..motion.linear_path import line_duration
 from ..motion.profiles import SyncJointProfile
 from ..motion.trajectory import MAX_MOTION_DURATION
@@ -254,6 +257,34 @@ def linear_move_duration(T_start: np.ndarray, T_goal: np.ndarray, speed: float, 
         raise invalid(f"{field} is {value:g} {unit}: the {1000 * _length(T_start, T_goal):.1f} "
                       f"mm line would take {needed:.4g} s, above the limit of "
                       f"{MAX_MOTION_DURATION:g} s for one move")
+    return needed
+
+
+def turns(value: float) -> float:
+    """A circular move's extra turns: 0–:data:`MAX_TURNS`, whole or partial."""
+    n = finite("turns", value)
+    if not 0.0 <= n <= MAX_TURNS:
+        raise invalid(f"turns is {n:g}, expected 0–{MAX_TURNS:g} (extra circles after the end "
+                      "point, whole or partial)")
+    return n
+
+
+def circular_move_duration(T_start: np.ndarray, T_mid: np.ndarray, T_end: np.ndarray,
+                           speed: float, accel: float, n_turns: float, mode: int,
+                           mvvelo: float, mvacc: float) -> float:
+    """Duration (s) of the circular move ``T_start`` → ``T_mid`` → ``T_end`` (m) at ``speed``
+    m/s and ``accel`` m/s² (request clamped to the model). Raises -2 for collinear points and
+    naming ``mvvelo`` or ``mvacc`` when it would be longer than the limit."""
+    try:
+        needed = circle_duration(T_start, T_mid, T_end, speed, accel, n_turns, mode)
+    except CommandRefused as refusal:
+        raise invalid(refusal.message) from None
+    if needed > MAX_MOTION_DURATION:
+        quick = circle_duration(T_start, T_mid, T_end, max(speed, 1.0), accel, n_turns, mode)
+        field, value, unit = _slow_field(mvvelo, mvacc, "mm/s", "mm/s²",
+                                         speed_is_short=quick <= MAX_MOTION_DURATION)
+        raise invalid(f"{field} is {value:g} {unit}: the arc would take {needed:.4g} s, above "
+                      f"the limit of {MAX_MOTION_DURATION:g} s for one move")
     return needed
 
 

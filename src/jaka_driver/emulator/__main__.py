@@ -1,6 +1,6 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
-[--dh-from MODEL] [--calibration FILE|SEED]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--dh-from MODEL] [--calibration FILE|SEED] [--programs DIR]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -55,6 +55,10 @@ def _parser() -> argparse.ArgumentParser:
                              "0.4 mm and 0.005 deg per parameter; a file holds get_dh_param's "
                              "rows (alpha deg, a mm, d mm, joint_homeoff deg). The twin moves "
                              "on it and get_dh_param answers it")
+    parser.add_argument("--programs", default=None, metavar="DIR",
+                        help="the folder of the programs JAKA's program commands load and play "
+                             "(the twin's format, NAME.jdp; a client loads NAME or NAME.jks); "
+                             "default this package's config/programs")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
@@ -77,7 +81,8 @@ def main(argv=None) -> int:
         model = arm_model(load_model(args.model), args.dh_from, args.calibration)
         emulator = Emulator(model, args.host, args.command_port, args.status_port,
                             data_port=args.data_port, profile=args.profile, period=args.period,
-                            start=args.start, scene=args.scene, io_loopback=args.io_loopback)
+                            start=args.start, scene=args.scene, io_loopback=args.io_loopback,
+                            programs=args.programs or "default")
         emulator.start()
     except ValueError as exc:
         print(f"jaka_emulator: {exc}", file=sys.stderr)

@@ -11,23 +11,33 @@ Use it in-process (tests, notebooks)::
     Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14", period=0.008,
              start="enabled")
 
+    # the programs JAKA's program commands load and play (the twin's format, docs/programs.md)
+    Emulator("zu5", command_port=0, status_port=0, programs="/path/to/programs")
+
 or as a program: ``python -m jaka_driver.emulator --model zu5`` (:mod:`.__main__`).
 """
 from __future__ import annotations
 
 import dataclasses
 import logging
+from pathlib import Path
 from typing import Optional, Union
 
-from ..common.models import RobotModel, load_model
+from ..common.models import RobotModel, load_model, repo_root
 from ..sim import SimBackend
 from .handlers import CommandHandlers
+from .program_steps import ControllerSteps
 from .profiles import DEFAULT_PROFILE, START_STATES, ControllerProfile, profile_named
 from .server import EmulatorServer
 from .status_packet import status_fields
 from .twin_controller import TwinController
 
 log = logging.getLogger(__name__)
+
+
+def default_programs() -> str:
+    """The folder of this package's example programs (``config/programs``)."""
+    return str(repo_root() / "config" / "programs")
 
 
 class Emulator:
@@ -37,13 +47,17 @@ class Emulator:
     ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default a
     controller on fw 1.7.2, the one JAKA's SDK and ROS 2 driver are written for; the recorded Zu
     5s on fw 1.5.14 is ``"zu5s-1.5.14"``); ``period`` (s between status packets) and ``start``
-    (:data:`~.profiles.START_STATES`) override the profile's."""
+    (:data:`~.profiles.START_STATES`) override the profile's. ``programs``: the folder of the
+    programs it serves (the twin's format, docs/programs.md; default :func:`default_programs`,
+    this package's examples; None: none), run by the twin's engine on this controller's
+    rules."""
 
     def __init__(self, model: Union[str, RobotModel] = "zu5", host: str = "127.0.0.1",
                  command_port: int = 10001, status_port: int = 10000, *,
                  data_port: Optional[int] = None, profile: Union[str, ControllerProfile] =
                  DEFAULT_PROFILE, period: Optional[float] = None, start: Optional[str] = None,
-                 scene: Optional[str] = None, io_loopback: bool = False):
+                 scene: Optional[str] = None, io_loopback: bool = False,
+                 programs: Optional[str] = "default"):
         self.profile = profile_named(profile) if isinstance(profile, str) else profile
         self.start_state = self.profile.start if start is None else start
         if self.start_state not in START_STATES:
@@ -55,8 +69,15 @@ class Emulator:
         # The twin gets the IO of the profile's controller cabinet, as its packets show it.
         self.model = dataclasses.replace(self.model, io_sizes=self.profile.io_sizes)
         #: the arm: the MuJoCo twin, through its face (the contract and ``backend.twin``)
-        self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback)
+        if programs == "default":
+            programs = default_programs()
+        if programs is not None and not Path(programs).expanduser().is_dir():
+            raise ValueError(f"programs folder {programs} is not a folder")
+        self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback,
+                                  programs=programs)
         self.controller = TwinController(self.backend, self.profile)
+        # each step of a program passes this controller's rules, as its commands do
+        self.backend.programs.bind(ControllerSteps(self.controller))
         if data_port is None:   # free ports for tests stay free ports: no fixed 10004 then
             data_port = 0 if command_port == 0 else 10004
         self.handlers = CommandHandlers(self.controller)

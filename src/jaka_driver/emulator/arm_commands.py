@@ -1,4 +1,5 @@
-"""The arm's commands: power and enable, state, motion (queued moves, jog, stop), servo mode,
+"""The arm's commands: power and enable, state, motion (queued moves — ``joint_move``,
+``moveL``, ``movc``, ``end_move`` —, jog, stop), servo mode,
 kinematics, drag mode. Wire requests in (deg, mm + RPY deg, deg/s, mm/s), SI values to the
 :class:`~.twin_controller.TwinController`, wire replies out (docs/protocol.md).
 """
@@ -59,6 +60,7 @@ class ArmCommands:
             Cmd.JOINT_MOVE: self._joint_move,
             Cmd.MOVE_L: self._move_l,
             "move_l": self._move_l,   # the other spelling clients use
+            Cmd.MOVC: self._movc,
             Cmd.END_MOVE: self._end_move,
             Cmd.JOG: self._jog,
             Cmd.STOP_PROGRAM: lambda r: done(c.stop()),
@@ -126,6 +128,30 @@ class ArmCommands:
         accel = number(req, Field.ACCEL, default=default_accel, positive=True) / 1000.0
         self.c.linear_move((lambda: _relative(self.c.commanded_tcp(), target)) if relative
                            else (lambda: target), speed, accel)
+        return Answer()
+
+    def _movc(self, req) -> Answer:
+        """``movc`` as JAKA's SDK writes it (docs/protocol.md, "Circular moves"): ``pos_mid``
+        and ``pos_end`` (mm + RPY deg; with ``relFlag`` 1 relative to where the move before it
+        ends, as ``moveL``'s), ``speed`` mm/s and ``accel`` mm/s² (as ``moveL``'s: JAKA's header
+        says rad/s, no controller reply says which), ``circle_cnt`` more turns (a double),
+        ``circle_mode`` 0–3 (the attitude rule); ``tol`` (blending) and ``executing_line_id``
+        (the client's counter) are read and not used: the twin does not blend."""
+        mid, end = pose(req, Field.POS_MID), pose(req, Field.POS_END)
+        relative = integer(req, Field.REL_FLAG, 0, 1, default=0)
+        speed = number(req, Field.SPEED, positive=True) / 1000.0
+        default_accel = self.model.default_tcp_accel * 1000.0      # the wire's mm/s²
+        accel = number(req, Field.ACCEL, default=default_accel, positive=True) / 1000.0
+        turns = number(req, Field.CIRCLE_CNT, default=0.0, lo=0.0)
+        mode = integer(req, Field.CIRCLE_MODE, 0, 3, default=0)
+        number(req, Field.TOL, default=0.0, lo=0.0)
+
+        def poses():
+            if not relative:
+                return mid, end
+            here = self.c.commanded_tcp()
+            return _relative(here, mid), _relative(here, end)
+        self.c.circular_move(poses, speed, accel, turns, mode)
         return Answer()
 
     def _end_move(self, req) -> Answer:

@@ -24,7 +24,7 @@ from ..protocol.fields import Cmd, Field
 from .arm_commands import ArmCommands
 from .framing import Malformed
 from .io_commands import IoCommands
-from .program_commands import PROGRAM_COMMANDS
+from .program_commands import ProgramCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
 from .sensor_commands import SensorCommands
 from .setting_commands import SettingCommands
@@ -58,7 +58,7 @@ class CommandHandlers:
             **ArmCommands(controller).table(),
             **SettingCommands(controller).table(),
             **IoCommands(controller).table(),
-            **PROGRAM_COMMANDS,
+            **ProgramCommands(controller).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             Cmd.QUIT: lambda r: Answer(then="close"),
             "emulator_emergency_stop": lambda r: self._note(self.c.emergency_stop(

@@ -1,44 +1,79 @@
-"""User programs and user variables, answered as a controller that has none: the emulator runs
-no JAKA programs (its motion comes from commands only).
+"""Programs and user variables over JAKA's program commands, as JAKA's SDK sends and reads them
+(docs/protocol.md, "Programs"): the programs of the emulator's programs folder, in the twin's
+format (docs/programs.md), run by the twin's engine on the emulator's controller rules
+(:mod:`.program_steps`).
 
-What JAKA's software polls must read as a healthy idle controller: JAKA's ROS node asks for
-``get_program_state`` about 8 times a second and its SDK compares ``programState`` as a string
-(a number there killed the node), so it is ``"idle"``; ``get_loaded_program`` names none (``""``)
-and ``get_current_line`` is 0. Loading a program answers errorCode "2" (it does not exist);
-play, pause and resume answer "2" (nothing loaded, running or paused); ``stop_program`` stops
-motion (:mod:`.arm_commands`), as on a controller.
+* ``load_program`` — ``programName`` as JAKA's SDK sends it, with the ".jks" it appends to every
+  name: ``pick.jks`` finds ``pick.jdp`` (a name is a file name, never a path). A program that
+  does not exist, or cannot be read, is refused with "2" and the reason.
+* ``get_loaded_program`` — the name with ".jks", as it was loaded; ``""`` when none.
+* ``play_program``, ``pause_program``, ``resume_program`` — "2" when there is nothing loaded,
+  running or paused, or (play, resume) when the arm may not move; ``stop_program`` stops the
+  program and the motion (:mod:`.arm_commands`).
+* ``get_program_state`` — ``programState`` a **string**, "idle", "running" or "paused" (JAKA's
+  SDK compares strings; a number there killed JAKA's ROS node); ``get_current_line`` — the line
+  of the running step in its file (0 when idle).
+* ``query_user_defined_variable`` — ``var_list`` of ``{id int, value double, alias string}``;
+  ``modify_user_defined_variable`` — ``id_new``, ``value_new``, ``alias_new`` (an empty alias
+  keeps the name); an id no program declared is refused with "2".
+* ``get_exist_programs`` — the folder's programs, each with ".jks".
 """
 from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
-from ..protocol.fields import Cmd, Field, ProgramState
-from .replies import Answer, Rejected
-from .wire_fields import shown, shown_name
+from ..protocol.fields import Cmd, Field
+from .replies import Answer, Rejected, done
+from .twin_controller import TwinController
+from .wire_fields import integer, number, text
 
-NO_PROGRAMS = "(the emulator has no user programs)"
-
-
-def _refuse(req: Mapping, why: str) -> Answer:
-    raise Rejected(f"{shown_name(req)}: {why} {NO_PROGRAMS}")
+#: what JAKA's SDK appends to every program name it loads
+JKS = ".jks"
 
 
-def _load(req: Mapping) -> Answer:
-    name = req.get(Field.PROGRAM_NAME)
-    name = name[:80] if isinstance(name, str) else shown(name)
-    return _refuse(req, f"program {name} does not exist")
+class ProgramCommands:
+    def __init__(self, controller: TwinController):
+        self.c = controller
+        self.programs = controller.programs
 
+    def table(self) -> Dict[str, Callable[[Mapping], Answer]]:
+        c = self.c
+        return {
+            Cmd.GET_PROGRAM_STATE: lambda r: Answer(
+                {Field.PROGRAM_STATE: self.programs.status().state.word}),
+            Cmd.GET_LOADED_PROGRAM: self._loaded,
+            Cmd.GET_CURRENT_LINE: lambda r: Answer(
+                {Field.CURRENT_LINE: int(self.programs.status().line)}),
+            Cmd.GET_EXIST_PROGRAMS: lambda r: Answer(
+                {"programs": [f"{name}{JKS}" for name in self.programs.available()]}),
+            Cmd.LOAD_PROGRAM: self._load,
+            Cmd.PLAY_PROGRAM: lambda r: done(c.play_program()),
+            Cmd.PAUSE_PROGRAM: lambda r: done(c.pause_program()),
+            Cmd.RESUME_PROGRAM: lambda r: done(c.resume_program()),
+            Cmd.QUERY_USER_DEFINED_VARIABLE: self._variables,
+            Cmd.MODIFY_USER_DEFINED_VARIABLE: self._modify_variable,
+        }
 
-PROGRAM_COMMANDS: Dict[str, Callable[[Mapping], Answer]] = {
-    Cmd.GET_PROGRAM_STATE: lambda r: Answer({Field.PROGRAM_STATE: ProgramState.IDLE}),
-    Cmd.GET_LOADED_PROGRAM: lambda r: Answer({Field.PROGRAM_NAME: ""}),
-    Cmd.GET_CURRENT_LINE: lambda r: Answer({Field.CURRENT_LINE: 0}),
-    Cmd.GET_EXIST_PROGRAMS: lambda r: Answer({"programs": []}),
-    Cmd.LOAD_PROGRAM: _load,
-    Cmd.PLAY_PROGRAM: lambda r: _refuse(r, "no program loaded"),
-    Cmd.PAUSE_PROGRAM: lambda r: _refuse(r, "no program running"),
-    Cmd.RESUME_PROGRAM: lambda r: _refuse(r, "no program paused"),
-    Cmd.QUERY_USER_DEFINED_VARIABLE: lambda r: Answer({Field.VAR_LIST: []}),
-    Cmd.MODIFY_USER_DEFINED_VARIABLE: lambda r: _refuse(
-        r, "no such user variable: none is defined"),
-}
+    def _loaded(self, _req) -> Answer:
+        name = self.programs.status().name
+        return Answer({Field.PROGRAM_NAME: f"{name}{JKS}" if name else ""})
+
+    def _load(self, req) -> Answer:
+        name = text(req, Field.PROGRAM_NAME)
+        result = self.programs.load(name)
+        if not result.ok:
+            raise Rejected(f"load_program: {result.message}")
+        return Answer()
+
+    def _variables(self, _req) -> Answer:
+        listed = self.programs.variables().value
+        return Answer({Field.VAR_LIST: [{"id": v.id, "value": float(v.value), "alias": v.alias}
+                                        for v in listed]})
+
+    def _modify_variable(self, req) -> Answer:
+        result = self.programs.set_variable(integer(req, Field.ID_NEW, 1, 100),
+                                            number(req, Field.VALUE_NEW),
+                                            text(req, Field.ALIAS_NEW, default=""))
+        if not result.ok:
+            raise Rejected(f"modify_user_defined_variable: {result.message}")
+        return Answer()

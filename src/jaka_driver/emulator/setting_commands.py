@@ -1,13 +1,19 @@
 """The controller's settings: identity and kinematic parameters, tool and user frames (a table
 of 11 slots read back by id), payload, speed ratio, collision level, tool power output, servo
-filters. Every set is visible to the very next get, on any connection (JAKA's SDK polls the
+filters (``set_servo_move_filter`` in the wire's units — Hz, deg/s…, mm/s…, buffer counts —
+mapped to the twin's filter, :func:`wire_filter`, and applied to its servo stream). Every set is visible to the very next get, on any connection (JAKA's SDK polls the
 get after the set; docs/protocol.md, "Settings read back").
 """
 from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
+import math
+
 from ..common.frames import TOOL, USER_FRAME
+from ..common.models import RobotModel
+from ..common.results import CommandRefused
+from ..motion.servo_filters import ServoFilterSpec, checked_spec
 from ..kinematics.controller_dh import dh_of_model
 from ..protocol.fields import Cmd, Field
 from .replies import ERROR_REQUEST, Answer, Rejected, done
@@ -125,5 +131,40 @@ class SettingCommands:
                 params[key] = integer(req, key, 1, 1_000_000)
             else:
                 params[key] = number(req, key, lo=0.0, positive=key in _POSITIVE)
-        self.c.set_servo_filter(filter_type, params)
+        self.c.set_servo_filter(filter_type, params, wire_filter(self.model, filter_type,
+                                                                 params))
         return Answer()
+
+
+#: the wire's key → (the driver's field, factor from the wire's unit to the driver's):
+#: angles deg → rad, lengths stay mm (the driver's request speaks mm/s…), Hz and counts as sent
+_WIRE_TO_REQUEST = {
+    Field.LPF_CF: ("lpf_cutoff_hz", 1.0),
+    Field.NLF_MAX_VR: ("nlf_max_vr", math.pi / 180.0),
+    Field.NLF_MAX_AR: ("nlf_max_ar", math.pi / 180.0),
+    Field.NLF_MAX_JR: ("nlf_max_jr", math.pi / 180.0),
+    Field.NLF_MAX_VP: ("nlf_max_vp", 1.0), Field.NLF_MAX_AP: ("nlf_max_ap", 1.0),
+    Field.NLF_MAX_JP: ("nlf_max_jp", 1.0),
+    Field.MMF_MAX_BUF: ("mmf_buffer", 1.0), Field.MMF_KP: ("mmf_kp", 1.0),
+    Field.MMF_KV: ("mmf_kv", 1.0), Field.MMF_KA: ("mmf_ka", 1.0),
+}
+
+
+def wire_filter(model: RobotModel, filter_type: int, params: Mapping[str, float]
+                ) -> ServoFilterSpec:
+    """The twin's filter for a ``set_servo_move_filter``'s ``filter_type`` and parameters in
+    the wire's units (JAKA's SDK sends them unconverted: Hz, deg/s, deg/s², deg/s³, mm/s,
+    mm/s², mm/s³, buffer counts): converted to the driver's units and checked against the
+    driver's ranges, which take what JAKA's SDK and its examples send
+    (:func:`~jaka_driver.motion.servo_filters.checked_spec`). Out of range: refused with "1",
+    naming the wire's field and value."""
+    request = {}
+    for key, value in params.items():
+        name, factor = _WIRE_TO_REQUEST[key]
+        request[name] = value * factor
+    try:
+        return checked_spec(model, filter_type, request)
+    except CommandRefused as refusal:
+        sent = ", ".join(f"{k} {v:g}" for k, v in params.items())
+        raise Rejected(f"set_servo_move_filter: {refusal.message} (the request's {sent}; "
+                       "angles converted from deg)", ERROR_REQUEST) from None

@@ -30,6 +30,7 @@ from typing import Any, Dict, List, Tuple
 
 import numpy as np
 
+from ..backend import ProgramState
 from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import units
 from ..protocol.fields import InterpState, IOType, StatusField as S, TaskState
@@ -66,6 +67,11 @@ for _prefix, _type in (("mb_slave", IOType.MODBUS_SLAVE), ("pn_dev", IOType.PROF
                           f"{_prefix}_aout": ("analog", _type, 1)})
 _EXTENSION = [("digital", IOType.EXTEND, 0), ("digital", IOType.EXTEND, 1),
               ("analog", IOType.EXTEND, 0), ("analog", IOType.EXTEND, 1)]
+
+
+#: a program's state → ``interp_state`` (its reading by third-party clients, medium
+#: confidence: docs/protocol.md); ``paused`` is true while a program is paused
+_INTERP = {ProgramState.RUNNING: InterpState.RUNNING, ProgramState.PAUSED: InterpState.PAUSED}
 
 
 def zeros_of(key: str) -> Any:
@@ -128,6 +134,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         task_state = TaskState.ENABLED
     io = controller.io_values()
     tcp_speed = controller.tcp_speed(st)
+    program = controller.programs.status()
     fields: Dict[str, Any] = {
         S.DRAG_STATUS: bool(st.drag_mode),
         S.EXTIO: extio(controller, io),
@@ -139,13 +146,14 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.ENABLED: bool(st.enabled),
         S.POWERED_ON: int(st.powered),
         S.INPOS: bool(inpos),
-        S.PAUSED: False,
+        S.PAUSED: program.state == ProgramState.PAUSED,
         S.PROTECTIVE_STOP: int(st.protective_stop or st.collision),
         S.EMERGENCY_STOP: int(st.emergency_stop),
         S.ON_SOFT_LIMIT: 0,
         S.TASK_STATE: int(task_state),
         S.TASK_MODE: TASK_MODE_AUTO,
-        S.INTERP_STATE: int(InterpState.IDLE if inpos else InterpState.RUNNING),
+        S.INTERP_STATE: int(_INTERP[program.state] if program.state != ProgramState.IDLE
+                            else InterpState.IDLE if inpos else InterpState.RUNNING),
         "motion_mode": zeros_of("motion_mode"),
         S.CURRENT_TOOL_ID: int(st.tool_id),
         S.CURRENT_USER_ID: int(st.user_id),

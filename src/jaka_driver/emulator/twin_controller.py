@@ -5,8 +5,11 @@ moves like the arm; this layer adds what a controller has and the twin does not:
 in the wrong state, a motion queue (a move is acknowledged at once and runs after the ones
 before it; ``inpos`` once the queue is done — docs/protocol.md, "Motion queue"; the queue and
 its thread are :mod:`.motion_queue`, what may be queued is decided here), stored frames that are
-activated separately from being set, the servo ``stepNum`` interpolation, the speed override (the twin's speed ratio), the payload and
-collision settings to report back. Every method takes SI values (rad, m, 4x4 poses of the active
+activated separately from being set, the servo ``stepNum`` interpolation, the speed override
+(the twin's speed ratio), the payload and collision settings to report back, the servo filter
+applied to the twin's servo stream, and the programs the twin's engine runs on this
+controller's rules (:mod:`.program_steps`): while one runs or is paused, motion commands are
+refused and ``stop_program`` ends it. Every method takes SI values (rad, m, 4x4 poses of the active
 tool in the active user frame) and raises :class:`~.replies.Rejected` with the controller's
 message when the command is refused; wire parsing lives in :mod:`.handlers`.
 
@@ -26,10 +29,13 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from ..backend import Backend, RobotState
+from ..backend import Backend, Programs, ProgramState, RobotState
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.joint_limits import fastest_step, outside_limits
+from ..common.results import CommandRefused
+from ..motion.circular_path import arc_through
+from ..motion.servo_filters import ServoFilterSpec
 from ..protocol.fields import IDENTITY_FIELDS
 from .motion_queue import MotionQueue
 from .profiles import DEFAULT_PROFILE, ControllerProfile, profile_named
@@ -136,7 +142,24 @@ class TwinController:
         """The arm's latest sample, its flags read now."""
         return self.backend.state()
 
-    def require_can_move(self, what: str, servo_ok: bool = False) -> None:
+    @property
+    def programs(self) -> Programs:
+        """The programs the twin runs (``backend.programs``)."""
+        return self.backend.programs
+
+    def program_running(self) -> bool:
+        """A program runs or is paused."""
+        programs = self.backend.programs
+        return programs is not None and programs.status().state != ProgramState.IDLE
+
+    def require_can_move(self, what: str, servo_ok: bool = False,
+                         program_step: bool = False) -> None:
+        """Refuse ``what`` unless the arm may move: no stop, powered, enabled, no protective
+        stop, not in drag or (unless ``servo_ok``) servo mode, and no program running or paused
+        (unless this is a step of it)."""
+        if not program_step and self.program_running():
+            raise Rejected(f"{what}: a program is {self.programs.status().state.word} "
+                           "(stop_program first)")
         t = self.state()
         if t.emergency_stop:
             raise Rejected(f"{what}: emergency stop is pressed")
@@ -254,6 +277,23 @@ class TwinController:
             self.queue.enqueue("moveL", lambda: self.backend.start_linear_move(target(), speed,
                                                                                accel))
 
+    def circular_move(self, poses: Callable[[], Tuple[np.ndarray, np.ndarray]], speed: float,
+                      accel: float, turns: float, mode: int) -> None:
+        """Queue a circular move (``movc``); ``poses()`` gives its (middle, end) poses (4x4, m)
+        when its turn comes. The twin plans the exact arc and checks its whole path then; when
+        the arm is idle, three points on one line or too many turns are refused at once, as a
+        joint target outside the limits is."""
+        with self.lock:
+            self.require_can_move("movc")
+            if not self.moving:
+                mid, end = poses()
+                try:
+                    arc_through(self.commanded_tcp()[:3, 3], mid[:3, 3], end[:3, 3], turns)
+                except CommandRefused as refusal:
+                    raise Rejected(f"movc: {refusal.message}", ERROR_REFUSED) from None
+            self.queue.enqueue("movc", lambda: self.backend.start_circular_move(
+                *poses(), speed, accel, turns, mode))
+
     def jog(self, coord: int, axis: int, direction: int, speed: float) -> None:
         """Continuous jog; ``coord`` as the twin numbers it (0 joint, 1 base, 2 tool)."""
         with self.lock:
@@ -277,6 +317,11 @@ class TwinController:
                 self.stop()
 
     def stop(self) -> None:
+        """``stop_program``: the program (if one runs or is paused) ends, the queue is
+        emptied, the arm decelerates to rest."""
+        if self.program_running():
+            # outside the lock: the program's step may be waiting for it to start its move
+            self.programs.stop()
         with self.lock:
             self.queue.clear()
             self.backend.stop_move()
@@ -367,6 +412,9 @@ class TwinController:
 
     def set_drag_mode(self, on: bool) -> None:
         with self.lock:
+            if on and self.program_running():
+                raise Rejected("torque_control_enable: a program is running (stop_program "
+                               "first)")
             result = self.backend.set_drag_mode(on)
             if not result.ok:
                 raise Rejected(f"torque_control_enable: {result.message}")
@@ -376,13 +424,38 @@ class TwinController:
             self.backend.set_collision_level(level)
             self.collision_level = level
 
-    def set_servo_filter(self, filter_type: int, params: dict) -> None:
-        """Store the servo filter (JAKA's manual: set outside servo mode). The twin follows
-        servo set-points through the stepNum ramp only; the filter is kept, not applied."""
+    def set_servo_filter(self, filter_type: int, params: dict, spec: ServoFilterSpec) -> None:
+        """The servo filter ``spec`` on the twin's servo stream from the next servo mode on
+        (JAKA's manual: set outside servo mode); ``filter_type`` and ``params`` as the wire
+        sent them, kept to report."""
         with self.lock:
             if self.state().servo_mode:
                 raise Rejected("set_servo_move_filter: not allowed in servo mode")
+            result = self.backend.set_servo_filter(spec)
+            if not result.ok:
+                raise Rejected(f"set_servo_move_filter: {result.message}")
             self.servo_filter = (filter_type, dict(params))
+
+    # ---- programs -----------------------------------------------------------------------------
+    def play_program(self) -> None:
+        """Run the loaded program: the arm must be free to move and still."""
+        with self.lock:
+            self.require_can_move("play_program")
+            self.require_still("play_program")
+            self._program_answer("play_program", self.programs.play())
+
+    def resume_program(self) -> None:
+        with self.lock:
+            self.require_can_move("resume_program", program_step=True)
+            self._program_answer("resume_program", self.programs.resume())
+
+    def pause_program(self) -> None:
+        self._program_answer("pause_program", self.programs.pause())
+
+    @staticmethod
+    def _program_answer(what: str, result) -> None:
+        if not result.ok:
+            raise Rejected(f"{what}: {result.message}")
 
     def set_output(self, signal: str, io_type: int, index: int, value: float) -> None:
         """Output ``index`` (from 0; checked with :meth:`check_io`) = ``value``."""

@@ -23,7 +23,7 @@ import numpy as np
 
 from . import units
 from .errors import InvalidArgument
-from .fields import Cmd, CoordMap, Field, JogMode, ServoFilter
+from .fields import Cmd, CoordMap, Field, JogMode
 # Replies live in their own module; re-exported so requests and their accessors read together.
 from .replies import (DHParam, PowerState, Reply, command_names_match,  # noqa: F401
                       parse_reply, MotionState, reply_clsn_sensitivity, reply_dh_param,
@@ -193,6 +193,29 @@ def moveL(pose_mm_rpy, speed_mm_s: float, accel_mm_s2: float, relative: bool = F
     return request
 
 
+def movc(pos_end_mm_rpy, pos_mid_mm_rpy, speed_mm_s: float, accel_mm_s2: float,
+         tol_mm: float = 0.0, circle_cnt: float = 0.0, circle_mode: int = 0,
+         relative: bool = False, executing_line_id: int = 0) -> Request:
+    """Circular move through ``pos_mid_mm_rpy`` to ``pos_end_mm_rpy`` (mm + RPY rad, sent as
+    mm + RPY deg) at ``speed_mm_s`` and ``accel_mm_s2`` (sent unconverted, as JAKA's SDK
+    does), ``circle_cnt`` extra turns (a double: 1.5 is sent as 1.5), attitude rule
+    ``circle_mode`` 0–3 (an int), blending ``tol_mm``; ``executing_line_id`` is the SDK's own
+    move counter. Keys in the sorted order JAKA's SDK writes them."""
+    request = {
+        Field.ACCEL: _number(accel_mm_s2, "circle acceleration (mm/s²)", positive=True),
+        Field.CIRCLE_CNT: _number(circle_cnt, "circle_cnt (turns)", lo=0.0),
+        Field.CIRCLE_MODE: _integer(circle_mode, "circle_mode", 0, 3),
+        Field.CMD_NAME: Cmd.MOVC,
+        Field.EXECUTING_LINE_ID: _integer(executing_line_id, "executing_line_id"),
+        Field.POS_END: units.pose_to_wire(_vector(pos_end_mm_rpy, 6, "end pose (mm, RPY rad)")),
+        Field.POS_MID: units.pose_to_wire(_vector(pos_mid_mm_rpy, 6,
+                                                  "middle pose (mm, RPY rad)")),
+        Field.REL_FLAG: _rel_flag(relative),
+        Field.SPEED: _number(speed_mm_s, "circle speed (mm/s)", positive=True),
+        Field.TOL: _number(tol_mm, "tolerance (mm)", lo=0.0)}
+    return dict(sorted(request.items()))
+
+
 def _angular_axis(coord_map: int, jnum: int) -> bool:
     # Joints are all angular; in Cartesian jogs axes 3..5 are rx, ry, rz.
     return coord_map == CoordMap.JOINT or jnum >= 3
@@ -266,19 +289,6 @@ def servo_p(pose_mm_rpy, relative: bool = False, step_num: int = 1) -> Request:
     pose = _vector(pose_mm_rpy, 6, "servo TCP pose (mm, RPY rad)")
     return _cmd(Cmd.SERVO_P, **{Field.SERVO_CART_POSITION: units.pose_to_wire(pose),
                                 Field.REL_FLAG: _rel_flag(relative), **_step_fields(step_num)})
-
-
-def set_servo_move_filter(filter_type: int, lpf_cutoff_hz: Optional[float] = None) -> Request:
-    """Servo filter: :attr:`ServoFilter.NONE`, or :attr:`ServoFilter.JOINT_LPF` with a cut-off
-    frequency in Hz. Only accepted outside servo mode."""
-    kind = _integer(filter_type, "servo filter type", 0)
-    fields: Request = {Field.FILTER_TYPE: kind}
-    if kind == ServoFilter.JOINT_LPF:
-        fields[Field.LPF_CF] = _number(lpf_cutoff_hz, "low-pass cut-off (Hz)", positive=True)
-    elif kind != ServoFilter.NONE:
-        raise InvalidArgument(f"servo filter type {kind} is not supported; use 0 (none) or "
-                              "1 (joint low-pass)")
-    return _cmd(Cmd.SET_SERVO_MOVE_FILTER, **fields)
 
 
 # ---- positions and kinematics ---------------------------------------------------------------

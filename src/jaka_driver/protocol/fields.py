@@ -139,6 +139,11 @@ class Field:
     MMF_KP = "mmf_kp"
     MMF_KV = "mmf_kv"
     MMF_KA = "mmf_ka"
+    # movc (circular move)
+    POS_END = "pos_end"                   # [6] mm / deg RPY
+    POS_MID = "pos_mid"                   # [6] mm / deg RPY
+    CIRCLE_CNT = "circle_cnt"             # a double: extra turns
+    CIRCLE_MODE = "circle_mode"           # an int 0–3: the attitude rule
 
 #: The ``get_version`` identity keys JAKA's SDK reads at login, all strings.
 IDENTITY_FIELDS = (Field.VERSION, Field.CONTROLLER_ID, Field.CONTROLLER_GUARANTEE,
@@ -217,6 +222,7 @@ class Cmd:
     GET_TIO_VOUT_PARAM = "get_tio_vout_param"
     GET_CURRENT_LINE = "get_current_line"
     GET_DH_PARAM = "get_dh_param"
+    MOVC = "movc"                         # circular move
     SET_TOOL_PAYLOAD = "set_tool_payload"   # the torque sensor's tool payload
     GET_TOOL_PAYLOAD = "get_tool_payload"
     DATA_REQUEST = "data_request"         # port 10004 only
@@ -252,9 +258,13 @@ class IOType(IntEnum):
 
 
 class ServoFilter(IntEnum):
-    """``filter_type`` of ``set_servo_move_filter`` (only the two the driver uses)."""
+    """``filter_type`` of ``set_servo_move_filter`` (JAKA's SDK's six)."""
     NONE = 0
     JOINT_LPF = 1
+    JOINT_NLF = 2
+    JOINT_MMF = 3
+    CARTE_NLF = 4
+    SPEED_FORESIGHT = 5
 
 
 class ProgramState:
@@ -321,8 +331,28 @@ _SPECS = (
                 note="stepNum optional; refused above 180°/s implied joint speed"),
     CommandSpec(Cmd.SERVO_P, request=(F.SERVO_CART_POSITION, F.REL_FLAG, F.STEP_NUM),
                 note='key "catPosition" (sic)'),
-    CommandSpec(Cmd.SET_SERVO_MOVE_FILTER, request=(F.FILTER_TYPE, F.LPF_CF),
-                confidence="medium", note="only while not in servo mode"),
+    CommandSpec(Cmd.SET_SERVO_MOVE_FILTER,
+                request=(F.FILTER_TYPE, F.LPF_CF, F.NLF_MAX_VR, F.NLF_MAX_AR, F.NLF_MAX_JR,
+                         F.NLF_MAX_VP, F.NLF_MAX_AP, F.NLF_MAX_JP, F.MMF_MAX_BUF, F.MMF_KP,
+                         F.MMF_KV, F.MMF_KA),
+                note="the keys of its filter_type only (JAKA's SDK); values in the header's "
+                "units, unconverted; only while not in servo mode"),
+    CommandSpec(Cmd.MOVC, request=(F.ACCEL, F.CIRCLE_CNT, F.CIRCLE_MODE, F.EXECUTING_LINE_ID,
+                                   F.POS_END, F.POS_MID, F.REL_FLAG, F.SPEED, F.TOL),
+                note="keys sorted as JAKA's SDK writes them; speed mm/s and accel mm/s² sent "
+                "unconverted (moveL's units: the header says rad/s, no controller reply on "
+                "record says which)"),
+    CommandSpec(Cmd.LOAD_PROGRAM, request=(F.PROGRAM_NAME,),
+                note='JAKA\'s SDK appends ".jks" to every name'),
+    CommandSpec(Cmd.GET_LOADED_PROGRAM, reply=(F.PROGRAM_NAME,)),
+    CommandSpec(Cmd.PLAY_PROGRAM), CommandSpec(Cmd.PAUSE_PROGRAM),
+    CommandSpec(Cmd.RESUME_PROGRAM),
+    CommandSpec(Cmd.GET_PROGRAM_STATE, reply=(F.PROGRAM_STATE,),
+                note='a string: "idle", "running", "paused"'),
+    CommandSpec(Cmd.GET_CURRENT_LINE, reply=(F.CURRENT_LINE,)),
+    CommandSpec(Cmd.QUERY_USER_DEFINED_VARIABLE, reply=(F.VAR_LIST,),
+                note="[{id int, value double, alias string}]; JAKA's SDK reads at most 100"),
+    CommandSpec(Cmd.MODIFY_USER_DEFINED_VARIABLE, request=(F.ALIAS_NEW, F.ID_NEW, F.VALUE_NEW)),
     CommandSpec(Cmd.RAPID_RATE, request=(F.RATE_VALUE,), confidence="medium"),
     CommandSpec(Cmd.GET_JOINT_POS, reply=(F.JOINT_POS,)),
     CommandSpec(Cmd.GET_TCP_POS, reply=(F.TCP_POS,)),
@@ -387,6 +417,14 @@ del F
 COMMANDS: Mapping[str, CommandSpec] = MappingProxyType({s.name: s for s in _SPECS})
 
 
+#: The fieldbus slaves' arrays in the status packet: (key prefix, IO type); each prefix has
+#: ``_din``, ``_dout`` (ints) and ``_ain``, ``_aout`` (doubles), as JAKA's SDK reads them.
+FIELDBUS_SLAVES = (("mb_slave", IOType.MODBUS_SLAVE), ("pn_dev", IOType.PROFINET_SLAVE),
+                   ("eip_adpt", IOType.EIP_SLAVE))
+#: The four arrays of an IO group, in the order ``extio``'s ``status`` lists them.
+IO_ARRAYS = ("din", "dout", "ain", "aout")
+
+
 class StatusField:
     """Keys of a status packet (port 10000, port 10004 and the ``get_data`` reply) that this
     library reads; a real packet has more (docs/protocol.md, "Status packet")."""
@@ -431,3 +469,4 @@ class StatusField:
     # [status, errcode, [6] actual contact force, [6] raw reading, [6] real contact force]]
     RELAY_IO = "relay_io"
     EXTIO = "extio"                                   # {num, status: [[din],[dout],[ain],[aout]]}
+    # the fieldbus slaves: <prefix>_din, _dout, _ain, _aout for each prefix of FIELDBUS_SLAVES

@@ -12,13 +12,14 @@ import math
 import re
 import zlib
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any, Dict, List, Mapping, Tuple
 
 import numpy as np
 
 from . import units
 from .errors import MalformedInput, ProtocolError
-from .fields import StatusField as S
+from .fields import FIELDBUS_SLAVES, IO_ARRAYS, StatusField as S
 from .wire import HeadDecoder, as_flag, clean_text, encode_json_spaced
 
 #: Every packet starts with these bytes (``len`` first; a space may follow the colon).
@@ -279,6 +280,14 @@ class StatusPacket:
     tio_din: Tuple[float, ...] = ()
     tio_dout: Tuple[float, ...] = ()
     tio_ain: Tuple[float, ...] = ()
+    relay_io: Tuple[float, ...] = ()
+    """the relay outputs (IO type 3), ``relay_io``; () when the packet has none"""
+    extio: Tuple[Tuple[float, ...], ...] = ()
+    """the extension module (IO type 2): its (din, dout, ain, aout) from ``extio.status`` when
+    ``extio.num`` > 0 (as JAKA's SDK reads it), else ()"""
+    fieldbus: Mapping[str, Tuple[float, ...]] = field(default_factory=dict)
+    """the fieldbus slaves' arrays (IO types 4–6) the packet carries, by key
+    (``mb_slave_din`` … ``eip_adpt_aout``: :data:`~.fields.FIELDBUS_SLAVES`)"""
     missing: Tuple[str, ...] = ()
     malformed: Tuple[str, ...] = ()
 
@@ -356,6 +365,19 @@ def _sensor_errcode(raw) -> int:
     return _integer(raw[1][1])
 
 
+def _extio(raw) -> Tuple[Tuple[float, ...], ...]:
+    """``extio`` = {num, status: [[din], [dout], [ain], [aout]]} → the four arrays, or () when
+    ``num`` is 0 (JAKA's SDK reads ``status`` only when ``num`` > 0)."""
+    if not isinstance(raw, Mapping):
+        raise TypeError("extio is not an object")
+    if _integer(raw.get("num", 0)) <= 0:
+        return ()
+    status = raw.get("status")
+    if not isinstance(status, list) or len(status) != len(IO_ARRAYS):
+        raise ValueError("extio.status is not [[din], [dout], [ain], [aout]]")
+    return tuple(_numbers(values) for values in status)
+
+
 def _text(raw) -> str:
     if not isinstance(raw, str):
         raise TypeError(f"not a string: {type(raw).__name__}")
@@ -416,6 +438,19 @@ def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     take("rapidrate", S.RAPIDRATE, _number)
     for key in (S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN):
         take(key, key, _numbers)
+    take("relay_io", S.RELAY_IO, _numbers, optional=True)
+    take("extio", S.EXTIO, _extio, optional=True)
+    fieldbus = {}
+    for prefix, _ in FIELDBUS_SLAVES:
+        for array in IO_ARRAYS:
+            key = f"{prefix}_{array}"
+            if key in packet:
+                try:
+                    fieldbus[key] = _numbers(packet[key])
+                except _UNREADABLE:
+                    missing.append(key)
+                    malformed.append(key)
+    values["fieldbus"] = MappingProxyType(fieldbus)
     take("motion_line", S.MOTION_LINE, _integer, optional=True)
     take("homed", S.HOMED, lambda raw: tuple(_integer(v) for v in _numbers(raw)), optional=True)
     take("sensor_errcode", S.TORQSENSOR, _sensor_errcode, optional=True)

@@ -21,6 +21,8 @@ Parameters (private, ``~name``):
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
+                     this package's config/programs)
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
                      increments, jog speed from mvacc, tool_position a PoseStamped in mm,
@@ -39,7 +41,7 @@ Parameters (private, ``~name``):
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
-``~speed_ratio`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
+``~speed_ratio`` and ``~program/state`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
 ``~twist_command``; their refusals and stops on ``~command_status``.
 """
 from __future__ import annotations
@@ -49,15 +51,18 @@ import sys
 
 import rospy
 
-from ..common.models import MODEL_NAMES, load_model
+from ..common.models import MODEL_NAMES, load_model, repo_root
 from ..conventions import conventions_named
 from ..driver import RobotDriver
 from ..host import latency_hint
 from . import sim_time
+from .circular_move import advertise_circular_move
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .frames_tf import FrameBroadcaster
+from .programs import advertise_programs
 from .services import advertise, advertise_faults
+from .servo_filter import advertise_servo_filter
 from .servo_topics import JointCommandInput
 from .snapshot_service import advertise_snapshot
 from .speed_ratio import SpeedRatio
@@ -75,7 +80,8 @@ def make_backend(kind: str, model_name: str, params: dict):
         from ..sim import SimBackend
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
-                          real_time_factor=float(params.get("real_time_factor", 1.0)))
+                          real_time_factor=float(params.get("real_time_factor", 1.0)),
+                          programs=params.get("programs") or None)
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
@@ -124,6 +130,7 @@ def _params() -> dict:
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "twist_timeout": float(rospy.get_param("~twist_timeout", 0.1)),
         "scene": rospy.get_param("~scene", ""),
+        "programs": str(rospy.get_param("~programs", "") or repo_root() / "config" / "programs"),
         "conventions": str(rospy.get_param("~conventions", "document")),
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
         "sim_time": bool(rospy.get_param("~sim_time", False)),
@@ -190,6 +197,9 @@ def main() -> int:
     rospy.on_shutdown(driver.shutdown)
     publisher.start()
     advertise(driver)
+    advertise_circular_move(driver)
+    advertise_programs(driver)
+    advertise_servo_filter(driver)
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)
         advertise_snapshot(driver)

@@ -1,6 +1,7 @@
 """The state topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and
 ``joint_states`` (and ``/clock`` in sim time), every sample of the backend published once, the
-moment it exists, from one thread that nothing blocks (:class:`StatePublisher`)."""
+moment it exists, from one thread that nothing blocks (:class:`StatePublisher`); each sample is
+offered to ``~io_states`` too (:mod:`.io_states`: on change and at 10 Hz)."""
 from __future__ import annotations
 
 import threading
@@ -16,6 +17,7 @@ from jaka_msgs.msg import RobotMsg
 from ..backend.robot_state import RobotState
 from ..driver import RobotDriver
 from . import messages
+from .io_states import IoStatesTopic
 
 DEFAULT_RATE_HZ = 125.0     # the controller's cycle
 
@@ -66,6 +68,7 @@ class StatePublisher:
             self._joints = rospy.Publisher("~joint_position", JointState, queue_size=None)
             self._states = rospy.Publisher("~robot_states", RobotMsg, queue_size=None)
             self._joint_states = rospy.Publisher("joint_states", JointState, queue_size=None)
+        self._io = IoStatesTopic(self._clock)
         # The twin owns time: /clock gets every cycle's time, just before that cycle's
         # sample, and the twin waits for this thread rather than outrun it.
         self._sim_clock = None
@@ -91,6 +94,7 @@ class StatePublisher:
         self._joints.publish(msgs.joints)
         self._states.publish(msgs.robot)
         self._joint_states.publish(msgs.joints)
+        self._io.offer(st)
         self._count += 1
 
     def measured_rate(self) -> float:

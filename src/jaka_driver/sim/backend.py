@@ -28,10 +28,14 @@ from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.transforms import matrix_to_pose_mm
 from ..kinematics import Kinematics
-from ..motion.linear_path import PlanningError, plan_linear_move
+from ..motion.cartesian_path import PlanningError
+from ..motion.circular_path import plan_circular_move
+from ..motion.linear_path import plan_linear_move
 from ..motion.profiles import joint_move_profile
+from ..motion.servo_filters import FilterType, ServoFilterSpec, make_filter
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
+from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .arm_flags import ArmFlags
 from .collisions import CollisionMonitor
@@ -54,11 +58,14 @@ class SimBackend(Backend):
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
-                 sim_time: bool = False, real_time_factor: float = 1.0):
+                 sim_time: bool = False, real_time_factor: float = 1.0,
+                 programs: Optional[str] = None):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
-        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
+        ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
+        ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
+        self.programs = FolderPrograms(programs)
         self._kin = Kinematics(model)
         self._mj_model = build_twin_model(model, scene)
         # JAKA's pose_1, unless told otherwise
@@ -76,7 +83,7 @@ class SimBackend(Backend):
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
-        self._cache: tuple[tuple, np.ndarray] | None = None
+        self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
                             self._collisions, self._kin, self.frames, self._reset, scene=scene)
 
@@ -90,9 +97,11 @@ class SimBackend(Backend):
         self._collisions.level = 2
         self._collisions.armed = True
         self._speed_ratio = 1.0
+        self._servo_filter = ServoFilterSpec()
 
     def _reset(self, q: np.ndarray) -> None:
         """Back to a fresh start at ``q`` (rad): :class:`.twin.SimTwin`'s reset."""
+        self.programs.reset()             # first: a program's step would act on the reset arm
         with self._lock:
             with self._physics.lock:
                 self._physics.servo.released = False
@@ -113,7 +122,8 @@ class SimBackend(Backend):
     def describe(self) -> dict:
         info = {"backend": "sim", **super().describe()}
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
-                    timestep_s=self._mj_model.opt.timestep)
+                    timestep_s=self._mj_model.opt.timestep,
+                    servo_filter=self._servo_filter.describe())
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")
@@ -128,22 +138,25 @@ class SimBackend(Backend):
     def _state_of(self, sample) -> RobotState:
         tool, user = self.frames()
         # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
-        # flags are read fresh, a mode may change between two physics samples.
-        key = (sample.stamp, self._tool_id, self._user_id)
+        # flags are read fresh, a mode may change between two physics samples. The sample
+        # itself is the key, not its stamp: a reset in sim time records a new sample with the
+        # stamp of the one before.
+        key = (self._tool_id, self._user_id)
         flags = self._flags
         cached = self._cache
-        if cached is not None and cached[0] == key:
-            tcp = cached[1]
+        if cached is not None and cached[0] is sample and cached[1] == key:
+            tcp = cached[2]
         else:
             tcp = self._kin.tcp_pose(sample.q, tool, user)
-            self._cache = (key, tcp)
+            self._cache = (sample, key, tcp)
         return RobotState(
             stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
             joint_effort=sample.tau, tcp_pose=tcp, tool_id=self._tool_id, user_id=self._user_id,
             powered=flags.powered, enabled=flags.enabled, servo_mode=flags.servo_mode,
             drag_mode=flags.drag_mode, emergency_stop=flags.emergency_stop,
             protective_stop=flags.protective_stop, collision=flags.collision,
-            moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message)
+            moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
+            program_state=int(self.programs.status().state), io=self._io.values())
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
@@ -175,7 +188,8 @@ class SimBackend(Backend):
         """Hand a planned trajectory to the physics thread; ``Result.value`` is the
         :class:`Completion` to wait on (the emulator replies at once, like a controller)."""
         completion = Completion()
-        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion)
+        run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion,
+                            accel=self.model.max_acceleration)
         with self._lock:
             if self._physics.motion.active:
                 return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
@@ -204,23 +218,53 @@ class SimBackend(Backend):
         hand it to the physics thread. The line is timed by the law the driver planned
         ``duration`` with, from the setpoint's TCP, at the speed ratio, and sampled every
         cycle."""
+        m = self.model
+        return self._start_cartesian("linear_move", lambda start, q0, ik, r: plan_linear_move(
+            start, target, speed * r, accel * r * r, q0, ik, m.lower, m.upper, m.max_velocity,
+            cycle=SERVO_CYCLE, ref_q=ref_q))
+
+    def start_circular_move(self, mid, end, speed, accel, turns=0.0, mode=0,
+                            duration=None) -> Result:
+        """The exact arc (:mod:`jaka_driver.motion.circular_path`), planned and checked like a
+        line and played the same way."""
+        m = self.model
+        return self._start_cartesian("circular_move", lambda start, q0, ik, r:
+                                     plan_circular_move(start, mid, end, speed * r,
+                                                        accel * r * r, q0, ik, m.lower,
+                                                        m.upper, m.max_velocity, turns, mode,
+                                                        cycle=SERVO_CYCLE))
+
+    def _start_cartesian(self, label: str, plan) -> Result:
+        """Plan a Cartesian move from the setpoint's TCP — ``plan(start pose, start joints,
+        ik, speed ratio)`` (time scaled by 1/r: speeds × r, accelerations × r²) — and hand it to
+        the physics thread; a path that cannot be followed is refused before anything moves."""
         tool, user = self.frames()
         q0 = self._physics.servo.setpoint.copy()
-        start = self._kin.tcp_pose(q0, tool, user)
 
         def ik(pose, seed):
             solution = self._kin.ik(pose, seed=seed, tool=tool, user=user)
             return solution.q if solution.success else None
 
-        r = self._speed_ratio               # time scaled by 1/r: speeds × r, accelerations × r²
         try:
-            trajectory = plan_linear_move(start, target, speed * r, accel * r * r, q0, ik,
-                                          self.model.lower,
-                                          self.model.upper, self.model.max_velocity,
-                                          cycle=SERVO_CYCLE, ref_q=ref_q)
+            trajectory = plan(self._kin.tcp_pose(q0, tool, user), q0, ik, self._speed_ratio)
         except PlanningError as exc:
             return Result.failure(exc.code, str(exc))
-        return self._start_run(trajectory, "linear_move")
+        return self._start_run(trajectory, label)
+
+    def pause_motion(self) -> Result:
+        return self._pause_run(True)
+
+    def resume_motion(self) -> Result:
+        return self._pause_run(False)
+
+    def _pause_run(self, pause: bool) -> Result:
+        """Slow the running planned move to rest on its path, or bring it back to speed."""
+        with self._lock:
+            run = self._physics.motion
+            if not (isinstance(run, TrajectoryRun) and run.active):
+                return Result.success(f"no move to {'pause' if pause else 'resume'}")
+            run.pause() if pause else run.resume()
+        return Result.success(f"{run.label} {'pausing on its path' if pause else 'resumed'}")
 
     def start_trajectory(self, trajectory: JointTrajectory) -> Result:
         return self._start_run(trajectory, "trajectory")
@@ -322,11 +366,34 @@ class SimBackend(Backend):
                 if self._physics.motion.active:
                     return Result.failure(Code.BUSY, "servo mode refused: the arm is moving")
                 # Ramped: also serves the emulator's servo_j with stepNum (servo_ramp).
-                self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics))
+                self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics,
+                                                 self._make_servo_filter()))
             else:
                 self._physics.switch(Hold())
             self._flags.set_servo_mode(on)
         return Result.success(f"servo mode {'on' if on else 'off'}")
+
+    def set_servo_filter(self, spec: ServoFilterSpec) -> Result:
+        """The filter servo targets pass through each cycle from the next servo mode on
+        (jaka_driver.motion.servo_filters)."""
+        with self._lock:
+            if self._flags.servo_mode:
+                return Result.failure(Code.WRONG_MODE, "servo filter refused in servo mode: "
+                                      "leave it first (servo_move_enable false)")
+            self._servo_filter = spec
+        return Result.success(f"servo filter {spec.describe()}, from the next servo mode on")
+
+    def _make_servo_filter(self):
+        spec = self._servo_filter
+        if spec.type == FilterType.NONE:
+            return None
+        tool, user = self.frames()
+        kin = self._kin
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
+            return solution.q if solution.success else None
+        return make_filter(spec, SERVO_CYCLE, ik, lambda q: kin.tcp_pose(q, tool, user))
 
     def servo_j(self, q_target, increment=None) -> Result:
         # the twin's drives follow absolute targets: an increment's target is already here
@@ -360,7 +427,7 @@ class SimBackend(Backend):
                                   f"{self.model.joint_names[j]} at {speed:.2f} rad/s, "
                                   f"limit {self.model.max_velocity[j]:.2f} rad/s; the arm "
                                   "holds")
-        target.set(q)
+        target.set(q, np.asarray(target_pose, float))
         self.clock.streamed()
         return Result.success("servo_p target accepted", q)
 

@@ -7,6 +7,7 @@ loopback wiring, where output n drives input n of the same signal and type.
 from __future__ import annotations
 
 import threading
+from types import MappingProxyType
 
 import numpy as np
 
@@ -18,6 +19,7 @@ class IoBoard:
         self._lock = threading.Lock()
         self._points = {key: np.zeros(count) for key, count in sizes.items()}
         self.loopback = loopback
+        self._values = None             # the read-only copy values() hands out, until a write
 
     def read(self, signal: str, path: int, io_type: int, index: int) -> float:
         with self._lock:
@@ -25,6 +27,7 @@ class IoBoard:
 
     def write_output(self, signal: str, io_type: int, index: int, value: float) -> None:
         with self._lock:
+            self._values = None
             self._points[(signal, io_type, OUTPUT)][index] = value
             if self.loopback:
                 inputs = self._points.get((signal, io_type, INPUT))
@@ -33,13 +36,24 @@ class IoBoard:
 
     def write_input(self, signal: str, io_type: int, index: int, value: float) -> None:
         with self._lock:
+            self._values = None
             self._points[(signal, io_type, INPUT)][index] = value
 
     def reset(self) -> None:
         """Every input and output back to 0."""
         with self._lock:
+            self._values = None
             for values in self._points.values():
                 values[:] = 0.0
+
+    def values(self):
+        """Every array as it stands, read-only (``RobotState.io``): the same object until the
+        next write, so a sample costs no copy and an unchanged board compares at once."""
+        with self._lock:
+            if self._values is None:
+                self._values = MappingProxyType(
+                    {key: tuple(v.tolist()) for key, v in self._points.items() if v.size})
+            return self._values
 
     def snapshot(self) -> dict:
         """Copies of every array, keyed (signal, type, path)."""

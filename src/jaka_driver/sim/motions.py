@@ -54,7 +54,13 @@ class Hold(Motion):
 @dataclass(eq=False)
 class TrajectoryRun(Motion):
     """Play a planned joint trajectory, then settle: success once every joint is within
-    ``tolerance`` rad of the goal and almost at rest."""
+    ``tolerance`` rad of the goal and almost at rest.
+
+    It can be paused on its path, as a controller pauses a program: :meth:`pause` slows the
+    trajectory's own time to a stop (its path unchanged: the setpoint is always a point of
+    the planned path), :meth:`resume` brings it back to full speed and the move ends where it
+    was planned to. The slowing takes ``|qd| / accel`` for the fastest joint (``accel`` rad/s²,
+    the arm's limits), at least two cycles."""
 
     trajectory: JointTrajectory
     cycle: float                 # s
@@ -62,11 +68,35 @@ class TrajectoryRun(Motion):
     label: str
     # every caller gives it; the default is only because Motion's class attribute is one
     completion: Optional[Completion] = None
+    accel: Optional[np.ndarray] = None                 # rad/s², for pause and resume
     t: float = field(default=0.0, init=False)          # s into the trajectory
     goal: np.ndarray = field(init=False)
+    rate: float = field(default=1.0, init=False)       # trajectory s per s (1 = as planned)
+    _rate_to: float = field(default=1.0, init=False)
+    _rate_step: float = field(default=1.0, init=False)  # per cycle
+    _lock: threading.Lock = field(default_factory=threading.Lock, init=False)
 
     def __post_init__(self):
         self.goal = self.trajectory.q[-1]
+
+    def pause(self) -> None:
+        """Slow to rest on the path (from the physics thread's next cycle on)."""
+        _, qd = self.trajectory.sample(self.t)
+        self._ramp_to(0.0, np.abs(qd))
+
+    def resume(self) -> None:
+        """Back to the planned speed along the rest of the path."""
+        self._ramp_to(1.0, np.max(np.abs(self.trajectory.qd), axis=0))
+
+    @property
+    def paused(self) -> bool:
+        return self._rate_to == 0.0
+
+    def _ramp_to(self, rate: float, speed: np.ndarray) -> None:
+        accel = np.full_like(speed, np.inf) if self.accel is None else self.accel
+        ramp = max(2.0 * self.cycle, float(np.max(speed / accel)))
+        with self._lock:
+            self._rate_to, self._rate_step = rate, self.cycle / ramp
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         # Called at the end of a cycle: the arm now stands where the setpoint of time
@@ -81,7 +111,14 @@ class TrajectoryRun(Motion):
                 self.completion.finish(Result.success(
                     f"{self.label} done in {elapsed:.3f} s (planned "
                     f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
-        self.t += self.cycle
+        with self._lock:
+            to, step = self._rate_to, self._rate_step
+        # the mean of the cycle's start and end rates: the path time the cycle covers
+        start = self.rate
+        self.rate = min(to, start + step) if to > start else max(to, start - step)
+        self.t += 0.5 * (start + self.rate) * self.cycle
+        if elapsed < self.trajectory.duration:
+            self.moving = self.rate > 0.0
         q, _ = self.trajectory.sample(self.t)
         return np.asarray(q, float)
 
@@ -122,7 +159,7 @@ class CycleClock(Protocol):
 class ServoTarget(Motion):
     """Servo mode: the latest servo_j / servo_p target, reached within one cycle — or, with
     ``stepNum`` (:meth:`ramp`), over ``n`` cycles interpolated linearly, as the controller
-    does.
+    does — each cycle through the servo filter, when one is chosen.
 
     A target takes effect in the cycle after the one it arrived in, by the cycles' nominal
     times (the sample stamps): the setpoint chosen at the end of cycle k takes the targets
@@ -134,33 +171,44 @@ class ServoTarget(Motion):
     moving = False
     PENDING = 64        # commands kept for the coming choices (a stream brings one a cycle)
 
-    def __init__(self, q: np.ndarray, cycles: CycleClock):
+    def __init__(self, q: np.ndarray, cycles: CycleClock, servo_filter=None):
+        """``servo_filter``: what the targets pass through each cycle before the drives follow
+        them (jaka_driver.motion.servo_filters; None: nothing)."""
         self.target = q.copy()
         self._cycles = cycles
         self._ramp: Optional[tuple] = None   # (start, end, cycles done, cycles)
-        # (arrival time, q, steps) of commands not taken yet, oldest first
-        self._pending: deque[tuple[float, np.ndarray, int]] = deque(maxlen=self.PENDING)
+        # (arrival time, q, steps, pose) of commands not taken yet, oldest first
+        self._pending: deque[tuple] = deque(maxlen=self.PENDING)
+        self._pose: Optional[np.ndarray] = None      # the taken servo_p target's pose
+        self._filter = servo_filter
+        if servo_filter is not None:
+            servo_filter.reset(q)
         self._lock = threading.Lock()
 
-    def set(self, q: np.ndarray) -> None:
-        """Go to ``q`` (rad) in the cycle after this one."""
-        self._command(q, 1)
+    def set(self, q: np.ndarray, pose: Optional[np.ndarray] = None) -> None:
+        """Go to ``q`` (rad) in the cycle after this one; ``pose`` (4x4, m): the servo_p target
+        ``q`` solves (a Cartesian filter reads it)."""
+        self._command(q, 1, pose)
 
     def ramp(self, q: np.ndarray, steps: int) -> None:
         """Go to ``q`` (rad) over ``steps`` cycles from the one after this one."""
-        self._command(q, steps)
+        self._command(q, steps, None)
 
-    def _command(self, q: np.ndarray, steps: int) -> None:
+    def _command(self, q: np.ndarray, steps: int, pose: Optional[np.ndarray]) -> None:
         with self._lock:    # stamped under the lock: the queue stays in arrival order
-            self._pending.append((self._cycles.arrival_time(), q.copy(), steps))
+            self._pending.append((self._cycles.arrival_time(), q.copy(), steps, pose))
 
     def hold(self, q: np.ndarray) -> None:
         """Hold ``q`` (rad) from the next choice on, whenever this arrives, and drop the
-        commands not taken yet: a stop does not wait for a cycle boundary."""
+        commands not taken yet: a stop does not wait for a cycle boundary (nor for a filter:
+        it starts again from ``q``)."""
         with self._lock:
             self._pending.clear()
             self._ramp = None
             self.target = q.copy()
+            self._pose = None
+            if self._filter is not None:
+                self._filter.reset(q)
 
     @property
     def goal(self) -> np.ndarray:
@@ -182,8 +230,9 @@ class ServoTarget(Motion):
         with self._lock:
             end = self._cycles.cycle_end
             while self._pending and self._pending[0][0] <= end:
-                _, q, steps = self._pending.popleft()
+                _, q, steps, pose = self._pending.popleft()
                 self._ramp = None if steps <= 1 else (self.target.copy(), q, 0, steps)
+                self._pose = pose if steps <= 1 else None
                 if steps <= 1:
                     self.target = q
             if self._ramp is not None:
@@ -192,6 +241,8 @@ class ServoTarget(Motion):
                 self.target = start + (end_q - start) * (k / n)
                 self._ramp = None if k >= n else (start, end_q, k, n)
             target = self.target
+            if self._filter is not None:
+                target = self._filter.next(target, self._pose)
         self.moving = bool(np.any(target != q_sp))
         return target
 

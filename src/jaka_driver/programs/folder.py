@@ -1,0 +1,114 @@
+"""Programs from a folder, run by the driver's engine: the ``backend.programs`` facet of the twin
+(:class:`~jaka_driver.backend.programs.Programs`).
+
+A program called ``name`` is the file ``<folder>/<name>.jdp`` in the format of
+docs/programs.md. JAKA's SDK appends ".jks" to every name it loads, so a trailing ".jks" (or
+".jdp") is taken off first: ``pick``, ``pick.jks`` and ``pick.jdp`` all load ``pick.jdp``, whose
+name is then ``pick``. A name is a file name, never a path: nothing outside the folder is read.
+Steps run through the executor bound with :meth:`FolderPrograms.bind` (RobotDriver's door on
+the twin).
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Callable, List, Optional
+
+from ..backend.programs import Programs, ProgramStatus
+from ..common.results import Code, Result
+from .language import ProgramError
+from .parser import parse
+from .runner import ProgramRunner
+from .variables import UserVariables
+
+SUFFIX = ".jdp"
+#: what JAKA's SDK appends to every program name it loads
+JKS = ".jks"
+_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
+#: the longest name (characters): a file name's limit (255 bytes) less the suffix
+MAX_NAME = 200
+
+
+def program_name(requested: str) -> str:
+    """The program a requested name means: a trailing ".jks" or ".jdp" taken off."""
+    name = str(requested).strip()
+    for suffix in (JKS, SUFFIX):
+        if name.endswith(suffix):
+            return name[:-len(suffix)]
+    return name
+
+
+class FolderPrograms(Programs):
+    """The programs of ``folder`` (None: no programs folder; loading then says so)."""
+
+    def __init__(self, folder: Optional[str], on_change: Callable[[], None] = lambda: None):
+        self.folder = Path(folder).expanduser() if folder else None
+        self._table = UserVariables()
+        self._runner = ProgramRunner(self._table, on_change=on_change)
+
+    def bind(self, executor) -> None:
+        self._runner.executor = executor
+
+    def available(self) -> List[str]:
+        """The names of the programs in the folder."""
+        if self.folder is None or not self.folder.is_dir():
+            return []
+        return sorted(p.stem for p in self.folder.glob(f"*{SUFFIX}") if p.is_file())
+
+    def load(self, name: str) -> Result:
+        wanted = program_name(name)
+        if len(wanted) > MAX_NAME:
+            return Result.failure(Code.INVALID_PARAMETER, f"name has {len(wanted)} characters, "
+                                  f"at most {MAX_NAME}")
+        if not _NAME.fullmatch(wanted) or wanted in (".", ".."):
+            return Result.failure(Code.INVALID_PARAMETER, f"name is {name!r}, expected a "
+                                  "program's name (letters, digits, '_', '-', '.'; no path)")
+        if self.folder is None:
+            return Result.failure(Code.WRONG_MODE, "no programs folder is set (the node's "
+                                  "~programs parameter, launch argument programs)")
+        path = self.folder / f"{wanted}{SUFFIX}"
+        if not path.is_file():
+            there = ", ".join(self.available()) or "none"
+            return Result.failure(Code.INVALID_PARAMETER, f"name is {name!r}: no {path.name} "
+                                  f"in {self.folder} (programs there: {there})")
+        try:
+            program = parse(path.read_text(encoding="utf-8", errors="replace"), wanted)
+        except ProgramError as exc:
+            return Result.failure(Code.INVALID_PARAMETER, f"program {wanted!r} cannot be "
+                                  f"read: {exc}")
+        except OSError as exc:
+            return Result.failure(Code.COMMUNICATION_ERROR, f"{path} cannot be read: {exc}")
+        return self._runner.load(program)
+
+    def loaded(self) -> Result:
+        name = self._runner.status().name
+        return Result.success(f"program {name!r} loaded" if name else "no program loaded",
+                              name)
+
+    def play(self) -> Result:
+        return self._runner.play()
+
+    def pause(self) -> Result:
+        return self._runner.pause()
+
+    def resume(self) -> Result:
+        return self._runner.resume()
+
+    def stop(self) -> Result:
+        return self._runner.stop()
+
+    def status(self) -> ProgramStatus:
+        return self._runner.status()
+
+    def variables(self) -> Result:
+        listed = self._table.listed()
+        return Result.success(f"{len(listed)} user variables", listed)
+
+    def set_variable(self, var_id: int, value: float, alias: str) -> Result:
+        return self._table.set(var_id, value, alias)
+
+    def reset(self) -> None:
+        """A fresh start: no program running or loaded, no user variables."""
+        self._runner.stop()
+        self._runner.unload()
+        self._table.clear()
