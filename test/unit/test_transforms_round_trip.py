@@ -74,6 +74,19 @@ def test_rpy_gimbal_lock_keeps_the_rotation():
         np.testing.assert_allclose(rpy_to_matrix(rx2, ry2, rz2), R, atol=1e-9)
 
 
+def test_rpy_just_off_gimbal_lock_keeps_the_rotation():
+    """Pitch a few 1e-9 rad off ±90°, where R[2, 1] and R[2, 2] are both ~1e-9: the angles still
+    give the rotation back to ~1e-9 (reading rx from those two alone was off by up to 2e-7, as
+    the protocol's round trip once found with hypothesis)."""
+    rng = np.random.default_rng(7)
+    for rotvec in ([2.16435571e-09, np.pi / 2, -3.92151079e-09],
+                   *([e * rng.uniform(-1, 1), s * np.pi / 2 + e * rng.uniform(-1, 1),
+                      e * rng.uniform(-1, 1)]
+                     for e in np.logspace(-9, -6, 400) for s in (1, -1))):
+        R = rotvec_to_matrix(np.asarray(rotvec))
+        np.testing.assert_allclose(rpy_to_matrix(*matrix_to_rpy(R)), R, atol=3e-9)
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.tuples(*[st.floats(-2000, 2000)] * 3), unit, angle, st.sampled_from(["rotvec", "rpy"]))
 def test_pose_round_trip_in_mm(xyz_mm, axis, theta, rotation):

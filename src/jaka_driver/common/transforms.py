@@ -144,8 +144,16 @@ def matrix_to_rpy(R) -> np.ndarray:
     cy = np.hypot(R[..., 0, 0], R[..., 1, 0])
     ry = np.arctan2(-R[..., 2, 0], cy)
     lock = cy < 1e-9
-    rx = np.where(lock, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
     rz = np.where(lock, np.arctan2(-R[..., 0, 1], R[..., 1, 1]), np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    # rx from what is left once rz and ry are taken out (Ry(ry)ᵀ·Rz(rz)ᵀ·R = Rx(rx)), not from
+    # R[2, 1] and R[2, 2]: near gimbal lock those are both ~cos(ry), and their ratio then loses
+    # digits (an error of eps / cos(ry) in rx that rz does not make up). This way the three
+    # angles give R back to a few eps whatever rz's own error.
+    sz, cz = np.sin(rz), np.cos(rz)
+    sy, cyy = np.sin(ry), np.cos(ry)
+    m11 = -sz * R[..., 0, 1] + cz * R[..., 1, 1]
+    m21 = sy * (cz * R[..., 0, 1] + sz * R[..., 1, 1]) + cyy * R[..., 2, 1]
+    rx = np.where(lock, 0.0, np.arctan2(m21, m11))
     return np.stack([rx, ry, rz], -1)
 
 
