@@ -25,7 +25,7 @@ from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import commands
 from ..protocol.fields import Field
 from ..protocol.status_stream import StatusPacket
-from .commander import Commander, answers
+from .commander import SETTLE_TIMEOUT, Commander, answers
 from .frames_by_id import TABLE_SIZE, ControllerFrames
 from .running_motion import RunningMotion
 from .status_view import StatusView
@@ -41,8 +41,12 @@ IO_READS = {("digital", 0): commands.get_digital_input, ("digital", 1): commands
             ("analog", 0): commands.get_analog_input, ("analog", 1): commands.get_analog_output}
 #: The rapid rate reads back as set within this (JAKA's SDK's tolerance)
 RAPID_RATE_READBACK = 0.01
-#: s a confirmed setting waits for a status packet that shows it (a few packet periods)
-PACKET_CATCH_UP = 0.2
+#: s a confirmed setting waits for a status packet that shows it: the controller has read it
+#: back, so the stream shows it one packet later (8 or 30 ms) unless the host is slow to deliver
+#: it — as long as JAKA's SDK allows the read-back itself, so that a loaded machine does not
+#: leave ``state()`` disagreeing with the answer (a joint_move right after drag mode off was
+#: refused "in drag mode" with 0.2 s, on a busy 2-core machine at 30 ms packets)
+PACKET_CATCH_UP = SETTLE_TIMEOUT
 
 
 class ArmSettings:
