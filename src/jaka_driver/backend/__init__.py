@@ -4,6 +4,8 @@ units (:mod:`.contract`), and what travels across it.
 * :mod:`.contract` — :class:`Backend`: one robot, twin or controller connection;
 * :mod:`.twin` — :class:`Twin`: what only a digital twin can do, the one capability a backend
   may offer besides the contract (``backend.twin``);
+* :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
+  backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -11,8 +13,9 @@ units (:mod:`.contract`), and what travels across it.
 from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
+from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .robot_state import MotionState, RobotState
 from .twin import Camera, Twin
 
-__all__ = ["Backend", "Twin", "Camera", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
-           "make_clock"]
+__all__ = ["Backend", "Twin", "Camera", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
+           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]

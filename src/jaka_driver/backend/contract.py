@@ -25,6 +25,7 @@ import numpy as np
 from ..common.models import RobotModel
 from ..common.results import Result
 from .clock import WallClock
+from .force import Force, NoForceSensor
 from .robot_state import RobotState
 from .twin import Twin
 
@@ -39,6 +40,10 @@ class Backend(ABC):
     #: camera, what a controller built on the twin reads), or None: the one capability a backend
     #: offers besides this contract. Ask for it; never ask which backend this is.
     twin: Optional[Twin] = None
+
+    #: The flange force/torque sensor and force control on it (:class:`~.force.Force`), never
+    #: None: an arm without a sensor refuses every force request and says why.
+    force: Force = NoForceSensor("no force/torque sensor: this backend drives none")
 
     def __init__(self, model: RobotModel):
         self.model = model

@@ -3,8 +3,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import IntEnum
+from typing import Optional
 
 import numpy as np
+
+from .force import ForceReading
 
 
 class MotionState(IntEnum):
@@ -28,7 +31,9 @@ class RobotState:
     Units: joints rad, rad/s, N·m. ``tcp_pose`` is the 4x4 pose (metres) of the active tool
     expressed in the active user frame. ``stamp`` is wall-clock time (``time.time()``, s) of
     the sample (sim time, s since the twin started, when the twin owns time) — the node stamps its messages with it, so it is when the physics (or the
-    controller's status packet) produced the data, not when it was published.
+    controller's status packet) produced the data, not when it was published. ``force``: the
+    flange force/torque sensor's readings of the same instant (:mod:`.force`), None without a
+    sensor or while it is off.
     """
 
     stamp: float
@@ -49,6 +54,7 @@ class RobotState:
     moving: bool = False
     error_code: int = 0
     error_message: str = ""
+    force: Optional[ForceReading] = None
 
     @property
     def in_error(self) -> bool:

@@ -78,6 +78,10 @@ class RobotDriver:
         self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
                                            backend.forward_kinematics) \
             if self.conventions.servo_increment else None
+        # imported here: force_requests takes this module's _answers, so it comes after it
+        from .force_requests import ForceRequests
+        #: the force/torque sensor and force control (driver/force_requests.py)
+        self.force = ForceRequests(self)
 
     # ---- life cycle --------------------------------------------------------------------
     def start(self) -> None:

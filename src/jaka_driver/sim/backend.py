@@ -5,8 +5,9 @@ physics thread feeds them to the servo drives every 8 ms, and the state reported
 MuJoCo computed. Kinematics (FK for the TCP, IK for linear moves, jogs and servo_p) is
 Pinocchio on the same URDF.
 
-Its face is the contract and ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
-what the emulator reads and drives); everything else is private.
+Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
+what the emulator reads and drives) and ``force`` (:class:`.force.SimForce` when the arm
+carries a force/torque sensor); everything else is private.
 """
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ import numpy as np
 from ..backend import Backend
 from ..backend.clock import make_clock
 from ..backend.completion import Completion
+from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
@@ -32,13 +34,16 @@ from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
 from . import jog_steps, native_drives
 from .collisions import CollisionMonitor
+from .force import SimForce
+from .ft_sensor import TOOL_BODY
 from .io_board import IoBoard
 from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, stopped
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
+from .tool_push import ToolPush
 from .twin import SimTwin
-from .twin_model import Payload, build_twin_model
+from .twin_model import FLANGE_BODY, Payload, build_twin_model
 
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
 
@@ -46,18 +51,21 @@ STOP_TIME = 0.15              # s, a stop from full speed takes at most this lon
 class SimBackend(Backend):
     """The MuJoCo twin of ``model`` (see the module); ``scene`` a workcell file, ``q0`` the
     start joints (rad; default the model's home), ``io_loopback`` wires each output to the
-    input of the same index."""
+    input of the same index, ``force_sensor`` mounts (True) or removes (False) the flange
+    force/torque sensor of the model's configuration (None: as configured)."""
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
-                 sim_time: bool = False, real_time_factor: float = 1.0):
+                 sim_time: bool = False, real_time_factor: float = 1.0,
+                 force_sensor: Optional[bool] = None):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.twin = SimTwin(self)
         self._kin = Kinematics(model)
-        self._mj_model = build_twin_model(model, scene)
+        sensor = model.force_sensor.mounted_as(force_sensor)
+        self._mj_model = build_twin_model(model, scene, force_sensor=sensor)
         self._scene = scene
         # JAKA's pose_1, unless told otherwise
         q_start = model.home.copy() if q0 is None else np.asarray(q0, float)
@@ -65,10 +73,19 @@ class SimBackend(Backend):
                            native_drives.load())
         self._physics = PhysicsLoop(self._mj_model, servo, q_start, cycle=SERVO_CYCLE,
                                    clock=self.clock if sim_time else None)
-        self._payload = Payload(self._mj_model)
+        tool_body = TOOL_BODY if sensor.mounted else FLANGE_BODY
+        self._payload = Payload(self._mj_model, tool_body)
+        self._push = ToolPush(self._mj_model, tool_body)
         self._collisions = CollisionMonitor(self._mj_model, self._collided)
         self._overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
-        self._physics.on_cycle += [self._collisions.check, self._overload.check]
+        self._physics.on_cycle += [self._collisions.check, self._overload.check,
+                                   self._push.apply]
+        if sensor.mounted:
+            self.force = SimForce(self, sensor)
+            self._physics.on_cycle.append(self.force.check)
+            self._physics.force_reading = lambda: self.force.readings.latest
+        else:
+            self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._lock = threading.RLock()
         self._defaults()
@@ -100,7 +117,10 @@ class SimBackend(Backend):
             with self._physics.lock:
                 self._physics.servo.released = False
                 self._payload.reset()           # first: the reset's forward pass uses the model
+                if isinstance(self.force, SimForce):
+                    self.force.reset()          # before the reset's sample: no reading yet
                 self._physics.reset(q).abort(stopped("stopped: the twin was reset"))
+                self._push.start(self._physics.d, np.zeros(6), 0)
             self._overload.rearm()
             self._io.reset()
             self._defaults()
@@ -116,7 +136,8 @@ class SimBackend(Backend):
     def describe(self) -> dict:
         info = {"backend": "sim", **super().describe()}
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
-                    timestep_s=self._mj_model.opt.timestep)
+                    timestep_s=self._mj_model.opt.timestep,
+                    force_sensor="none" if self.force.absent else "flange")
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")
@@ -145,7 +166,8 @@ class SimBackend(Backend):
             powered=self._powered, enabled=self._enabled, servo_mode=self._servo_mode,
             drag_mode=self._drag_mode, emergency_stop=self._emergency_stop,
             protective_stop=self._protective_stop, collision=self._collision,
-            moving=sample.moving, error_code=self._error_code, error_message=self._error_message)
+            moving=sample.moving, error_code=self._error_code, error_message=self._error_message,
+            force=sample.force)
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
@@ -194,6 +216,14 @@ class SimBackend(Backend):
         self._physics.engage_brakes().abort(stopped(message))
         self._servo_mode = False
 
+    def _force_stop(self, message: str) -> None:
+        """Protective stop on the force/torque sensor's soft limit or the compliance condition
+        (runs in the physics thread): the arm halts where it is, as a controller's does."""
+        self._protective_stop = True
+        self._error_message = message
+        self._physics.hold_here().abort(stopped(message))
+        self._servo_mode = False
+
     def _cannot_hold(self, mass: float, centroid: np.ndarray, share: float) -> Optional[str]:
         """Why the drives could not hold the arm still here with this payload (None if they
         can): the joint, the torque it needs and its limit."""
@@ -215,8 +245,8 @@ class SimBackend(Backend):
         run = TrajectoryRun(trajectory, SERVO_CYCLE, IN_POSITION, label, completion)
         with self._lock:
             if self._physics.motion.active:
-                return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
-                                      "(stopping)")
+                return Result.failure(Code.BUSY, f"{label} refused: "
+                                      f"{self._physics.motion.busy_reason}")
             if trajectory.duration == 0:
                 completion.finish(Result.success(f"{label}: already in position"))
             else:

@@ -31,6 +31,10 @@ class Motion:
     completion: Optional[Completion] = None
     active = True
     moving = True
+    #: why a command that needs the arm still is refused while this source runs
+    busy_reason = "the arm is still moving (stopping)"
+    #: share of its own speed a move runs at (velocity compliance slows it: sim/force.py)
+    pace = 1.0
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas) -> np.ndarray:
         raise NotImplementedError
@@ -81,7 +85,7 @@ class TrajectoryRun(Motion):
                 self.completion.finish(Result.success(
                     f"{self.label} done in {elapsed:.3f} s (planned "
                     f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
-        self.t += self.cycle
+        self.t += self.cycle * self.pace
         q, _ = self.trajectory.sample(self.t)
         return np.asarray(q, float)
 

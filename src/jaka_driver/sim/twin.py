@@ -13,6 +13,7 @@ import numpy as np
 
 from ..backend.robot_state import RobotState
 from ..backend.twin import Camera, IoSnapshot, Twin
+from ..common.constants import SERVO_CYCLE
 from ..common.results import Code, Result
 from .motions import stopped
 
@@ -56,6 +57,18 @@ class SimTwin(Twin):
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
         self._b._io.write_input(signal, io_type, index, value)
         return Result.success(f"{signal} input {index} of type {io_type} = {value:g}")
+
+    def push_tool(self, wrench: np.ndarray, duration: float) -> Result:
+        b = self._b
+        cycles = max(0, round(float(duration) / SERVO_CYCLE))
+        w = np.asarray(wrench, float)
+        with b._physics.lock:
+            b._push.start(b._physics.d, w, cycles)
+        if cycles == 0:
+            return Result.success("the tool is let go")
+        return Result.success(f"pushing the tool with F ({w[0]:.1f}, {w[1]:.1f}, {w[2]:.1f}) N, "
+                              f"M ({w[3]:.2f}, {w[4]:.2f}, {w[5]:.2f}) N·m (base axes) for "
+                              f"{cycles * SERVO_CYCLE:.3f} s")
 
     # ---- the twin's own time and state ---------------------------------------------------------
     def reset(self, q: Optional[np.ndarray] = None) -> Result:

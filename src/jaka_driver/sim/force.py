@@ -1,0 +1,393 @@
+"""The twin's force capability: :class:`~jaka_driver.backend.force.Force` on a
+:class:`~.backend.SimBackend` whose arm carries a sensor, offered as ``backend.force``.
+
+A facet of the backend, as :mod:`.twin` is: it acts on the same physics, frames and flags (same
+package, so it reaches the backend's private parts). What it keeps: the settings
+(:class:`ForceSettings`), the sensor (:class:`~.ft_sensor.SensorReadings`), the
+identification's status. What it starts: force control and identification, as motion sources
+of the physics thread (:mod:`.force_control`, :mod:`.payload_identification`) — so the mode
+is the running source's, never a flag that could disagree with the arm.
+
+:meth:`SimForce.check` runs every cycle in the physics thread, after the contact and overload
+checks: it reads the sensor, stops the arm on the soft limit or the compliance condition (a
+protective stop, as a controller's), and paces a running move under velocity compliance.
+Units: the facet's (jaka_driver.backend.force).
+"""
+from __future__ import annotations
+
+import dataclasses
+import threading
+from typing import TYPE_CHECKING, Optional, Sequence
+
+import mujoco
+import numpy as np
+
+from ..backend.completion import Completion
+from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
+                             ForceMode, ForceSettings, IdentificationStatus, SensorPayload,
+                             ToolDriveAxis, VelocityCompliance)
+from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
+from ..common.results import Code, Result
+from ..common.sensor_spec import ForceSensorSpec
+from ..motion.profiles import joint_move_profile
+from ..motion.trajectory import JointTrajectory
+from ..motion.velocity_jog import VelocityJog
+from .force_control import AxisLaws, ForceControlRun, wrench_at_tcp
+from .ft_sensor import SensorReadings
+from .payload_identification import MIN_SPREAD, IdentificationRun, spread
+
+if TYPE_CHECKING:
+    from .backend import SimBackend
+
+#: share of the joints' speed and acceleration limits an identification moves at
+IDENTIFY_SPEED_SHARE = 0.3
+#: poses measured on the way to one given end pose (JAKA's request names only the end)
+WAY_POSES = 3
+#: a move's pace changes by at most this much per cycle under velocity compliance (0 → 1 in
+#: 0.16 s: a slowdown is a deceleration, never a jump)
+PACE_STEP = 0.05
+
+
+class SimForce(Force):
+    """Force control on the twin ``backend`` with the sensor ``spec`` (see the module)."""
+
+    def __init__(self, backend: "SimBackend", spec: ForceSensorSpec):
+        self._b = backend
+        self._spec = spec
+        self._lock = threading.Lock()
+        self.readings = SensorReadings(backend._mj_model, spec, SERVO_CYCLE)
+        self.reset()
+
+    def reset(self) -> None:
+        """A fresh sensor and force control: off, every setting at its default (call with the
+        physics lock held, between cycles)."""
+        with self._lock:
+            self.readings.reset()
+            self._settings = ForceSettings(mounted=True, range=self._spec.range.copy(),
+                                           soft_limit=self._spec.range.copy())
+            self._velocity_on = False
+            self._identification = IdentificationStatus()
+
+    # ---- what it is and does --------------------------------------------------------------
+    @property
+    def absent(self) -> Optional[str]:
+        return None
+
+    def settings(self) -> ForceSettings:
+        with self._lock:
+            return dataclasses.replace(self._settings, sensor_on=self.readings.on,
+                                       filter_hz=self.readings.filter_hz,
+                                       tool_payload=self.readings.payload, mode=self._mode())
+
+    def _mode(self) -> str:
+        motion = self._b._physics.motion
+        if isinstance(motion, ForceControlRun) and motion.active:
+            return motion.mode
+        if isinstance(motion, IdentificationRun) and motion.active:
+            return ForceMode.IDENTIFYING
+        return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
+
+    def identification_status(self) -> IdentificationStatus:
+        with self._lock:
+            return self._identification
+
+    def _report(self, status: IdentificationStatus) -> None:
+        with self._lock:
+            self._identification = status
+
+    def _update(self, **changes) -> None:
+        with self._lock:
+            self._settings = dataclasses.replace(self._settings, **changes)
+
+    def _update_row(self, table: str, axis: int, row) -> None:
+        """Row ``axis`` of the six-axis table ``table`` (read, changed and written at once)."""
+        with self._lock:
+            rows = list(getattr(self._settings, table))
+            rows[axis] = row
+            self._settings = dataclasses.replace(self._settings, **{table: tuple(rows)})
+
+    # ---- refusals only the facet can make ---------------------------------------------------------
+    def _sensor_off(self, what: str) -> Optional[Result]:
+        if not self.readings.on:
+            return Result.failure(Code.WRONG_MODE, f"{what} refused: the force/torque sensor "
+                                  "is off (switch it on first)")
+        return None
+
+    def _force_active(self, what: str) -> Optional[Result]:
+        mode = self._mode()
+        if mode != ForceMode.OFF:
+            return Result.failure(Code.BUSY, f"{what} refused while {mode.replace('_', ' ')} "
+                                  "runs (disable_force_control first)")
+        return None
+
+    def _arm_moving(self, what: str) -> Optional[Result]:
+        motion = self._b._physics.motion
+        if motion.active:
+            return Result.failure(Code.BUSY, f"{what} refused: {motion.busy_reason}")
+        return None
+
+    # ---- the sensor ------------------------------------------------------------------------------------
+    def set_sensor_on(self, on: bool) -> Result:
+        if not on:
+            refused = self._force_active("switching the sensor off")
+            if refused:
+                return refused
+        with self._b._physics.lock:
+            self.readings.on = bool(on)
+        return Result.success(f"force/torque sensor {'on' if on else 'off'}")
+
+    def zero(self) -> Result:
+        refused = self._sensor_off("zeroing") or self._force_active("zeroing")
+        if refused:
+            return refused
+        with self._b._physics.lock:
+            self.readings.zero()
+            offset = self.readings.offset
+        return Result.success("sensor zeroed: offset " + _wrench_text(offset))
+
+    def set_tool_payload(self, mass: float, centroid: np.ndarray) -> Result:
+        refused = self._force_active("the sensor's tool payload")
+        if refused:
+            return refused
+        payload = SensorPayload(float(mass), np.asarray(centroid, float).copy())
+        with self._b._physics.lock:
+            self.readings.payload = payload
+        c = payload.centroid * 1000.0
+        return Result.success(f"sensor tool payload {mass:g} kg at ({c[0]:.1f}, {c[1]:.1f}, "
+                              f"{c[2]:.1f}) mm")
+
+    def set_filter(self, cutoff_hz: float) -> Result:
+        with self._b._physics.lock:
+            self.readings.set_filter(cutoff_hz)
+        return Result.success("sensor filter off" if cutoff_hz == 0 else
+                              f"sensor filter {cutoff_hz:g} Hz")
+
+    def set_soft_limit(self, limit: np.ndarray) -> Result:
+        self._update(soft_limit=np.asarray(limit, float).copy())
+        return Result.success("sensor soft limit " + _wrench_text(limit))
+
+    # ---- settings of force control ----------------------------------------------------------------
+    def set_admittance(self, axis: int, config: AdmittanceAxis) -> Result:
+        refused = self._force_active("changing the admittance")
+        if refused:
+            return refused
+        self._update_row("admittance", axis, config)
+        return Result.success(f"admittance {AXES[axis]}: " + (
+            f"on, ft_user {config.ft_user:g}, rebound {config.rebound:g}, constant "
+            f"{config.constant:g}" if config.enabled else "off"))
+
+    def set_compliance_type(self, compensation: bool, kind: int) -> Result:
+        refused = self._force_active("changing the compliance type")
+        if refused:
+            return refused
+        self._update(compensation=bool(compensation), compliance_type=int(kind))
+        return Result.success(f"compliance type {ComplianceType(kind).name.lower()}, "
+                              f"{'compensated' if compensation else 'uncompensated'} wrench")
+
+    def set_velocity_compliance(self, config: VelocityCompliance) -> Result:
+        self._update(velocity=config)
+        return Result.success(f"velocity compliance level {config.level}, rates "
+                              f"{', '.join(f'{r:g}' for r in config.rates)}")
+
+    def set_tool_drive(self, axis: int, config: ToolDriveAxis) -> Result:
+        refused = self._force_active("changing the tool drive")
+        if refused:
+            return refused
+        self._update_row("tool_drive", axis, config)
+        return Result.success(f"tool drive {AXES[axis]}: " + (
+            f"on, rigidity {config.rigidity:g}, rebound {config.rebound:g}"
+            if config.enabled else "off"))
+
+    def set_frame(self, frame: int) -> Result:
+        refused = self._force_active("changing the force-control frame")
+        if refused:
+            return refused
+        self._update(frame=int(frame))
+        return Result.success(f"force control in the {_frame_name(frame)} frame")
+
+    def set_tool_drive_frame(self, frame: int) -> Result:
+        refused = self._force_active("changing the tool drive frame")
+        if refused:
+            return refused
+        self._update(tool_drive_frame=int(frame))
+        return Result.success(f"tool drive in the {_frame_name(frame)} frame")
+
+    def set_condition(self, wrench: np.ndarray) -> Result:
+        self._update(condition=np.asarray(wrench, float).copy())
+        checked = [f"{WRENCH_NAMES[i]} {v:g}" for i, v in enumerate(wrench) if v > 0]
+        return Result.success("compliance condition " + (", ".join(checked) if checked else
+                                                         "off (nothing checked)"))
+
+    # ---- running force control ------------------------------------------------------------------------
+    def enable_admittance(self, on: bool) -> Result:
+        if not on:
+            return self._end(ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
+                             ForceMode.VELOCITY_COMPLIANCE)
+        s = self.settings()
+        if s.compliance_type == ComplianceType.VELOCITY:
+            refused = self._sensor_off("velocity compliance") or self._force_active(
+                "velocity compliance")
+            if refused:
+                return refused
+            self._velocity_on = True
+            return Result.success("velocity compliance on: moves slow down as the wrench nears "
+                                  "the compliance condition")
+        constant = s.compliance_type == ComplianceType.CONSTANT_FORCE
+        laws = AxisLaws.of(s.admittance, lambda a: a.ft_user,
+                           (lambda a: a.constant) if constant else (lambda a: 0.0))
+        mode = ForceMode.CONSTANT_FORCE if constant else ForceMode.ADMITTANCE
+        return self._start(mode, laws, s.frame, s.compensation)
+
+    def enable_tool_drive(self, on: bool) -> Result:
+        if not on:
+            return self._end(ForceMode.TOOL_DRIVE)
+        s = self.settings()
+        laws = AxisLaws.of(s.tool_drive, lambda a: a.rigidity, lambda a: 0.0)
+        return self._start(ForceMode.TOOL_DRIVE, laws, s.tool_drive_frame, s.compensation)
+
+    def disable(self) -> Result:
+        return self._end(ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
+                         ForceMode.VELOCITY_COMPLIANCE, ForceMode.TOOL_DRIVE, quiet=True)
+
+    def _start(self, mode: str, laws: AxisLaws, frame: int, compensated: bool) -> Result:
+        label = mode.replace("_", " ")
+        refused = (self._sensor_off(label) or self._force_active(label)
+                   or self._arm_moving(label))
+        if refused:
+            return refused
+        b = self._b
+        tool, _ = b.frames()
+        kin = b._kin
+        readings = self.readings
+
+        def wrench():
+            reading = readings.latest
+            if reading is None:
+                return None
+            return reading.real if compensated else reading.actual
+
+        with b._lock:
+            q0 = b._physics.servo.setpoint.copy()
+            run = ForceControlRun(mode, laws, frame, self._jog(frame != 1, tool), wrench,
+                                  lambda q: kin.tcp_pose(q, tool), kin.flange_pose, tool, q0,
+                                  SERVO_CYCLE)
+            b._physics.switch(run)
+        return Result.success(f"{label} on in the {_frame_name(frame)} frame")
+
+    def _jog(self, in_tool: bool, tool: np.ndarray) -> VelocityJog:
+        kin, m = self._b._kin, self._b.model
+
+        def ik(pose, seed):
+            solution = kin.ik(pose, seed=seed, tool=tool)
+            return solution.q if solution.success else None
+
+        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
+                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
+                           upper=m.upper, max_velocity=m.max_velocity,
+                           max_acceleration=m.max_acceleration, linear_accel=m.max_tcp_accel,
+                           angular_accel=MAX_TOOL_ROTATION_ACCEL, in_tool=in_tool,
+                           cycle=SERVO_CYCLE)
+
+    def _end(self, *modes: str, quiet: bool = False) -> Result:
+        """End force control if it runs in one of ``modes``: the arm ramps to rest."""
+        ended = []
+        if ForceMode.VELOCITY_COMPLIANCE in modes and self._velocity_on:
+            self._velocity_on = False
+            ended.append("velocity compliance")
+        with self._b._lock:
+            motion = self._b._physics.motion
+            if isinstance(motion, ForceControlRun) and motion.active and motion.mode in modes:
+                motion.stop()
+                ended.append(motion.mode.replace("_", " "))
+        if ended:
+            return Result.success(f"{' and '.join(ended)} off: the arm comes to rest")
+        return Result.success("no force control was on" if quiet else
+                              f"{' / '.join(m.replace('_', ' ') for m in modes)} was not on")
+
+    # ---- payload identification ----------------------------------------------------------------------
+    def start_identification(self, poses: Sequence[np.ndarray]) -> Result:
+        refused = (self._sensor_off("payload identification")
+                   or self._force_active("payload identification")
+                   or self._arm_moving("payload identification"))
+        if refused:
+            return refused
+        b = self._b
+        q0 = b._physics.servo.setpoint.copy()
+        targets = [np.asarray(p, float) for p in poses]
+        if len(targets) == 1:       # JAKA's end pose: measured on the way there too
+            targets = [q0 + (targets[0] - q0) * k / WAY_POSES for k in range(1, WAY_POSES + 1)]
+        rotations = [b._kin.flange_pose(q)[:3, :3] for q in [q0] + targets]
+        quality = spread(rotations)
+        if quality < MIN_SPREAD:
+            return Result.failure(Code.INVALID_PARAMETER, f"poses turn the sensor too little "
+                                  f"to tell the centroid from the offset (spread {quality:.3f}, "
+                                  f"needs ≥ {MIN_SPREAD:g}): give poses pointing the tool in at "
+                                  "least three different directions")
+        m = b.model
+        v, a = m.max_velocity * IDENTIFY_SPEED_SHARE, m.max_acceleration * IDENTIFY_SPEED_SHARE
+        segments, start = [], q0
+        for q in targets:
+            segments.append(JointTrajectory.from_profile(joint_move_profile(start, q, v, a),
+                                                         SERVO_CYCLE))
+            start = q
+        readings = self.readings
+
+        def measure():
+            reading = readings.latest
+            return None if reading is None else (reading.general.copy(),
+                                                 readings.rotation.copy())
+
+        completion = Completion()
+        with b._lock:
+            if b._physics.motion.active:
+                return Result.failure(Code.BUSY, "payload identification refused: "
+                                      f"{b._physics.motion.busy_reason}")
+            run = IdentificationRun(segments, SERVO_CYCLE, IN_POSITION, measure, completion,
+                                    self._report)
+            b._physics.switch(run)
+        return Result.success(f"payload identification started through {len(targets) + 1} "
+                              f"poses (planned {run.planned:.1f} s)", (completion, run.planned))
+
+    # ---- every cycle, in the physics thread --------------------------------------------------------
+    def check(self, d: mujoco.MjData) -> None:
+        """Read the sensor; stop on the soft limit or the compliance condition; pace a move
+        under velocity compliance."""
+        reading = self.readings.read(d)
+        if reading is None:
+            return
+        b = self._b
+        s = self._settings
+        over = np.abs(reading.actual) > s.soft_limit
+        if over.any() and not (b._protective_stop or b._collision):
+            i = int(np.argmax(over))
+            b._force_stop(f"force/torque sensor soft limit: {WRENCH_NAMES[i]} "
+                          f"{reading.actual[i]:.1f} beyond {s.soft_limit[i]:g}")
+            return
+        motion = b._physics.motion
+        if not motion.active or not np.any(s.condition > 0):
+            return
+        frame = s.tool_drive_frame if self._mode() == ForceMode.TOOL_DRIVE else s.frame
+        tool, _ = b.frames()
+        flange = np.eye(4)
+        flange[:3, :3] = self.readings.rotation
+        w = wrench_at_tcp(reading.real if s.compensation else reading.actual, tool, flange,
+                          frame)
+        checked = s.condition > 0
+        share = np.where(checked, np.abs(w) / np.where(checked, s.condition, 1.0), 0.0)
+        i = int(np.argmax(share))
+        if share[i] > 1.0:
+            b._force_stop(f"compliance condition: {WRENCH_NAMES[i]} {w[i]:.1f} beyond "
+                          f"{s.condition[i]:g} ({_frame_name(frame)} frame)")
+            return
+        if self._velocity_on:
+            target = s.velocity.speed_factor(float(share[i]))
+            motion.pace = float(np.clip(target, motion.pace - PACE_STEP,
+                                        motion.pace + PACE_STEP))
+
+
+def _frame_name(frame: int) -> str:
+    return "tool" if frame == 0 else "base (world)"
+
+
+def _wrench_text(w) -> str:
+    return ", ".join(f"{n} {v:.3g}" for n, v in zip(WRENCH_NAMES, w))
