@@ -59,8 +59,10 @@ def spread(rotations: Sequence[np.ndarray]) -> float:
     the smallest singular value of the regression over its largest, its columns scaled to
     one length (0: they cannot; the sensor down, then turned 90° about x and about y: 0.41)."""
     a = np.vstack([_rows(r) for r in rotations])
-    a = a / np.linalg.norm(a, axis=0)
-    s = np.linalg.svd(a, compute_uv=False)
+    norms = np.linalg.norm(a, axis=0)
+    if np.any(norms < 1e-9):        # an unknown no pose sees at all
+        return 0.0
+    s = np.linalg.svd(a / norms, compute_uv=False)
     return float(s[-1] / s[0])
 
 
