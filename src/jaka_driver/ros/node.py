@@ -21,6 +21,8 @@ Parameters (private, ``~name``):
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``force_sensor``   sim: a flange force/torque sensor on the twin: ``true``, ``false``, or
+                     ``""`` (default: as config/<model>.yaml's ``force_sensor.mounted`` says)
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
                      increments, jog speed from mvacc, tool_position a PoseStamped in mm,
@@ -64,6 +66,7 @@ from ..host import latency_hint
 from . import messages, sim_time
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
+from .force_services import advertise_force
 from .frames_tf import FrameBroadcaster
 from .services import advertise, advertise_faults
 from .servo_topics import JointCommandInput
@@ -82,7 +85,8 @@ def make_backend(kind: str, model_name: str, params: dict):
         from ..sim import SimBackend
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
-                          real_time_factor=float(params.get("real_time_factor", 1.0)))
+                          real_time_factor=float(params.get("real_time_factor", 1.0)),
+                          force_sensor=force_sensor_param(params.get("force_sensor", "")))
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
@@ -91,6 +95,20 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  data_port=params["data_port"],
                                  kinematics=params["kinematics"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
+
+
+def force_sensor_param(value) -> bool | None:
+    """``~force_sensor``: True / False mount or remove the twin's sensor; "" (or "model") as
+    the model's configuration says."""
+    text = str(value).strip().lower()
+    if text in ("", "model"):
+        return None
+    if text in ("true", "1", "yes"):
+        return True
+    if text in ("false", "0", "no"):
+        return False
+    raise ValueError(f"~force_sensor is {value!r}; expected true, false or \"\" (the model's "
+                     "configuration)")
 
 
 NODE_NAME = "jaka_driver"
@@ -149,6 +167,9 @@ class StatePublisher:
         if self._clock.simulated:             # every sample, whatever ~rate says
             self._sim_clock = rospy.Publisher("/clock", Clock, queue_size=100)
             self._clock.add_consumer()
+        #: per-sample publishers of other modules (the wrench topics), called after the state
+        #: topics with the same sample, in this thread
+        self.also_publish: list = []
         self._count = 0
         self._window = (self._clock.now(), 0)
         self._rate = 0.0
@@ -168,6 +189,8 @@ class StatePublisher:
         self._joints.publish(msgs.joints)
         self._states.publish(msgs.robot)
         self._joint_states.publish(msgs.joints)
+        for publish in self.also_publish:
+            publish(st)
         self._count += 1
 
     def measured_rate(self) -> float:
@@ -249,6 +272,7 @@ def _params() -> dict:
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
+        "force_sensor": rospy.get_param("~force_sensor", ""),
     }
 
 
@@ -322,6 +346,7 @@ def main() -> int:
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
+    advertise_force(driver, publisher.also_publish)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

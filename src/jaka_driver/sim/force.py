@@ -33,7 +33,7 @@ from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
 from .force_control import AxisLaws, ForceControlRun, wrench_at_tcp
-from .ft_sensor import SensorReadings
+from .ft_sensor import ZERO_SAMPLES, SensorReadings
 from .payload_identification import MIN_SPREAD, IdentificationRun, spread
 
 if TYPE_CHECKING:
@@ -43,6 +43,8 @@ if TYPE_CHECKING:
 IDENTIFY_SPEED_SHARE = 0.3
 #: poses measured on the way to one given end pose (JAKA's request names only the end)
 WAY_POSES = 3
+#: s (the backend's clock) a zeroing may take: its samples take 0.128 s
+ZERO_TIMEOUT = 2.0
 #: a move's pace changes by at most this much per cycle under velocity compliance (0 → 1 in
 #: 0.16 s: a slowdown is a deceleration, never a jump)
 PACE_STEP = 0.05
@@ -141,9 +143,12 @@ class SimForce(Force):
         if refused:
             return refused
         with self._b._physics.lock:
-            self.readings.zero()
-            offset = self.readings.offset
-        return Result.success("sensor zeroed: offset " + _wrench_text(offset))
+            done = self.readings.start_zero()
+        if not self._b.clock.wait(done, ZERO_TIMEOUT):
+            return Result.failure(Code.COMMUNICATION_ERROR, f"zeroing did not end within "
+                                  f"{ZERO_TIMEOUT:g} s (the twin's cycles stalled)")
+        return Result.success(f"sensor zeroed over {ZERO_SAMPLES * SERVO_CYCLE:.3f} s: offset "
+                              + _wrench_text(self.readings.offset))
 
     def set_tool_payload(self, mass: float, centroid: np.ndarray) -> Result:
         refused = self._force_active("the sensor's tool payload")

@@ -14,14 +14,15 @@ the tool puts on the sensor (jaka_driver.backend.force says why).
 few 6-vectors): MuJoCo's values of the cycle's last step, plus the configured bias and a
 seeded noise (the same after a reset), give ``general``; less the zero offset and through the
 low-pass filter, ``actual``; less the sensor tool payload's weight at the sensor's orientation,
-``real``. Zeroing averages the last :data:`ZERO_SAMPLES` raw readings.
+``real``. Zeroing averages the next :data:`ZERO_SAMPLES` raw readings (a zero right after the
+payload changed must not average the old one), and answers once it has them.
 
 Units: N, N·m, m, kg, Hz; rotations as 3x3 matrices sensor → world (world z up, the base's).
 """
 from __future__ import annotations
 
 import math
-from collections import deque
+import threading
 from typing import Optional
 
 import mujoco
@@ -105,7 +106,8 @@ class SensorReadings:
         self.payload = SensorPayload()
         self.filter_hz = 0.0
         self._rng = np.random.default_rng(NOISE_SEED)
-        self._raw: deque[np.ndarray] = deque(maxlen=ZERO_SAMPLES)
+        self._zeroing: Optional[list] = None        # raw readings of a zeroing under way
+        self._zeroed = threading.Event()
         self._filtered: Optional[np.ndarray] = None
         #: the latest reading (None while off) and the sensor's orientation then (sensor →
         #: world)
@@ -115,12 +117,13 @@ class SensorReadings:
     def set_filter(self, cutoff_hz: float) -> None:
         self.filter_hz = float(cutoff_hz)
 
-    def zero(self) -> None:
-        """The offset from the last raw readings: ``actual`` reads the sensor tool payload's
-        weight from now on."""
-        raw = np.mean(self._raw, axis=0) if self._raw else np.zeros(6)
-        self.offset = raw - gravity_wrench(self.payload, self.rotation)
-        self._filtered = None
+    def start_zero(self) -> threading.Event:
+        """Zero from the next :data:`ZERO_SAMPLES` raw readings (their mean less the sensor
+        tool payload's weight becomes the offset: ``actual`` then reads that weight, ``real``
+        zero); the event is set once it is done."""
+        self._zeroing = []
+        self._zeroed = threading.Event()
+        return self._zeroed
 
     def read(self, d: mujoco.MjData) -> Optional[ForceReading]:
         """This cycle's reading from ``d`` (None while off); kept as :attr:`latest`."""
@@ -132,7 +135,13 @@ class SensorReadings:
         load = -np.concatenate([data[self._force_adr:self._force_adr + 3],
                                 data[self._torque_adr:self._torque_adr + 3]])
         general = load + self.spec.bias + self._rng.normal(0.0, 1.0, 6) * self.spec.noise
-        self._raw.append(general)
+        if self._zeroing is not None:
+            self._zeroing.append(general)
+            if len(self._zeroing) >= ZERO_SAMPLES:
+                self.offset = np.mean(self._zeroing, axis=0) - gravity_wrench(self.payload,
+                                                                              self.rotation)
+                self._zeroing, self._filtered = None, None
+                self._zeroed.set()
         zeroed = general - self.offset
         if self.filter_hz > 0.0 and self._filtered is not None:
             alpha = 1.0 - math.exp(-2.0 * math.pi * self.filter_hz * self.cycle)

@@ -31,8 +31,8 @@ from ..motion.trajectory import JointTrajectory
 from .ft_sensor import GRAVITY
 from .motions import Motion, TrajectoryRun
 
-SETTLE_S = 0.4          # s at rest before measuring
-AVERAGE_S = 0.4         # s of samples averaged per pose
+SETTLE_S = 0.3          # s at rest before measuring
+AVERAGE_S = 0.2         # s of samples averaged per pose
 #: the smallest :func:`spread` a set of poses may have: below it the centroid and the offset
 #: cannot be told apart (poses about one joint axis alone give 1e-7; the tool turned 45° from
 #: down about two axes and a third way, 0.23)
