@@ -150,3 +150,36 @@ def test_a_press_within_the_condition_goes_on_and_a_crash_is_still_a_collision(a
     assert result.code == -12 and "collision" in result.message, result.message
     assert "ft_probe" in result.message and arm.state().collision
     assert arm.clear_err().ok
+
+
+def test_velocity_compliance_slows_a_move_as_it_presses_towards_the_condition(arm):
+    f = arm.force
+    assert f.set_compliance_condition([0, 0, 24.0, 0, 0, 0]).ok     # bands of 8 N
+    above = arm.get_fk(list(MODEL.home)).value                        # mm + rotvec
+
+    def timed_press():
+        target = list(above)
+        # 0.5 mm into the table, ~14 N: more and the arm, deflected by the press, is not in
+        # position at the end of the line (1e-3 rad)
+        target[2] -= 3.6
+        t0 = arm.clock.now()
+        result = arm.linear_move(target, 2.0, 0)
+        took = arm.clock.now() - t0
+        pressed = -arm.state().force.actual[2]
+        assert result.ok, result.message
+        assert arm.joint_move(list(MODEL.home), 1.0, 0).ok
+        return took, pressed
+
+    plain, plain_press = timed_press()
+    assert f.set_velocity_compliance(1, [0.3, 0.1, 0, 0]).ok      # 30 % above 8 N
+    assert f.set_compliance_type(True, 2).ok
+    assert f.enable_admittance(True).ok
+    assert f.settings().value.mode == "velocity_compliance"
+    slowed, slowed_press = timed_press()
+    print(f"3.6 mm down at 2 mm/s: {plain:.3f} s pressing {plain_press:.1f} N; under velocity "
+          f"compliance {slowed:.3f} s pressing {slowed_press:.1f} N")
+    assert 8.0 < plain_press < 16.0 and 8.0 < slowed_press < 16.0      # into the second band
+    # the last ~0.2 mm (0.1 s at 2 mm/s) at 30 % of the speed, reached in 0.11 s (a pace
+    # changes by at most 0.05 a cycle): at least 0.1 s longer
+    assert slowed > plain + 0.1
+    assert f.disable().ok and f.settings().value.mode == "off"
