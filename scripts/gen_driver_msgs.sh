@@ -5,12 +5,13 @@
 # gencpp, into a devel space:
 #   DEVEL/lib/python3/dist-packages/jaka_driver_msgs, DEVEL/include/jaka_driver_msgs,
 #   DEVEL/share/jaka_driver_msgs (package.xml + msg/, srv/, action/ for rosmsg and rossrv).
-# An action's seven messages are derived from its .action file by actionlib's convention (as
-# scripts/gen_control_msgs.sh does). JAKA's jaka_msgs keeps only JAKA's types (their md5 sums
-# are JAKA's); ours go here.
+# An action's seven messages are derived from its .action file by actionlib's convention
+# (scripts/action_msgs.sh). JAKA's jaka_msgs keeps only JAKA's types (their md5 sums are
+# JAKA's); ours go here.
 # Usage: scripts/gen_driver_msgs.sh [DEVEL_DIR]   (default: ./devel)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+. "$root/scripts/action_msgs.sh"
 devel=${1:-$root/devel}
 mkdir -p "$devel"
 devel=$(cd "$devel" && pwd)
@@ -29,18 +30,7 @@ mkdir -p "$out/msg" "$out/srv" "$inc" "$share/msg"
 src=$root/driver_msgs
 cp "$src"/msg/*.msg "$share/msg/"
 cp -r "$src/srv" "$src/action" "$share/"
-for action in "$src"/action/*.action; do
-  name=$(basename "$action" .action)
-  # split the three sections on the '---' lines
-  awk -v dir="$share/msg" -v n="$name" '
-    BEGIN { part = 0; f[0] = "Goal"; f[1] = "Result"; f[2] = "Feedback" }
-    /^---$/ { part++; next }
-    { print > (dir "/" n f[part] ".msg") }' "$action"
-  printf 'Header header\nactionlib_msgs/GoalID goal_id\n%sGoal goal\n' "$name" > "$share/msg/${name}ActionGoal.msg"
-  printf 'Header header\nactionlib_msgs/GoalStatus status\n%sResult result\n' "$name" > "$share/msg/${name}ActionResult.msg"
-  printf 'Header header\nactionlib_msgs/GoalStatus status\n%sFeedback feedback\n' "$name" > "$share/msg/${name}ActionFeedback.msg"
-  printf '%sActionGoal action_goal\n%sActionResult action_result\n%sActionFeedback action_feedback\n' "$name" "$name" "$name" > "$share/msg/${name}Action.msg"
-done
+for action in "$src"/action/*.action; do derive_action_msgs "$action" "$share/msg"; done
 includes=(-Ijaka_driver_msgs:"$share/msg" -Istd_msgs:/usr/share/std_msgs/msg
           -Igeometry_msgs:/usr/share/geometry_msgs/msg -Iactionlib_msgs:/usr/share/actionlib_msgs/msg)
 /usr/bin/python3 /usr/lib/genpy/genmsg_py.py -p jaka_driver_msgs -o "$out/msg" "${includes[@]}" "$share"/msg/*.msg >/dev/null

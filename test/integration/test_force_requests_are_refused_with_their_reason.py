@@ -5,32 +5,22 @@ On the twin, in simulated time, through RobotDriver's door."""
 import numpy as np
 import pytest
 
-from jaka_driver.common.models import load_model
-from jaka_driver.driver import RobotDriver
-from jaka_driver.sim import SimBackend
-
-MODEL = load_model("zu5")
+from sensor_twin import MODEL, fresh, twin_with_sensor
 
 
 @pytest.fixture(scope="module")
 def driver():
-    d = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0, force_sensor=True))
-    d.start()
-    yield d
-    d.shutdown()
+    with twin_with_sensor() as d:
+        yield d
 
 
 @pytest.fixture
 def arm(driver):
-    assert driver.reset_twin().ok
-    with driver.clock.hold():
-        yield driver
+    yield from fresh(driver)
 
 
 def test_an_arm_without_a_sensor_refuses_every_force_request_and_says_how_to_mount_one():
-    d = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0, force_sensor=False))
-    d.start()
-    try:
+    with twin_with_sensor(sensor=False) as d:
         f = d.force
         for result in (f.sensor_enable(True), f.zero_sensor(), f.set_filter(5),
                        f.set_admittance(2, 1, 40, 0, 10), f.enable_tool_drive(True),
@@ -44,8 +34,6 @@ def test_an_arm_without_a_sensor_refuses_every_force_request_and_says_how_to_mou
         assert settings.ok and not settings.value.mounted
         assert d.state().force is None
         assert d.force.push_tool([5, 0, 0, 0, 0, 0], 0.1).ok     # the hand needs no sensor
-    finally:
-        d.shutdown()
 
 
 def test_the_sensor_off_refuses_what_needs_its_readings(arm):

@@ -16,32 +16,22 @@ import numpy as np
 import pytest
 
 from jaka_driver.common.constants import SERVO_CYCLE
-from jaka_driver.common.models import load_model, repo_root
-from jaka_driver.driver import RobotDriver
-from jaka_driver.sim import SimBackend
+from jaka_driver.common.models import repo_root
+from sensor_twin import MODEL, fresh, twin_with_sensor
 
-MODEL = load_model("zu5")
 TABLE = str(repo_root() / "config" / "scenes" / "table.yaml")
 
 
 @pytest.fixture(scope="module")
 def driver():
-    d = RobotDriver(SimBackend(MODEL, scene=TABLE, sim_time=True, real_time_factor=0,
-                               force_sensor=True))
-    d.start()
-    yield d
-    d.shutdown()
+    with twin_with_sensor(TABLE) as d:
+        yield d
 
 
 @pytest.fixture
 def arm(driver):
-    """A fresh twin at home, its sensor on and zeroed there, time held."""
-    assert driver.reset_twin().ok
-    with driver.clock.hold():
-        assert driver.force.sensor_enable(True).ok
-        driver.clock.sleep(0.2)
-        assert driver.force.zero_sensor().ok
-        yield driver
+    """A fresh twin at home, its sensor on and zeroed there."""
+    yield from fresh(driver, sensor_on=True, settle=0.2, zero=True)
 
 
 def record(driver, seconds):

@@ -10,12 +10,9 @@ Rᵀ (0, 0, −9.81) m, R the flange's rotation (Pinocchio's FK of the joints), 
 import numpy as np
 import pytest
 
-from jaka_driver.common.models import load_model
-from jaka_driver.driver import RobotDriver
 from jaka_driver.kinematics import Kinematics
-from jaka_driver.sim import SimBackend
+from sensor_twin import MODEL, fresh, twin_with_sensor
 
-MODEL = load_model("zu5")
 KIN = Kinematics(MODEL)
 MASS = 2.0
 CENTROID = np.array([0.0, 0.0, 0.05])         # m, sensor (flange) frame
@@ -28,20 +25,14 @@ POSES = [MODEL.home + d for d in ([0, 0, 0, 0, -0.8, 0], [0, 0, 0, 0.8, 0, 0],
 
 @pytest.fixture(scope="module")
 def driver():
-    d = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0, force_sensor=True))
-    d.start()
-    yield d
-    d.shutdown()
+    with twin_with_sensor() as d:
+        yield d
 
 
 @pytest.fixture
 def arm(driver):
-    """A fresh twin, its sensor on (at home, time held: every step is a definite sim time)."""
-    assert driver.reset_twin().ok
-    with driver.clock.hold():
-        assert driver.force.sensor_enable(True).ok
-        driver.clock.sleep(0.05)
-        yield driver
+    """A fresh twin at home, its sensor on."""
+    yield from fresh(driver, sensor_on=True)
 
 
 def mean_reading(driver, seconds=0.25, kind="actual"):

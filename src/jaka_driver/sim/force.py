@@ -24,14 +24,13 @@ import numpy as np
 
 from ..backend.completion import Completion
 from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
-                             ForceMode, ForceSettings, IdentificationStatus, SensorPayload,
+                             ForceFrame, ForceMode, ForceSettings, IdentificationStatus, SensorPayload,
                              ToolDriveAxis, VelocityCompliance)
-from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
+from ..common.constants import IN_POSITION, SERVO_CYCLE
 from ..common.results import Code, Result
 from ..common.sensor_spec import ForceSensorSpec
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
-from ..motion.velocity_jog import VelocityJog
 from .force_control import AxisLaws, ForceControlRun, wrench_at_tcp
 from .ft_sensor import ZERO_SAMPLES, SensorReadings
 from .payload_identification import MIN_SPREAD, IdentificationRun, spread
@@ -273,25 +272,13 @@ class SimForce(Force):
 
         with b._lock:
             q0 = b._physics.servo.setpoint.copy()
-            run = ForceControlRun(mode, laws, frame, self._jog(frame != 1, tool), wrench,
+            # the velocity jog of ~twist_command (its ramp scaled by the speed ratio, as a jog's)
+            jog = b._velocity_jog(frame == ForceFrame.TOOL)
+            run = ForceControlRun(mode, laws, frame, jog, wrench,
                                   lambda q: kin.tcp_pose(q, tool), kin.flange_pose, tool, q0,
                                   SERVO_CYCLE)
             b._physics.switch(run)
         return Result.success(f"{label} on in the {_frame_name(frame)} frame")
-
-    def _jog(self, in_tool: bool, tool: np.ndarray) -> VelocityJog:
-        kin, m = self._b._kin, self._b.model
-
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool)
-            return solution.q if solution.success else None
-
-        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
-                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
-                           upper=m.upper, max_velocity=m.max_velocity,
-                           max_acceleration=m.max_acceleration, linear_accel=m.max_tcp_accel,
-                           angular_accel=MAX_TOOL_ROTATION_ACCEL, in_tool=in_tool,
-                           cycle=SERVO_CYCLE)
 
     def _end(self, *modes: str, quiet: bool = False) -> Result:
         """End force control if it runs in one of ``modes``: the arm ramps to rest."""
