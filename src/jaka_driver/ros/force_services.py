@@ -10,7 +10,8 @@ driver's; ``ft_sensor_enable`` (SetBool) and ``get_ft_sensor_data`` xArm's; the 
 ``set_compliance_condition``, ``set_force_control_frame``, ``enable_admittance``,
 ``set_tool_drive``, ``set_tool_drive_frame``, ``tool_drive_enable``, ``disable_force_control``,
 ``set_ft_sensor_payload`` / ``get_ft_sensor_payload``, ``set_ft_sensor_filter``,
-``set_ft_sensor_soft_limit``. ``~sim/push_tool`` is the twin's hand.
+``set_ft_sensor_soft_limit``. ``~sim/push_tool`` is the twin's hand, advertised only on a
+twin (as the other inputs of ``~sim/``).
 
 **Payload identification is an action** (``~identify_ft_sensor_payload``,
 jaka_driver_msgs/IdentifySensorPayloadAction), not start/status services: it moves the arm
@@ -41,9 +42,10 @@ def _wrench(w) -> list:
     return [w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
 
 
-def advertise_force(driver: RobotDriver, also_publish: list) -> list:
+def advertise_force(driver: RobotDriver, also_publish: list, twin: bool) -> list:
     """Every force service, the identification action and the topics; ``also_publish`` is
-    the state publisher's list of per-sample publishers (the wrench topics go there)."""
+    the state publisher's list of per-sample publishers (the wrench topics go there);
+    ``twin``: the backend is a twin (``~sim/push_tool`` too)."""
     f = driver.force
     topics = ForceTopics(driver)
     also_publish.append(topics.publish_sample)
@@ -114,9 +116,10 @@ def advertise_force(driver: RobotDriver, also_publish: list) -> list:
             lambda r: f.set_tool_drive(r.axis, r.opt, r.rigidity, r.rebound)),
         ret("set_tool_drive_frame", msgs.SetForceFrame,
             lambda r: f.set_tool_drive_frame(r.frame)),
-        ret("sim/push_tool", msgs.PushTool,
-            lambda r: f.push_tool(_wrench(r.wrench), r.duration)),
     ]
+    if twin:
+        table.append(ret("sim/push_tool", msgs.PushTool,
+                         lambda r: f.push_tool(_wrench(r.wrench), r.duration)))
     table += [set_bool("ft_sensor_enable", f.sensor_enable),
               set_bool("enable_admittance", f.enable_admittance),
               set_bool("tool_drive_enable", f.enable_tool_drive),

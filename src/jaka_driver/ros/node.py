@@ -346,7 +346,7 @@ def main() -> int:
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
-    advertise_force(driver, publisher.also_publish)
+    advertise_force(driver, publisher.also_publish, twin=twin is not None)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
