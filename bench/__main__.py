@@ -153,8 +153,8 @@ def _emulator(run: Run, out: Path) -> None:
     with ExitStack() as stack:
         run.log("emulator: starting")
         # As the rows were measured before the emulator had controller profiles: a packet
-        # every servo cycle and the arm on (the default profile pushes every 30 ms, as the
-        # recorded Zu 5s, and starts powered off).
+        # every servo cycle and the arm on (as the default profile, fw-1.7.2, does; named
+        # here so the rows keep their conditions whatever the default).
         emulator = EmulatorProcess("zu5", log_path=str(out / "emulator.log.tmp"),
                                    period=0.008, start="enabled")
         stack.callback(emulator.stop)

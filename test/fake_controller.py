@@ -4,7 +4,8 @@ Not the emulator, on purpose: the controller backend is tested here against some
 did not write to agree with it. Every reply is the transcript's reply for that ``cmdName``
 (test/data/command_transcript.txt), with only the values that must follow the script's state
 replaced (joints, TCP, the motion queue, IO, power); every status packet is
-test/data/status_packet.json with the same values replaced and ``len`` recomputed.
+test/data/status_packet.json (or another packet fixture: ``packet=``, e.g. the recorded fw
+1.5.14's 35 keys) with the same values replaced and ``len`` recomputed.
 
 The script: a move is acknowledged at once and queued; each queued move takes ``move_time`` s,
 and the arm jumps to its target when it ends (a fake has no kinematics: ``moveL``/``end_move`` set
@@ -60,9 +61,13 @@ def load_transcript() -> List[Tuple[str, str, str]]:
     return out
 
 
-def load_status_packet() -> str:
-    """The status packet fixture, exact text (one line)."""
-    return (DATA / "status_packet.json").read_text().strip()
+#: the packet fixture of the controller JAKA's SDK reads, and the recorded fw 1.5.14's
+PACKET, RECORDED_PACKET = "status_packet.json", "status_packet_fw1.5.14.json"
+
+
+def load_status_packet(name: str = PACKET) -> str:
+    """A status packet fixture, exact text (one line)."""
+    return (DATA / name).read_text().strip()
 
 
 def encode_packet(fields: Dict[str, Any]) -> bytes:
@@ -78,7 +83,7 @@ def encode_packet(fields: Dict[str, Any]) -> bytes:
 
 class FakeController:
     def __init__(self, *, stream: bool = True, data_port: bool = True, move_time: float = 0.3,
-                 layout: str = "controller"):
+                 layout: str = "controller", packet: str = PACKET):
         self.move_time = move_time
         self.separators = (", ", ": ") if layout == "controller" else (",", ":")
         self.replies: Dict[str, Dict[str, Any]] = {}
@@ -89,7 +94,7 @@ class FakeController:
             name = json.loads(request_text)["cmdName"]
             table = self.replies if reply["errorCode"] == "0" else self.refusals
             table.setdefault(name, reply)
-        self.packet = json.loads(load_status_packet())
+        self.packet = json.loads(load_status_packet(packet))
         self.joints = list(self.packet["joint_actual_position"])   # deg
         self.tcp = list(self.packet["actual_position"])            # mm, RPY deg
         self.powered, self.enabled, self.servo, self.drag = True, True, False, False

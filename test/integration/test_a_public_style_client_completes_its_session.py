@@ -1,7 +1,8 @@
 """Client compatibility: a small client written the way public JAKA clients are (it searches the
 reply text for ``"errorCode": "`` and reads replies by fixed key, sends compact JSON with the
-SDK's extra keys) runs a whole session against the emulator as a subprocess in its default
-profile (the recorded Zu 5s: it starts powered off), every step ok."""
+SDK's extra keys) runs a whole session against the emulator as a subprocess in the profile of
+the arm such clients were tested on (the recorded Zu 5s, fw 1.5.14: it starts powered off),
+every step ok."""
 from __future__ import annotations
 
 import json
@@ -42,7 +43,7 @@ class PublicStyleClient:
 
 @pytest.fixture(scope="module")
 def emulator():
-    proc = EmulatorProcess("zu5").start()
+    proc = EmulatorProcess("zu5", profile="zu5s-1.5.14").start()
     yield proc
     proc.stop()
 

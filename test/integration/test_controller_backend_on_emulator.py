@@ -1,6 +1,6 @@
 """The controller backend does what docs/interface.md says, against the emulator over real TCP:
 moves arrive, blocking moves block and can be stopped, settings reach the controller and read
-back, drag mode goes on and off."""
+back, drag mode goes on and off; and it reads what it needs from every profile's packet."""
 from __future__ import annotations
 
 import threading
@@ -17,6 +17,7 @@ from jaka_driver.common.transforms import pose_mm_to_matrix
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
 from jaka_driver.emulator import Emulator
+from jaka_driver.emulator.profiles import PROFILES
 from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.motion.trajectory import JointTrajectory
 from move_helpers import run_move
@@ -251,9 +252,6 @@ def test_io_set_and_get(emu, backend):
     assert backend.set_io("digital", 0, 5, 1.0).ok
     assert backend.set_io("analog", 0, 0, 3.25).ok
     assert backend.set_io("digital", 1, 1, 1.0).ok
-    # the recorded arm has no extension module: its controller refuses extension IO
-    refused = backend.set_io("digital", 2, 3, 1.0)
-    assert refused.code == Code.CONTROLLER_REJECTED and "no digital outputs" in refused.message
     emu.controller.set_input("digital", 0, 7, 1.0)
     emu.controller.set_input("analog", 0, 1, -1.5)
     assert backend.get_io("digital", 1, 0, 5).value == 1.0
@@ -264,11 +262,22 @@ def test_io_set_and_get(emu, backend):
     rejected = backend.set_io("digital", 0, 999, 1.0)
     # the controller names the wire index, one more than the driver's 0-based index 999
     assert rejected.code == Code.CONTROLLER_REJECTED and "index 1000" in rejected.message
-    for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1),
-                                   ("digital", 2, 3)):
+    for signal, io_type, index in (("digital", 0, 5), ("analog", 0, 0), ("digital", 1, 1)):
         backend.set_io(signal, io_type, index, 0.0)
     emu.controller.set_input("digital", 0, 7, 0.0)
     emu.controller.set_input("analog", 0, 1, 0.0)
+
+
+def test_extension_io_reads_back_on_a_cabinet_that_has_it(emu, backend):
+    # the default profile's cabinet has an extension module (8/8 digital, 4/4 analog)
+    try:
+        assert backend.set_io("digital", 2, 3, 1.0).ok
+        assert backend.get_io("digital", 1, 2, 3).value == 1.0
+        assert backend.set_io("analog", 2, 1, 2.5).ok
+        assert backend.get_io("analog", 1, 2, 1).value == 2.5
+    finally:
+        backend.set_io("digital", 2, 3, 0.0)
+        backend.set_io("analog", 2, 1, 0.0)
 
 
 def test_drag_mode_goes_on_and_off(emu, backend):
@@ -327,14 +336,36 @@ def test_payload_reaches_the_controller(emu, backend):
         backend.set_payload(0, 0.0, np.zeros(3))
 
 
-def test_extension_io_reads_back_on_a_cabinet_that_has_it():
-    with Emulator("zu5", command_port=0, status_port=0, profile="tcp-doc") as emu:
+@pytest.mark.parametrize("profile", list(PROFILES))
+def test_the_backend_reads_what_it_needs_from_each_profiles_packet(profile):
+    """Whichever keys a profile's packet carries, none the backend needs is missing: joints,
+    TCP, joint torques, joint speeds (``instVel``, or from the joints where a packet has none),
+    power, the frames in use, IO; a cabinet without an extension module refuses its IO."""
+    with Emulator("zu5", command_port=0, status_port=0, profile=profile) as emu:
         b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
         b.start()
         try:
-            assert b.set_io("digital", 2, 3, 1.0).ok
-            assert b.get_io("digital", 1, 2, 3).value == 1.0
-            assert b.set_io("analog", 2, 1, 2.5).ok
-            assert b.get_io("analog", 1, 2, 1).value == 2.5
+            assert wait_until(lambda: abs(emu.backend.state().joint_effort[1]) > 1.0, 5.0)
+            assert wait_until(lambda: b.view.latest is not None and b.state().enabled, 2.0)
+            assert b.view.latest.missing == (), b.view.latest.missing
+            st = b.state()
+            assert st.powered and (st.tool_id, st.user_id) == (0, 0)
+            np.testing.assert_allclose(st.joint_position, twin_q(emu), atol=1e-4)
+            np.testing.assert_allclose(st.tcp_pose, emu.backend.state().tcp_pose, atol=1e-5)
+            np.testing.assert_allclose(st.joint_effort, emu.backend.state().joint_effort,
+                                       rtol=0.05, atol=0.5)
+            # cruising at 0.5 rad/s (0.125 s ramps, 1.1 s in all): the speed the backend reports
+            move = b.start_joint_move(twin_q(emu) + [0.5, 0, 0, 0, 0, 0], 0.5, 4.0)
+            assert wait_until(lambda: abs(b.state().joint_velocity[0] - 0.5) < 0.05, 1.0)
+            assert run_move(move).ok
+            emu.controller.set_input("digital", 0, 3, 1.0)
+            assert b.get_io("digital", 0, 0, 3).value == 1.0
+            assert b.set_io("analog", 0, 2, 1.5).ok and b.get_io("analog", 1, 0, 2).value == 1.5
+            extension = b.set_io("digital", 2, 0, 1.0)
+            if emu.profile.io_sizes.get(("digital", 2, 1)):
+                assert extension.ok and b.get_io("digital", 1, 2, 0).value == 1.0
+            else:   # the recorded arm has no extension module: its controller refuses the IO
+                assert extension.code == Code.CONTROLLER_REJECTED
+                assert "no digital outputs" in extension.message
         finally:
             b.shutdown()

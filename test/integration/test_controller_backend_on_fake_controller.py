@@ -2,7 +2,9 @@
 transcripts in test/data/ do (not the emulator): the wire carries 1-based IO indices and
 ``userffset``, replies of either layout are read, blocking moves end on ``get_motion_state`` and
 ``inpos``, a second move while one runs is refused without reaching the controller, and status
-arrives from port 10000, port 10004 (zlib) or both."""
+arrives from port 10000, port 10004 (zlib) or both — also with the 35 keys of the packet
+recorded on fw 1.5.14 (test/data/status_packet_fw1.5.14.json), which lacks ``instVel``,
+``motion_line`` and the fieldbus arrays."""
 from __future__ import annotations
 
 import json
@@ -13,7 +15,8 @@ import numpy as np
 import pytest
 
 from fake_controller import backend, fake  # noqa: F401 - fixtures
-from fake_controller import FakeController, load_status_packet, load_transcript, start_backend
+from fake_controller import (RECORDED_PACKET, FakeController, load_status_packet, load_transcript,
+                             start_backend)
 from move_helpers import run_move
 from ros_harness import wait_until
 
@@ -28,10 +31,14 @@ def _without_strings(text: str) -> str:
 
 
 def test_the_fixtures_are_in_the_controllers_layout():
-    packet_text = load_status_packet()
-    packet = json.loads(packet_text)
-    assert packet_text.startswith('{"len": ') and packet["len"] == len(packet_text.encode())
-    assert packet_text == json.dumps(packet)   # spaces after ':' and ','
+    for packet_text in (load_status_packet(), load_status_packet(RECORDED_PACKET)):
+        packet = json.loads(packet_text)
+        assert packet_text.startswith('{"len": ') and packet["len"] == len(packet_text.encode())
+        assert packet_text == json.dumps(packet)   # spaces after ':' and ','
+    full, recorded = json.loads(load_status_packet()), json.loads(load_status_packet(RECORDED_PACKET))
+    # the recorded fw 1.5.14 packet: 35 keys, each as the full packet has it, in its order
+    assert len(recorded) == 35 and [k for k in full if k in recorded] == list(recorded)
+    assert all(recorded[k] == full[k] for k in recorded if k != "len")
     for request, reply, _ in load_transcript():
         assert " " not in _without_strings(request), request   # compact
         decoded = json.loads(reply)
@@ -138,3 +145,26 @@ def test_a_controller_refusal_is_code_2_with_its_message(fake, backend):
     assert not reply.ok and reply.error_code == "2"
     assert reply.error_msg == "call joint_move failed"
 
+
+
+def test_the_recorded_fw_1_5_14_packet_gives_the_backend_all_it_needs():
+    packet = json.loads(load_status_packet(RECORDED_PACKET))
+    with FakeController(packet=RECORDED_PACKET, move_time=0.3) as fake:
+        backend = start_backend(fake)
+        try:
+            assert wait_until(lambda: backend.view.latest is not None, 2.0)
+            assert backend.view.latest.missing == (), backend.view.latest.missing
+            st = backend.state()
+            np.testing.assert_allclose(st.joint_position, np.radians(START_DEG), atol=1e-9)
+            assert st.powered and st.enabled and not st.moving and st.error_code == 0
+            # effort from monitor_data's joint rows; no instVel: speed from the joints, at rest 0
+            np.testing.assert_allclose(st.joint_effort, [row[9] for row in
+                                                         packet["monitor_data"][5]])
+            np.testing.assert_allclose(st.joint_velocity, np.zeros(6), atol=1e-12)
+            assert backend.describe()["homed"] == [1] * 9
+            # a blocking move ends on the queue and inpos, without motion_line
+            target = np.radians(START_DEG) + 0.1
+            assert run_move(backend.start_joint_move(target, 1.0, 4.0)).ok
+            np.testing.assert_allclose(backend.state().joint_position, target, atol=1e-9)
+        finally:
+            backend.shutdown()

@@ -1,14 +1,16 @@
 """Conformance: the fixtures (test/data/, written from a real controller's recordings and JAKA's
-SDK, not by the emulator's authors) replayed against the emulator in its default profile, the
-recorded Zu 5s on fw 1.5.14.
+SDK, not by the emulator's authors) replayed against the emulator in the profile of the
+controller they were recorded on, the Zu 5s on fw 1.5.14.
 
 Every reply has the fixture's keys in the fixture's order, its value types and array sizes, its
 ``errorCode``, and the controller's text layout (``", "``/``": "``, non-integer numbers with 6
 decimals); a reply that reads back what the session set (IO, frames, payloads, speed ratio,
 drag, servo mode, programs) has the fixture's values too; where the fixture quotes a real
 controller's message, the emulator's says it. Every status packet (port 10000, and zlib on port
-10004, in every profile) has the fixture packet's keys in its order, its types and its array
-sizes (the profile's, for the IO arrays)."""
+10004, in every profile) has its fixture packet's keys in its order, its types and its array
+sizes: the recorded fw 1.5.14 profile exactly those of the packet recorded on that firmware (35
+keys, 135/64 IO), the others those of the full packet JAKA's SDK reads with their own IO sizes;
+``get_data`` is the packet after the three reply keys."""
 from __future__ import annotations
 
 import json
@@ -18,7 +20,7 @@ import zlib
 
 import pytest
 
-from fake_controller import load_status_packet, load_transcript
+from fake_controller import RECORDED_PACKET, load_status_packet, load_transcript
 from raw_client import RawClient
 
 from jaka_driver.emulator import Emulator
@@ -44,7 +46,7 @@ PACKET_IO = {"din": ("digital", 0, 0), "dout": ("digital", 0, 1), "ain": ("analo
 
 @pytest.fixture(scope="module")
 def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14") as emulator:
         yield emulator
 
 
@@ -142,9 +144,16 @@ def _data_request(port: int) -> bytes:
     return data
 
 
-def _expected_packet(fixture: dict, profile) -> dict:
-    """The fixture packet with the profile's IO array sizes."""
-    expected = dict(fixture)
+#: the profile whose packet is checked against a recording as it is, IO sizes included
+RECORDED_PROFILE = "zu5s-1.5.14"
+
+
+def _expected_packet(profile) -> dict:
+    """The recorded fw 1.5.14 packet for that profile; for the others the full packet fixture
+    with the profile's IO array sizes."""
+    if profile.name == RECORDED_PROFILE:
+        return json.loads(load_status_packet(RECORDED_PACKET))
+    expected = json.loads(load_status_packet())
     for key, io in PACKET_IO.items():
         size = profile.io_sizes.get(io, 0)
         expected[key] = [expected[key][0]] * size
@@ -155,7 +164,7 @@ def _expected_packet(fixture: dict, profile) -> dict:
 def test_status_packets_on_10000_and_10004_have_every_key_in_order_type_and_size(profile):
     fixture = json.loads(load_status_packet())
     with Emulator("zu5", command_port=0, status_port=0, profile=profile) as emulator:
-        expected = _expected_packet(fixture, emulator.profile)
+        expected = _expected_packet(emulator.profile)
         text = _status_packet(emulator.status_port)
         data = _data_request(emulator.data_port)
     assert text.startswith('{"len": ') and json.loads(text)["len"] == len(text.encode())
@@ -172,7 +181,8 @@ def test_status_packets_on_10000_and_10004_have_every_key_in_order_type_and_size
 
 
 def test_get_data_answers_the_packet_after_the_three_reply_keys(emu):
-    fixture = json.loads(load_status_packet())
+    fixture = _expected_packet(emu.profile)   # the recorded fw 1.5.14 packet
+    assert len(fixture) == 35
     with RawClient(emu.command_port, timeout=5) as client:
         reply = client.call("get_data")
     assert list(reply)[:3] == ["errorCode", "errorMsg", "cmdName"] and reply["errorCode"] == "0"

@@ -1,7 +1,8 @@
 """A named profile selects what differs between the JAKA controllers on record — firmware
 version, cabinet IO sizes, push period, start state, the answer to emergency_stop_status — the
-default being the recorded Zu 5s on fw 1.5.14; --start and --period override a profile, and
---help lists every profile with what it sets."""
+default being the controller JAKA's SDK and ROS 2 driver are written for (fw 1.7.2), the
+recorded Zu 5s on fw 1.5.14 one option away; --start and --period override a profile, and
+--help lists every profile with what it sets (and tcp-doc, fw-1.7.2's former name)."""
 from __future__ import annotations
 
 import socket
@@ -14,7 +15,8 @@ import pytest
 from raw_client import call_once
 
 from jaka_driver.emulator import Emulator
-from jaka_driver.emulator.profiles import DEFAULT_PROFILE, PROFILES, START_WORDS
+from jaka_driver.emulator.profiles import (ALIASES, DEFAULT_PROFILE, PROFILES, START_WORDS,
+                                           profile_named)
 
 ROBOT_STATE = {"off": ("powered_off", "robot_disabled"), "on": ("powered_on", "robot_disabled"),
                "enabled": ("powered_on", "robot_enabled")}
@@ -37,6 +39,19 @@ def test_help_lists_every_profile_and_what_it_sets():
     for profile in PROFILES.values():
         assert profile.name in out and " ".join(profile.describe().split()) in " ".join(out.split())
     assert f"default {DEFAULT_PROFILE}" in out
+    assert "tcp-doc: the former name of fw-1.7.2" in out
+
+
+def test_the_default_is_the_controller_jakas_sdk_is_written_for():
+    default = PROFILES[DEFAULT_PROFILE]
+    # JAKA's ROS 2 driver asks for firmware 1.7.1 or newer; JAKA's SDK asks
+    # emergency_stop_status inside its moves and fails them if it does not answer
+    assert DEFAULT_PROFILE == "fw-1.7.2" and default.version.startswith("1.7.2_")
+    assert not default.estop_status_fails
+    recorded = profile_named("zu5s-1.5.14")
+    assert (recorded.version, recorded.period, recorded.start, recorded.estop_status_fails) \
+        == ("1.5.14_13_X64", 0.030, "off", True)
+    assert profile_named("tcp-doc") is default and ALIASES == {"tcp-doc": "fw-1.7.2"}
 
 
 @pytest.mark.parametrize("name", list(PROFILES))
@@ -66,7 +81,7 @@ def test_start_and_period_override_the_profile():
 
 
 def test_an_unknown_profile_or_start_state_is_refused_with_the_known_ones():
-    with pytest.raises(ValueError, match="tcp-doc"):
+    with pytest.raises(ValueError, match="fw-1.7.2, zu5s-1.5.14, large-io"):
         Emulator("zu5", command_port=0, status_port=0, profile="zu5s-9.9")
     with pytest.raises(ValueError, match="enabled"):
         Emulator("zu5", command_port=0, status_port=0, start="half")

@@ -28,7 +28,7 @@ def test_the_queue_is_not_done_while_its_next_move_is_being_started():
         return twin.start_joint_move(goal, 1.0, 4.0)
 
     try:
-        controller.enqueue("joint_move", slow_start)
+        controller.queue.enqueue("joint_move", slow_start)
         assert starting.wait(5.0)
         assert controller.queued == 0                    # taken off the queue...
         seen = [controller.inpos for _ in range(50)]     # ...and not started yet

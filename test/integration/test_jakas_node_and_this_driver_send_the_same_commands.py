@@ -5,7 +5,8 @@ JAKA's binary SDK cannot run here, so its side is restated from the evidence: wh
 each service of JAKA's node makes (its node's code) and the request that SDK call writes
 (JAKA's SDK 2.1.14 logged byte for byte: compact JSON, keys sorted, ``executing_line_id`` and
 ``tol`` on every move, ``ori_vel``/``ori_acc`` on moveL, ``stepNum`` on servo commands, IO
-index + 1, a setting read back by its get). This driver's side is what RobotDriver on the
+index + 1, a setting read back by its get, one ``emergency_stop_status`` inside every move and
+jog). This driver's side is what RobotDriver on the
 controller backend really sends to the scripted fake controller (test/fake_controller.py).
 
 They are compared by command name, keys and values (poses as positions and rotations, since
@@ -37,6 +38,10 @@ from jaka_driver.driver import RobotDriver
 
 # ---- the conventions in which the two may differ, and why ----------------------------------------
 CONVENTIONS = {
+    "e-stop asked": "JAKA's SDK asks emergency_stop_status inside every move and jog (and "
+                    "returns 2 where it does not answer, as on the recorded fw 1.5.14); this "
+                    "driver reads the e-stop from the status packet, which every firmware on "
+                    "record sends",
     "move extras": "JAKA's SDK adds executing_line_id and tol (JAKA's node passes 0.5 mm) to "
                    "every move; the controller ignores unknown keys, and a single blocking "
                    "move has nothing to blend into",
@@ -73,6 +78,10 @@ RPY = (math.pi, 0.0, math.pi / 2)   # the fake's TCP orientation, RPY rad
 
 def sdk_move_extras():
     return {"executing_line_id": 0, "tol": 0.5}
+
+
+#: what JAKA's SDK sends inside joint_move, linear_move, jog and jog_stop after the command
+ESTOP_ASKED = {"cmdName": "emergency_stop_status"}
 
 
 @dataclass
@@ -113,36 +122,39 @@ CASES = [
          lambda d: d.joint_move(Q_TARGET, 1.0, 3.0),
          [{"accel": math.degrees(3.0), "cmdName": "joint_move",
            "jointPosition": np.degrees(Q_TARGET).tolist(), "relFlag": 0,
-           "speed": math.degrees(1.0), **sdk_move_extras()}],
-         {"move extras": ["joint_move.executing_line_id", "joint_move.tol"],
+           "speed": math.degrees(1.0), **sdk_move_extras()}, ESTOP_ASKED],
+         {"e-stop asked": ["-emergency_stop_status"],
+          "move extras": ["joint_move.executing_line_id", "joint_move.tol"],
           "move wait": ["+get_motion_state"]}),
     Case("linear_move",
          # JAKA's node takes RPY (since 2025), this driver the rotation vector: the same pose
          lambda d: d.linear_move([*LINE_TARGET_MM, *rotvec(RPY)], 50.0, 200.0),
          [{"accel": 200.0, "cartPosition": [*LINE_TARGET_MM, *np.degrees(RPY)],
            "cmdName": "moveL", "ori_acc": math.degrees(12.56), "ori_vel": math.degrees(3.14),
-           "relFlag": 0, "speed": 50.0, **sdk_move_extras()}],
-         {"move extras": ["moveL.executing_line_id", "moveL.tol"],
+           "relFlag": 0, "speed": 50.0, **sdk_move_extras()}, ESTOP_ASKED],
+         {"e-stop asked": ["-emergency_stop_status"],
+          "move extras": ["moveL.executing_line_id", "moveL.tol"],
           "orientation limits": ["moveL.ori_vel", "moveL.ori_acc"],
           "move wait": ["+get_motion_state"]}),
     Case("jog (joint)",
          lambda d: d.jog(0, 2, 0.2, 0.2),   # joint 2 +, 0.2 rad/s (JAKA's node reads mvacc)
          [{"cmdName": "stop_program"},
           {"cmdName": "jog", "coord_map": 1, "jnum": 1, "jog_mode": 1,
-           "jogvel": math.degrees(0.2), "poscmd": 0.0}],
-         {"jog abort": ["-stop_program"]}),
+           "jogvel": math.degrees(0.2), "poscmd": 0.0}, ESTOP_ASKED],
+         {"jog abort": ["-stop_program"], "e-stop asked": ["-emergency_stop_status"]}),
     Case("jog (linear)",
          lambda d: d.jog(1, 5, 20.0, 20.0),   # base Z-, 20 mm/s
          [{"cmdName": "stop_program"},
           {"cmdName": "jog", "coord_map": 0, "jnum": 2, "jog_mode": 1, "jogvel": -20.0,
-           "poscmd": 0.0}],
-         {"jog abort": ["-stop_program"]}),
+           "poscmd": 0.0}, ESTOP_ASKED],
+         {"jog abort": ["-stop_program"], "e-stop asked": ["-emergency_stop_status"]}),
     Case("jog (rotation)",
          lambda d: d.jog(2, 10, 0.3, 0.3),   # tool RZ+, 0.3 rad/s
          [{"cmdName": "stop_program"},
           {"cmdName": "jog", "coord_map": 2, "jnum": 5, "jog_mode": 1, "jogvel": 0.3,
-           "poscmd": 0.0}],
-         {"jog abort": ["-stop_program"], "jog rotation unit": ["jog.jogvel"]}),
+           "poscmd": 0.0}, ESTOP_ASKED],
+         {"jog abort": ["-stop_program"], "jog rotation unit": ["jog.jogvel"],
+          "e-stop asked": ["-emergency_stop_status"]}),
     Case("stop_move",
          lambda d: d.stop_move(),
          [{"cmdName": "stop_program"}]),

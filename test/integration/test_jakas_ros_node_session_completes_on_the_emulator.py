@@ -1,6 +1,7 @@
 """JAKA's official ROS 1 node, as its code calls JAKA's SDK (test/jaka_sdk_model.py: the SDK's
 requests and its strict reading of replies, from the measured evidence), runs its whole session
-against the emulator in its default profile (the recorded Zu 5s, found powered off): start-up
+against the emulator in its default profile (the controller JAKA's SDK is written for; found
+powered off, so the node's own power-on runs): start-up
 (login, status over port 10004, power, enable, the servo filter), its state loop polling
 get_program_state and the status about 8 times a second the whole time, and one call of every
 service. Nothing would abort the SDK (a number for programState killed the real node 5.5 s
@@ -23,7 +24,7 @@ from jaka_driver.emulator import Emulator
 
 @pytest.fixture(scope="module")
 def emu():
-    with Emulator("zu5", command_port=0, status_port=0) as emulator:
+    with Emulator("zu5", command_port=0, status_port=0, start="off") as emulator:
         yield emulator
 
 
@@ -45,7 +46,8 @@ def node(emu):
 def test_start_up_logs_in_powers_on_enables_and_sets_the_servo_filter(emu, node):
     assert set(node.identity) == {"version", "controller_id", "controller_guarantee",
                                   "robot_id", "robot_name", "scb_version", "servo_version"}
-    assert node.identity["version"] == "1.5.14_13_X64" and "emulator" in node.identity["robot_name"]
+    assert node.identity["version"] == emu.profile.version == "1.7.2_16_X64"
+    assert "emulator" in node.identity["robot_name"]
     assert emu.backend.state().powered and emu.backend.state().enabled
     assert emu.controller.servo_filter == (5, {"mmf_max_buf": 15, "mmf_kp": 0.03})
     motion, status = node.robot_state()
@@ -122,7 +124,7 @@ def test_set_io_and_get_io(emu, node):
     assert node.get_io("digital", 0, 0, 0) == (RC_OK, 0.0)
     _, status = node.sdk.get_robot_status()
     # element 0 is the count; the SDK's index i is element i + 1
-    assert status.dout[0] == 135 and status.dout[3] == 1 and status.aout[7] == 2.5
+    assert status.dout[0] == 144 and status.dout[3] == 1 and status.aout[7] == 2.5
     assert status.tio_dout[0] == 8 and status.tio_dout[1] == 1
     for signal, io_type, index in (("digital", 0, 2), ("analog", 0, 6), ("digital", 1, 0)):
         assert node.set_io(signal, io_type, index, 0.0) == RC_OK

@@ -1,10 +1,12 @@
 """JAKA's SDK's own calls (test/jaka_sdk_model.py: its requests and its strict reading, from the
-measured evidence) against the emulator: get_robot_status parses every field right (the IO
+measured evidence) against the emulator in its default profile (the controller the SDK is
+written for): get_robot_status parses every field right (the IO
 count in element 0, monitor_data, instVel, torqsensor, the errcode rules); frames come back by
 id; every setting the SDK waits on reads back within its 1 s (also on another connection);
 programs read as an idle controller; login reads seven identity strings and get_dh_param the
 twin's own chain; the torque sensor's settings round-trip and what needs a sensor is refused;
-the largest profile's packet still fits the SDK's buffer."""
+the recorded fw 1.5.14 profile's packet and the largest profile's still fit the SDK's buffer and
+show their IO."""
 from __future__ import annotations
 
 import math
@@ -52,14 +54,14 @@ def test_get_robot_status_reads_io_with_the_count_in_element_0(emu, sdk):
     try:
         rc, st = sdk.get_robot_status()
         assert rc == RC_OK
-        assert (st.din[0], st.dout[0], st.ain[0], st.aout[0]) == (135, 135, 64, 64)
-        assert (st.tio_din[0], st.tio_dout[0], st.tio_ain[0]) == (8, 8, 2)
+        assert (st.din[0], st.dout[0], st.ain[0], st.aout[0]) == (144, 144, 66, 66)
+        assert (st.tio_din[0], st.tio_dout[0], st.tio_ain[0]) == (8, 8, 1)
         assert st.dout[1 + 2] == 1 and st.aout[1 + 6] == 2.5 and st.tio_dout[1 + 7] == 1
         assert sum(st.dout[1:]) == 1 and sum(st.din[1:]) == 0
         for group in ("modbus_slave", "profinet_slave", "eip_slave"):
             io = st.io_groups[group]
             assert io["dout"][0] == 64 and io["dout"][1] == 1 and io["aout"][64] == 1.25
-        assert st.extio is None                # the recorded arm has no extension module
+        assert st.extio["din"][0] == 8 and st.extio["aout"][0] == 4   # its extension module
         assert st.tio_key == [0, 0, 0]
     finally:
         for io_type, index in ((0, 2), (1, 7), (4, 0), (5, 0), (6, 0)):
@@ -255,15 +257,22 @@ def test_torque_sensor_settings_round_trip_and_what_needs_a_sensor_is_refused(sd
         "drive_stat": 0}
 
 
-@pytest.mark.parametrize("profile, din, ain", [("tcp-doc", 144, 66), ("large-io", 200, 128)])
-def test_other_profiles_status_fits_the_sdks_buffer_and_shows_their_io(profile, din, ain):
-    with Emulator("zu5", command_port=0, status_port=0, profile=profile) as emulator:
+@pytest.mark.parametrize("profile, din, ain, tool_ain, extension",
+                         [("zu5s-1.5.14", 135, 64, 2, False), ("large-io", 200, 128, 1, True)])
+def test_other_profiles_status_fits_the_sdks_buffer_and_shows_their_io(profile, din, ain,
+                                                                       tool_ain, extension):
+    with Emulator("zu5", command_port=0, status_port=0, profile=profile,
+                  start="enabled") as emulator:
         sdk = JakaSdk("127.0.0.1", emulator.command_port, emulator.data_port)
         try:
-            assert sdk.set_digital_output(2, 7, True) == RC_OK      # the extension module
+            # the extension module, where the cabinet has one; the recorded arm has none
+            assert (sdk.set_digital_output(2, 7, True) == RC_OK) == extension
             rc, st = sdk.get_robot_status()
-            assert rc == RC_OK and (st.din[0], st.ain[0], st.tio_ain[0]) == (din, ain, 1)
-            assert st.extio["dout"][0] == 8 and st.extio["dout"][8] == 1
+            assert rc == RC_OK and (st.din[0], st.ain[0], st.tio_ain[0]) == (din, ain, tool_ain)
+            if extension:
+                assert st.extio["dout"][0] == 8 and st.extio["dout"][8] == 1
+            else:
+                assert st.extio is None
             assert st.powered_on == 1 and st.enabled
         finally:
             sdk.close()

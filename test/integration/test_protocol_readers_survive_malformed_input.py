@@ -14,7 +14,7 @@ import pytest
 
 from jaka_driver.protocol import (CommandClient, ProtocolError, StatusPoller, StatusReceiver,
                                   commands, encode_status)
-from jaka_driver.protocol.client import MAX_REPLY_BYTES
+from jaka_driver.protocol.command_client import MAX_REPLY_BYTES
 from jaka_driver.protocol.errors import MalformedInput
 from malformed_inputs import DEEP, STATUS_KEYS_READ
 from scripted_server import ScriptedServer, requests_of

@@ -61,7 +61,7 @@ def test_a_twist_moves_the_controller_through_the_emulator():
             assert result.ok, result.message
             time.sleep(0.02)
         last = time.monotonic()
-        assert wait_until(lambda: not backend._moving(), 1.0)
+        assert wait_until(lambda: not backend.motion.moving, 1.0)
         at_rest = time.monotonic() - last
         moved = (emu.backend.state().tcp_pose[:3, 3] - p0) * 1000.0
         # the twist ran from the first call to 0.1 s after the last (the watchdog)

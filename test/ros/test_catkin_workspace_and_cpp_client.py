@@ -6,7 +6,7 @@ facts in test/cpp/jaka_driver_cpp_client/README.md) and a PoseStamped tool_posit
 with `conventions:=jaka_code`, then `catkin_make install` and the node run from the install space, finding its URDF in
 share/ and the IK library in lib/.
 
-The commands are the README's ("Using with a catkin workspace", "C++ clients"), run as a shell
+The commands are docs/catkin.md's ("Using with a catkin workspace", "C++ clients"), run as a shell
 would, in an environment without this repository's devel/setup.bash (no JAKA_DRIVER_ROOT, no
 generated messages on PYTHONPATH). One workspace build is shared by the module (~25 s on two
 cores, the C++ client being most of it).
@@ -28,15 +28,15 @@ from ros_harness import ROOT, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 
-README = ROOT / "README.md"
-# Exactly as README shows them (test_readme_shows_the_commands).
+CATKIN_DOC = ROOT / "docs" / "catkin.md"
+# Exactly as docs/catkin.md shows them (test_catkin_doc_shows_the_commands).
 CATKIN_MAKE = "catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3"
 CATKIN_INSTALL = "catkin_make install -DPYTHON_EXECUTABLE=/usr/bin/python3"
 RUN_NODE = "rosrun jaka_driver jaka_driver_node"
 RUN_NODE_INCREMENTS = "rosrun jaka_driver jaka_driver_node _servo_increment:=true"
 RUN_NODE_JAKA_CODE = "rosrun jaka_driver jaka_driver_node _conventions:=jaka_code"
 CPP_DEPENDS = "find_package(catkin REQUIRED COMPONENTS roscpp jaka_msgs)"
-README_LINES = [CATKIN_MAKE, CATKIN_INSTALL, "source devel/setup.bash", "source install/setup.bash",
+DOC_LINES = [CATKIN_MAKE, CATKIN_INSTALL, "source devel/setup.bash", "source install/setup.bash",
                 RUN_NODE_INCREMENTS, RUN_NODE_JAKA_CODE, CPP_DEPENDS,
                 "<depend>jaka_driver</depend>"]
 POSE = [0.5, 1.9, -1.4, 1.1, 1.57, 0.0]
@@ -269,7 +269,7 @@ def test_install_space_node_finds_urdf_in_share_and_ik_in_lib(workspace, tmp_pat
     assert list(fk.cartesian_pose) == pytest.approx(TCP_MM_ROTVEC, abs=0.1)
 
 
-def test_readme_shows_the_commands():
-    text = README.read_text()
-    missing = [line for line in README_LINES if line not in text]
-    assert not missing, f"README.md lacks {missing}"
+def test_catkin_doc_shows_the_commands():
+    text = CATKIN_DOC.read_text()
+    missing = [line for line in DOC_LINES if line not in text]
+    assert not missing, f"docs/catkin.md lacks {missing}"

@@ -17,15 +17,17 @@ from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool
 
 from jaka_driver.emulator.process import EmulatorProcess
-from jaka_driver.emulator.profiles import DEFAULT_PROFILE, profile_named
+from jaka_driver.emulator.profiles import profile_named
 
 pytestmark = pytest.mark.ros
-
+#: the recorded Zu 5s: one state message per packet is checked at its recorded 30 ms
+PROFILE = "zu5s-1.5.14"
 
 
 @pytest.fixture(scope="module")
 def emulator():
-    emu = EmulatorProcess("zu5", command_port=free_port(), status_port=free_port()).start()
+    emu = EmulatorProcess("zu5", command_port=free_port(), status_port=free_port(),
+                          profile=PROFILE).start()
     yield emu
     emu.stop()
 
@@ -51,8 +53,8 @@ def test_joint_move_through_ros_reaches_the_target(call, joints):
 
 
 def emulator_period() -> float:
-    """s between two status packets of the emulator's default profile."""
-    return profile_named(DEFAULT_PROFILE).period
+    """s between two status packets of the emulator's profile."""
+    return profile_named(PROFILE).period
 
 
 def test_robot_states_come_from_the_controller(sim_driver, joints):
@@ -66,7 +68,7 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         got = joints.since(t0)
         stamps = [m.header.stamp.to_sec() for _, m in got]
         assert len(set(stamps)) == len(stamps), "a packet published twice"
-        # one message per packet: the emulator's default profile pushes every 30 ms
+        # one message per packet: the recorded Zu 5s pushes every 30 ms
         rate = len(got) / (got[-1][0] - got[0][0])
         assert 1 / (emulator_period() * 1.3) < rate < 1 / (emulator_period() * 0.8), \
             f"joint_position at {rate:.1f} Hz"

@@ -6,7 +6,7 @@ controller and in simulated time against a twin that owns time (docs/design.md, 
 
 :class:`WallClock` is ``time.monotonic``. :class:`SimClock` is the twin's time: cycles × 8 ms
 since the twin started, advanced by the physics loop only. Its rules (the driver relies on
-them for determinism; README "Simulated time" tells users):
+them for determinism; docs/twin.md "Simulated time" tells users):
 
 - **Pacing.** A cycle may start once the wall clock allows it: ``real_time_factor`` 1 paces
   cycles to the wall clock, 2 twice as fast, 0 as fast as the machine steps.

@@ -49,6 +49,15 @@ IO_TYPES = ("cabinet", "tool", "extension")
 IO_PATHS = ("in", "out")
 
 
+def io_level(signal: str, value: float) -> float:
+    """The value an IO point of ``signal`` holds when set to ``value``: a digital point any
+    non-zero value → 1.0, zero → 0.0; an analog one ``value`` itself (V). The one rule for
+    every door that sets a point (the driver's set_io and set_input, the emulator's)."""
+    if signal == "digital":
+        return 1.0 if value else 0.0
+    return float(value)
+
+
 @dataclass(frozen=True)
 class Placement:
     """One joint of the URDF chain from ``base_link`` to ``flange``, as the file writes it:

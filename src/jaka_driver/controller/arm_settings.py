@@ -4,10 +4,12 @@ confirms it — its get command read back every 100 ms for up to 1 s
 (:meth:`.commander.Commander.settled`) — and then awaited in the status packets, so that
 ``state()`` agrees with the answer the moment it is given.
 
-:class:`ArmSettings` is a part of :class:`~.backend.ControllerBackend`, split out of it for
-its size: it uses the backend's link (``send``, ``view``), its frame tables (``frames_by_id``,
-``_ids``) and its ``_moving`` / ``_servo_mode``, and only through them. Units as the backend's:
-m, kg, 4x4 poses; the wire's mm where the commands take them.
+:class:`ArmSettings` is a part :class:`~.backend.ControllerBackend` is composed of; what it
+works with is handed to it: the link's requests, the status view, the controller's frame
+tables (:class:`~.frames_by_id.ControllerFrames`), what runs now and servo mode
+(:class:`~.running_motion.RunningMotion`) and the backend's ``state()``. It keeps the rapid
+rate last read back and the frame ids last set. Units as the backend's: m, kg, 4x4 poses; the
+wire's mm where the commands take them.
 """
 from __future__ import annotations
 
@@ -16,14 +18,17 @@ from typing import Callable
 
 import numpy as np
 
+from ..backend.robot_state import RobotState
 from ..common.frames import TOOL, USER_FRAME
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import commands
 from ..protocol.fields import Field
 from ..protocol.status_stream import StatusPacket
-from .commander import answers
-from .frames_by_id import TABLE_SIZE
+from .commander import Commander, answers
+from .frames_by_id import TABLE_SIZE, ControllerFrames
+from .running_motion import RunningMotion
+from .status_view import StatusView
 
 log = logging.getLogger(__name__)
 
@@ -41,8 +46,19 @@ PACKET_CATCH_UP = 0.2
 
 
 class ArmSettings:
-    """Frames, payload, drag mode, collision, IO, errors and the speed ratio of
-    :class:`~.backend.ControllerBackend` (see the module)."""
+    """Frames, payload, drag mode, collision, IO, errors and the speed ratio of a controller
+    (see the module): requests through ``send``, the latest packet from ``view``, the frame
+    tables ``frames_by_id``, what runs and servo mode in ``motion``, the arm's ``state()``."""
+
+    def __init__(self, send: Commander, view: StatusView, frames_by_id: ControllerFrames,
+                 motion: RunningMotion, state: Callable[[], RobotState]):
+        self.send = send
+        self.view = view
+        self.frames_by_id = frames_by_id
+        self.motion = motion
+        self.state = state
+        self._rapid_rate = 1.0                  # the last rate read back
+        self._ids = (0, 0)                      # (tool, user) last set, until a packet
 
     @answers
     def set_speed_ratio(self, ratio: float) -> Result:
@@ -64,7 +80,8 @@ class ArmSettings:
             return float(latest.rapidrate)
         return self._rapid_rate
 
-    def _read_rapid_rate(self) -> None:
+    def read_rapid_rate(self) -> None:
+        """The rate as the controller has it now (at every connection)."""
         try:
             self._rapid_rate = float(self.send.read(commands.get_rapid_rate(),
                                                     commands.reply_value))
@@ -131,9 +148,9 @@ class ArmSettings:
         if on == self.state().drag_mode:
             return Result.success(f"drag mode already {'on' if on else 'off'}")
         if on:
-            if self._servo_mode:
+            if self.motion.servo_mode:
                 return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
-            if self._moving():
+            if self.motion.moving:
                 return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
         self.send.settled(commands.torque_control_enable(on), commands.get_drag_status(),
                           _drag_status, lambda now: now == on,

@@ -15,15 +15,19 @@ every 100 ms for up to 1 s (:meth:`.commander.Commander.settled`). Units are con
 protocol library; this module speaks SI (rad, m, 4x4 poses of the active tool in the active
 user frame) like every backend.
 
-A move ends when the status packets say so or, between packets, when ``get_motion_state``
-polled every :data:`MOTION_STATE_POLL` s says so (:mod:`.move_watch`); state comes from the status
-packets of port 10000, 10004 or both (``status_source``, :mod:`.connection`;
-:mod:`.status_view`); requests and their failure codes are :mod:`.commander`; the link and its
-reconnect policy are :mod:`.connection`; frames by id are :mod:`.frames_by_id`; the arm's
-identity and kinematic parameters, read at every connection, are :mod:`.arm_identity`. Two
-parts of the class have modules of their own: servo mode, servo targets and the velocity jog
-(:mod:`.servo_commands`), and the arm's settings — frames, payload, drag, collision, IO, errors,
-the speed ratio (:mod:`.arm_settings`).
+The backend assembles its parts and serves the contract with them, each part handed what it
+works with: state comes from the status packets of port 10000, 10004 or both
+(``status_source``, :mod:`.connection`; :mod:`.status_view`); requests and their failure codes
+are :mod:`.commander`; the link and its reconnect policy are :mod:`.connection`; frames by id
+are :mod:`.frames_by_id`; the arm's identity and kinematic parameters, read at every
+connection, are :mod:`.arm_identity`. What runs now — a move, a trajectory, a jog or a velocity
+jog — and servo mode have one owner, the slot of :mod:`.running_motion` (busy, abort, what a
+status packet tells it). Three parts serve the contract's requests by subject, and the
+backend's methods of each subject pass the request on: motion — moves, trajectories, jogs,
+stop — (:class:`~.moves.MoveCommands`: when a move has ended, :mod:`.move_watch`), servo mode,
+servo targets and the velocity jog (:class:`~.servo_commands.ServoCommands`), and the arm's
+settings — frames, payload, drag, collision, IO, errors, the speed ratio
+(:class:`~.arm_settings.ArmSettings`).
 
 Local kinematics: ``linear_move``'s whole path is checked before ``moveL`` goes out (IK every
 8 ms from the joints the latest packet reports, joint limits, no joint jump), on
@@ -32,60 +36,37 @@ model's) — :attr:`ControllerBackend.kinematics`. ``get_fk`` and ``get_ik`` are
 own (``kine_forward`` / ``kine_inverse``). While the parameters say the arm is another model's
 (and ``kinematics`` is ``auto``), every motion is refused with -9 (:mod:`.arm_identity`).
 
-The controller queues moves: one sent while another runs is acknowledged and runs after it
-(docs/protocol.md, "Motion queue"). This backend never relies on that: a move while its own
-move or trajectory runs is refused with -10 (busy) before anything is sent, so the arm never
-does a move its caller was told was refused, and ``stop_move`` always has one move to end.
+The controller queues moves (docs/protocol.md, "Motion queue"); this backend never relies on
+that (:mod:`.moves`).
 """
 from __future__ import annotations
 
 import logging
 import threading
-import time
-from typing import Optional
 
 import numpy as np
 
 from ..backend import Backend
 from ..backend.robot_state import RobotState
-from ..common.constants import SERVO_CYCLE
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy, pose_mm_rpy_to_matrix
 from ..kinematics import Kinematics
-from ..motion.linear_path import line_duration, orientation_limits, plan_linear_move
-from ..motion.profiles import joint_move_profile
-from ..protocol import commands, errors
-from ..protocol.fields import CoordMap, JogMode
+from ..protocol import commands
 from .arm_identity import ArmIdentity
 from .arm_settings import ArmSettings
 from .commander import Commander, answers
 from .connection import ControllerLink
 from .frames_by_id import ControllerFrames
-from .move_watch import MoveWatch, joint_error, joints_at, tcp_at
+from .moves import MoveCommands
+from .running_motion import RunningMotion
 from .servo_commands import ServoCommands
-from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView
-from .twist_stream import TwistStreamer
 
 log = logging.getLogger(__name__)
 
-#: ROS jog coord (0 joint, 1 base, 2 tool) → the wire's coord_map (0 base, 1 joint, 2 tool).
-JOG_COORD_MAP = {0: CoordMap.JOINT, 1: CoordMap.BASE, 2: CoordMap.TOOL}
-UNKNOWN_MOVE_TIME = 30.0      # s, the estimate when the current position is unknown
-MOTION_STATE_POLL = 0.05      # s between two get_motion_state requests while a move runs
-MIN_WIRE_SPEED = 1e-6         # rad/s; a stretched move of nothing still needs a speed > 0
-#: A plan this much (relative) longer than the fastest is stretched; shorter is float noise
-#: between the driver's start and the latest packet's, and the move goes at the speed asked.
-STRETCHED = 1e-6
-#: A line whose IK needs a joint faster than this many times its speed limit between two 8 ms
-#: samples jumps there (a configuration flip, a singularity passed through): refused before
-#: moveL. Slower steps are the controller's business: it times moveL itself, and a tool turning
-#: at the driver's cap (π rad/s) already asks J6 for its whole 3.14 rad/s.
-LINE_JUMP = 2.0
 
-
-class ControllerBackend(ServoCommands, ArmSettings, Backend):
+class ControllerBackend(Backend):
     """A JAKA controller at ``host``: commands on ``command_port``, status on ``status_port``.
 
     Timeouts, s: ``connect_timeout`` per TCP connect attempt, ``call_timeout`` for a reply,
@@ -103,7 +84,6 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
                  kinematics: str = "auto"):
         super().__init__(model)
         self.host = host
-        self.trajectory_step_num = int(trajectory_step_num)
         self.view = StatusView()
         self.link = ControllerLink(host, command_port, status_port,
                                    status_source=status_source, data_port=data_port,
@@ -114,17 +94,17 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
         self.frames_by_id = ControllerFrames(self.send.read)
         self.identity = ArmIdentity(model, kinematics)
         self._kinematics = (model, None)   # (the model it is of, Kinematics or None)
-        self._lock = threading.RLock()
-        self._send_lock = threading.Lock()   # orders sending a move against stop_move
-        self._watch: Optional[MoveWatch] = None
-        self._streamer: Optional[TrajectoryStreamer] = None
-        self._servo_mode = False
-        self._jog: Optional[tuple[int, int]] = None      # wire (coord_map, jnum) of the jog
-        self._twist: Optional[TwistStreamer] = None        # a velocity jog's servo stream
-        self._rapid_rate = 1.0                             # the last rate read back
-        self._ids = (0, 0)                               # (tool, user) last set, until a packet
+        #: what runs now (a move, a trajectory, a jog, a velocity jog) and servo mode
+        self.motion = RunningMotion(self.view)
+        kinematics_now = lambda: self.kinematics    # noqa: E731 - read when used
+        self.settings = ArmSettings(self.send, self.view, self.frames_by_id, self.motion,
+                                    self.state)
+        self.servo = ServoCommands(model, self.send, self.link, self.view, self.motion,
+                                   self.identity, kinematics_now, self.settings)
+        self.moves = MoveCommands(model, self.send, self.link, self.view, self.motion,
+                                  self.identity, kinematics_now, self.settings, self.servo,
+                                  trajectory_step_num)
         self._brought_up = threading.Event()
-        self._motion_state_known = True   # until the controller says it has no such command
 
     # ---- life cycle -------------------------------------------------------------------
     def start(self) -> None:
@@ -139,8 +119,8 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
                         link.down_message())
 
     def shutdown(self) -> None:
-        self._abort_motion(Result.failure(Code.MOTION_STOPPED,
-                                          "stopped: the driver is shutting down"))
+        self.motion.abort(Result.failure(Code.MOTION_STOPPED,
+                                         "stopped: the driver is shutting down"))
         self.frames_by_id.stop()
         self.link.stop()
 
@@ -150,7 +130,7 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
         return self.identity.version
 
     def state(self) -> RobotState:
-        return self.view.state(self.link.connected, self._servo_mode)
+        return self.view.state(self.link.connected, self.motion.servo_mode)
 
     @property
     def kinematics(self) -> Kinematics:
@@ -183,23 +163,27 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
         info.update(self.link.counters())
         return info
 
+    def wait_for_sample(self, after: float, timeout: float) -> bool:
+        """Until a status packet received later than ``after`` (s, ``time.time()``, as
+        ``RobotState.stamp``) is here, at most ``timeout`` s: the packet wakes the wait (the
+        node's publisher, the move follower)."""
+        return self.view.wait_for_packet(after, timeout)
+
     # ---- link hooks -------------------------------------------------------------------------
     def _on_status(self, status, received: float) -> None:
         self.view.feed(status, received)
         if status.emergency_stop or status.protective_stop or not status.enabled:
-            self._servo_mode = False   # the controller leaves servo mode on any of these
+            self.motion.servo_mode = False   # the controller leaves servo mode on any of these
         self.frames_by_id.on_active(status.current_tool_id, status.current_user_id)
-        watch = self._watch
-        if watch is not None:
-            watch.on_status(status, received)
+        self.motion.on_status(status, received)
 
     def _on_up(self, first: bool) -> None:
         """At every connection (supervisor thread): servo mode, identity, kinematic parameters
         and frames as the controller has them now; power and enable at the first only."""
         try:
             self.view.reset()
-            self._servo_mode = self._read_servo_mode()
-            self._read_rapid_rate()
+            self.motion.servo_mode = self.servo.read_mode()
+            self.settings.read_rapid_rate()
             self.identity.read(self.send.read)
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
@@ -210,22 +194,10 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
                 self._brought_up.set()
 
     def _on_down(self, reason: str) -> None:
-        with self._lock:
-            self._jog = None
-        self._abort_motion(Result.failure(
+        self.motion.abort(Result.failure(
             Code.NOT_CONNECTED, f"connection to the controller lost ({reason}); the motion is "
             "not resumed after reconnecting"))
-        self._servo_mode = False   # unknown until is_in_servomove after the reconnect
-
-    def _abort_motion(self, result: Result) -> None:
-        with self._lock:
-            watch, streamer, twist = self._watch, self._streamer, self._twist
-        if twist is not None:
-            twist.halt(result)
-        if watch is not None:
-            watch.abort(Result(result.code, f"{watch.label}: {result.message}"))
-        if streamer is not None:
-            streamer.stop(result)
+        self.motion.servo_mode = False   # unknown until is_in_servomove after the reconnect
 
     def _bring_up(self) -> None:
         """Power on and enable, each only if needed, each confirmed on the status stream. Done
@@ -270,220 +242,72 @@ class ControllerBackend(ServoCommands, ArmSettings, Backend):
         self.send.confirmed(request, lambda s: s.enabled == on, "enable")
         return Result.success("enabled" if on else "disabled")
 
-    # ---- moves --------------------------------------------------------------------------------
-    def _start_move(self, request, watch: MoveWatch, estimate: float) -> Result:
-        """Send a move; ``Result.value`` is ``(watch.completion, estimate)``. The watch ends the
-        move from the status packets and get_motion_state (see move_watch); RobotDriver waits
-        and stops an overrun."""
-        self.send.require_link()
-        with self._lock:
-            if self._streamer is not None and self._streamer.running:
-                raise CommandRefused(Code.BUSY, f"{watch.label} refused: a trajectory runs")
-            if self._watch is not None and not self._watch.completion.done:
-                # The controller would queue it; this driver does not (see the module doc).
-                raise CommandRefused(Code.BUSY, f"{watch.label} refused: {self._watch.label} "
-                                     "is still running (stop_move first)")
-            self._watch = watch
-        watch.arm()
-        with self._send_lock:
-            # stop_move or a lost link may end the watch before the move goes out: then it
-            # is not sent, and the completion already says why
-            if not watch.completion.done:
-                try:
-                    self.send.accepted(request)
-                except CommandRefused as refusal:
-                    watch.abort(refusal.result())
-                    raise
-        if self._motion_state_known and not watch.completion.done:
-            threading.Thread(target=self._follow_motion_state, args=(watch,), daemon=True,
-                             name="jaka-motion-state").start()
-        return Result.success(f"{watch.label} started", (watch.completion, estimate))
-
-    def _follow_motion_state(self, watch: MoveWatch) -> None:
-        """While ``watch`` runs, ask ``get_motion_state`` every :data:`MOTION_STATE_POLL` s."""
-        while not watch.completion.wait(MOTION_STATE_POLL):
-            if not (self._motion_state_known and self.link.connected):
-                return
-            try:
-                reply = self.link.call(commands.get_motion_state())
-            except errors.JakaProtocolError as exc:
-                log.debug("get_motion_state failed: %s", exc)   # the link handles a lost link
-                continue
-            try:
-                state = commands.reply_motion_state(reply)
-            except errors.JakaProtocolError as exc:
-                log.info("the controller does not answer get_motion_state (%s); waiting on the "
-                         "status packets only", exc)
-                self._motion_state_known = False
-                return
-            if state.inpos and state.queue == 0:
-                # the move ended: let a packet from after now arrive, so state() shows it ended
-                self.wait_for_sample(time.time(), 0.2)
-            watch.on_motion_state(state.inpos, state.queue, self.view.latest_received)
-
-    def wait_for_sample(self, after: float, timeout: float) -> bool:
-        """Until a status packet received later than ``after`` (s, ``time.time()``, as
-        ``RobotState.stamp``) is here, at most ``timeout`` s: the packet wakes the wait (the
-        node's publisher, the move follower)."""
-        return self.view.wait_for_packet(after, timeout)
-
-    @answers
+    # ---- motion: MoveCommands (moves.py) -------------------------------------------------------
     def start_joint_move(self, q_target, speed, accel, duration=None) -> Result:
-        """``joint_move`` taking ``duration`` s (the driver's plan). The wire has no duration:
-        a plan stretched longer than the fastest goes out at its lower peak speed (a stretched
-        trapezoid is the fastest one at its own peak speed), computed by the driver's law
-        (:func:`~jaka_driver.motion.profiles.joint_move_profile`) from the joints the latest
-        packet reports."""
-        self.identity.require_motion("joint_move")
-        q_target = np.asarray(q_target, float)
-        latest = self.view.latest
-        estimate = duration or UNKNOWN_MOVE_TIME
-        ratio = self.speed_ratio()      # the controller scales what it is sent by its rate
-        if latest is not None and np.all(np.isfinite(latest.joint_position)):
-            plan = joint_move_profile(latest.joint_position, q_target,
-                                      np.minimum(speed, self.model.max_velocity),
-                                      np.minimum(accel, self.model.max_acceleration),
-                                      duration * ratio if duration else None)
-            estimate = plan.duration / ratio
-            if plan.duration > plan.predicted_duration * (1.0 + STRETCHED):
-                speed = max(float(np.max(plan.peak_velocity)), MIN_WIRE_SPEED)
-        watch = MoveWatch("joint_move", joints_at(q_target), final_error=joint_error(q_target))
-        return self._start_move(commands.joint_move(q_target, speed, accel), watch, estimate)
+        return self.moves.start_joint_move(q_target, speed, accel, duration)
 
-    @answers
     def start_linear_move(self, target, speed, accel, ref_q=None, duration=None) -> Result:
-        """``moveL`` at ``speed`` m/s and ``accel`` m/s², its orientation at the driver's own
-        limits for that speed (``ori_vel``/``ori_acc``, the twin's, so a controller never turns
-        the tool at its own defaults), taking ``duration`` s (the driver's plan; without one,
-        the same law from the TCP the latest packet reports). The whole line is checked first
-        on the local kinematics (:meth:`_check_line`)."""
-        self.identity.require_motion("linear_move")
-        self._check_line(target, speed, accel)
-        pose = matrix_to_pose_mm_rpy(target)
-        angular_speed, angular_accel = orientation_limits(speed, accel)
-        estimate = duration
-        latest = self.view.latest
-        if estimate is None:
-            estimate = UNKNOWN_MOVE_TIME
-            if latest is not None and np.all(np.isfinite(latest.tcp_pose)):
-                estimate = line_duration(pose_mm_rpy_to_matrix(latest.tcp_pose), target, speed,
-                                         accel) / self.speed_ratio()
-        note = None if ref_q is None else ("ref_joint is not sent: moveL chooses the "
-                                           "configuration itself")
-        watch = MoveWatch("linear_move", tcp_at(pose), note=note)
-        request = commands.moveL(pose, speed * 1000.0, accel * 1000.0,
-                                 ori_vel_rad_s=angular_speed, ori_acc_rad_s2=angular_accel)
-        return self._start_move(request, watch, estimate)
+        return self.moves.start_linear_move(target, speed, accel, ref_q, duration)
 
-    def _check_line(self, target, speed: float, accel: float) -> None:
-        """The whole-path check of a line (IK at every cycle, joint limits, no joint faster
-        than :data:`LINE_JUMP` × its limit) from the joints the latest packet reports, on
-        :attr:`kinematics` and the active frames, seeded there as the controller's ``moveL``
-        is (it is not sent ``ref_joint``); a
-        :class:`~jaka_driver.motion.linear_path.PlanningError` (-4) says where it fails.
-        Without a link the move is refused as any other (-1), unchecked."""
-        self.send.require_link()
-        latest = self.view.latest
-        if latest is None or not np.all(np.isfinite(latest.joint_position)):
-            return
-        q0 = np.asarray(latest.joint_position, float)
-        tool, user = self.frames()
-        kin = self.kinematics
-
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool, user=user)
-            return solution.q if solution.success else None
-
-        plan_linear_move(kin.tcp_pose(q0, tool, user), target, speed, accel, q0, ik,
-                         self.model.lower, self.model.upper,
-                         LINE_JUMP * self.model.max_velocity, cycle=SERVO_CYCLE)
-
-    # ---- trajectories ---------------------------------------------------------------------------
-    @answers
     def start_trajectory(self, trajectory) -> Result:
-        self.identity.require_motion("trajectory")
-        self.send.require_link()
-        with self._lock:
-            if self._streamer is not None and self._streamer.running:
-                raise CommandRefused(Code.BUSY, "a trajectory is already running")
-        entered = False
-        if not self._servo_mode:
-            self._set_servo_mode(True)
-            entered = True
-        streamer = TrajectoryStreamer(trajectory, self.link.call,
-                                      self._leave_servo if entered else None,
-                                      step_num=self.trajectory_step_num)
-        with self._lock:
-            self._streamer = streamer
-            self._watch = streamer.watch
-        streamer.start()
-        return Result.success(f"trajectory of {streamer.duration:.3f} s started",
-                              (streamer.completion, streamer.duration))
+        return self.moves.start_trajectory(trajectory)
 
-    def _leave_servo(self) -> None:
-        """End of a trajectory that entered servo mode itself (streamer thread)."""
-        with self._lock:
-            streamer = self._streamer
-            if streamer is not None and self._watch is streamer.watch:
-                self._watch = None
-        self._leave_servo_mode("a trajectory")
-
-    # ---- jog ------------------------------------------------------------------------------------
-    @answers
     def jog(self, coord, axis, direction, speed) -> Result:
-        self.identity.require_motion("jog")
-        coord_map = int(JOG_COORD_MAP[int(coord)])
-        angular = coord_map == CoordMap.JOINT or axis >= 3
-        jogvel = direction * (speed if angular else speed * 1000.0)   # rad/s, or m/s → mm/s
-        with self._lock:
-            previous = self._jog
-        if previous is not None and previous != (coord_map, axis):
-            # Another axis: stop the old one first so that two axes never run at once.
-            self.send.accepted(commands.jog(JogMode.STOP, *previous))
-        self.send.accepted(commands.jog(JogMode.CONTINUOUS, coord_map, axis, jogvel))
-        with self._lock:
-            self._jog = (coord_map, axis)
-        unit = "rad/s" if angular else "mm/s"
-        return Result.success(f"jogging axis {axis} of coord_map {coord_map} at {jogvel:g} {unit}")
+        return self.moves.jog(coord, axis, direction, speed)
 
-    @answers
     def jog_stop(self) -> Result:
-        with self._lock:
-            twist = self._twist if self._twist is not None and self._twist.running else None
-        if twist is not None:
-            twist.stop()
-            return Result.success("velocity jog stopping")
-        with self._lock:
-            running, self._jog = self._jog, None
-        if running is None:
-            self.send.require_link()
-            return Result.success("no jog was running")
-        self.send.accepted(commands.jog(JogMode.STOP, *running))
-        return Result.success("jog stopping")
+        return self.moves.jog_stop()
 
-    # ---- stop -----------------------------------------------------------------------------------
-    @answers
     def stop_move(self) -> Result:
-        self.send.require_link()
-        with self._lock:
-            self._jog = None
-            twist = self._twist
-        if twist is not None and twist.running:
-            twist.stop()            # it ramps to rest on its own targets, then leaves servo mode
-            return Result.success("velocity jog stopping")
-        with self._send_lock:   # a move being sent goes out before stop_program, or not at all
-            self._abort_motion(Result.failure(Code.MOTION_STOPPED, "stopped by stop_move"))
-            self.send.accepted(commands.stop_program())
-        return Result.success("stop_program sent: the arm decelerates to rest")
+        return self.moves.stop_move()
 
-    def _moving(self) -> bool:
-        """A move, trajectory or jog of this driver runs, or the status stream shows motion."""
-        with self._lock:
-            watch, jog, twist = self._watch, self._jog, self._twist
-        latest = self.view.latest
-        return ((watch is not None and not watch.completion.done) or jog is not None
-                or (twist is not None and twist.running)
-                or (latest is not None and not latest.inpos))
+
+    # ---- servo mode and what runs in it: ServoCommands (servo_commands.py) --------------------
+    def servo_enable(self, on: bool) -> Result:
+        return self.servo.enable(on)
+
+    def servo_j(self, q_target, increment=None) -> Result:
+        return self.servo.servo_j(q_target, increment)
+
+    def servo_p(self, target, increment=None) -> Result:
+        return self.servo.servo_p(target, increment)
+
+    def velocity_jog(self, twist, in_tool) -> Result:
+        return self.servo.velocity_jog(twist, in_tool)
+
+    # ---- the arm's settings: ArmSettings (arm_settings.py) -------------------------------------
+    def set_speed_ratio(self, ratio: float) -> Result:
+        return self.settings.set_speed_ratio(ratio)
+
+    def speed_ratio(self) -> float:
+        return self.settings.speed_ratio()
+
+    def frames(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.settings.frames()
+
+    def set_tool_frame(self, tool_id, pose) -> Result:
+        return self.settings.set_tool_frame(tool_id, pose)
+
+    def set_user_frame(self, user_id, pose) -> Result:
+        return self.settings.set_user_frame(user_id, pose)
+
+    def set_payload(self, tool_id, mass, centroid) -> Result:
+        return self.settings.set_payload(tool_id, mass, centroid)
+
+    def set_drag_mode(self, on: bool) -> Result:
+        return self.settings.set_drag_mode(on)
+
+    def set_collision_level(self, level) -> Result:
+        return self.settings.set_collision_level(level)
+
+    def set_io(self, signal, io_type, index, value) -> Result:
+        return self.settings.set_io(signal, io_type, index, value)
+
+    def get_io(self, signal, path, io_type, index) -> Result:
+        return self.settings.get_io(signal, path, io_type, index)
+
+    def clear_error(self) -> Result:
+        return self.settings.clear_error()
 
     # ---- kinematics -----------------------------------------------------------------------------
     @answers

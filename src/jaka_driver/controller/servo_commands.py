@@ -3,10 +3,12 @@
 relatively as JAKA's SDK sends them) and the velocity jog, a ``servo_j`` stream the driver
 computes from a twist (:mod:`.twist_stream`: why not the protocol's ``jog``).
 
-:class:`ServoCommands` is a part of :class:`~.backend.ControllerBackend`, split out of it for
-its size: it uses the backend's link (``send``, ``link``, ``view``), its lock, its arm identity
-and local kinematics and its ``_servo_mode`` / ``_twist`` state, and only through them. Units as
-the backend's: rad, m, 4x4 poses.
+:class:`ServoCommands` is a part :class:`~.backend.ControllerBackend` is composed of; what it
+works with is handed to it (:class:`~.parts.RequestPart`): the link and its requests, the
+status view, the one slot of what runs now and servo mode
+(:class:`~.running_motion.RunningMotion`), the arm's identity, the local kinematics and the
+arm's settings (frames, speed ratio). Units as the backend's: rad, m, 4x4
+poses.
 """
 from __future__ import annotations
 
@@ -21,6 +23,8 @@ from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands
 from ..protocol.fields import Field
 from .commander import answers
+from .parts import RequestPart
+from .running_motion import TwistRun
 from .twist_stream import TwistStreamer
 
 log = logging.getLogger(__name__)
@@ -29,47 +33,46 @@ log = logging.getLogger(__name__)
 SERVO_MODE_OFF_CODE = "-1"
 
 
-class ServoCommands:
-    """Servo mode, servo targets and the velocity jog of :class:`~.backend.ControllerBackend`
-    (see the module)."""
+class ServoCommands(RequestPart):
+    """Servo mode, servo targets and the velocity jog on a controller (see the module; what it
+    works with: :class:`~.parts.RequestPart`)."""
 
     @answers
     def velocity_jog(self, twist, in_tool) -> Result:
         """A velocity jog as a ``servo_j`` stream (:mod:`.twist_stream`: why), entering servo
         mode for it; the twist at the rapid rate (× r, its ramp × r²), as the twin's."""
         self.identity.require_motion("velocity jog")
-        ratio = self.speed_ratio()
+        ratio = self.settings.speed_ratio()
         twist = np.asarray(twist, float) * ratio
-        with self._lock:
-            running = self._twist if self._twist is not None and self._twist.running else None
+        running = self.motion.running(TwistRun)
         if running is not None:
-            if running.jog.in_tool != bool(in_tool):
+            if running.streamer.jog.in_tool != bool(in_tool):
                 raise CommandRefused(Code.BUSY, "velocity jog refused: one runs in the other "
                                      "frame; stop sending twists and start again")
-            running.command(twist)
-            return running.jog.progress()
+            running.streamer.command(twist)
+            return running.streamer.jog.progress()
         self.send.require_link()
-        if self._moving():
+        if self.motion.moving:
             raise CommandRefused(Code.BUSY, "velocity jog refused: the arm is moving")
         latest = self.view.latest
         if latest is None or not np.all(np.isfinite(latest.joint_position)):
             raise CommandRefused(Code.NOT_CONNECTED, "velocity jog refused: no joint "
                                  "positions from the controller yet")
-        entered = not self._servo_mode
+        entered = not self.motion.servo_mode
         if entered:
-            self._set_servo_mode(True)
+            self.set_mode(True)
         jog = self._velocity_jog(bool(in_tool), ratio)
         jog.command(twist)
         streamer = TwistStreamer(jog, latest.joint_position, self.link.call,
                                  self._leave_twist if entered else None)
-        with self._lock:
-            self._twist = streamer
+        self.motion.take(TwistRun(streamer),
+                         lambda run: "velocity jog refused: the arm is moving")
         streamer.start()
         return streamer.jog.progress()
 
     def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
-        kin, m = self.kinematics, self.model      # the arm's own chain, as the line check's
-        tool, _ = self.frames()
+        kin, m = self.kinematics(), self.model    # the arm's own chain, as the line check's
+        tool, _ = self.settings.frames()
 
         def ik(pose, seed):
             solution = kin.ik(pose, seed=seed, tool=tool)
@@ -85,27 +88,28 @@ class ServoCommands:
 
     def _leave_twist(self) -> None:
         """End of a velocity jog that entered servo mode itself (its thread)."""
-        self._leave_servo_mode("a velocity jog")
+        self.leave_mode("a velocity jog")
 
-    def _leave_servo_mode(self, after: str) -> None:
+    def leave_mode(self, after: str) -> None:
         """Servo mode off at the end of a stream that entered it itself (``after`` says which,
         for the log); without a link it is off already (the controller ends it on its own)."""
         if not self.link.connected:
-            self._servo_mode = False
+            self.motion.servo_mode = False
             return
         try:
-            self._set_servo_mode(False)
+            self.set_mode(False)
         except CommandRefused as refusal:
             log.warning("leaving servo mode after %s failed: %s", after, refusal.message)
 
     @answers
-    def servo_enable(self, on: bool) -> Result:
+    def enable(self, on: bool) -> Result:
+        """Enter or leave servo mode (the contract's ``servo_enable``)."""
         if on:
             self.identity.require_motion("servo mode")
-        self._set_servo_mode(bool(on))
+        self.set_mode(bool(on))
         return Result.success(f"servo mode {'on' if on else 'off'}")
 
-    def _set_servo_mode(self, on: bool) -> None:
+    def set_mode(self, on: bool) -> None:
         """``servo_move``, believed only once ``is_in_servomove`` says so: fw 1.5.14 acknowledges
         it while queued moves run and stays out of servo mode (refused with 2 then)."""
         try:
@@ -113,11 +117,11 @@ class ServoCommands:
                               _in_servomove, lambda now: now == on,
                               f"servo mode {'on' if on else 'off'}")
         except CommandRefused:
-            self._servo_mode = self._read_servo_mode()
+            self.motion.servo_mode = self.read_mode()
             raise
-        self._servo_mode = on
+        self.motion.servo_mode = on
 
-    def _read_servo_mode(self) -> bool:
+    def read_mode(self) -> bool:
         """What ``is_in_servomove`` says; off when it says nothing."""
         try:
             return self.send.read(commands.is_in_servomove(), _in_servomove)
@@ -157,7 +161,7 @@ class ServoCommands:
             return
         if reply.error_code == SERVO_MODE_OFF_CODE:
             # the recorded answer outside servo mode: the controller left it by itself
-            self._servo_mode = False
+            self.motion.servo_mode = False
             raise CommandRefused(Code.SERVO_MODE_OFF, f"servo mode is off on the controller "
                                  f"({request[Field.CMD_NAME]}: {reply.error_msg})")
         raise CommandRefused(Code.CONTROLLER_REJECTED, f"controller rejected "

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.joint_limits import fastest_step, outside_limits
-from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, PAYLOAD_MARGIN, RobotModel
+from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, PAYLOAD_MARGIN, RobotModel, io_level
 from ..common.results import invalid
 from ..common.transforms import pose_mm_to_matrix
 from ..motion.linear_path import line_duration
@@ -123,12 +123,14 @@ def io_address(model: RobotModel, signal: str, path: int, io_type: int, index: i
     if not 0 <= int(index) < count:
         raise invalid(f"index is {index}, {where} are 0–{count - 1}")
 
-def analog_value(value: float) -> float:
-    """An analog output value (V) within ±:data:`ANALOG_LIMIT`."""
+def io_value(signal: str, value: float, analog_limit: float | None = None) -> float:
+    """The value an IO point of ``signal`` is set to (:func:`~jaka_driver.common.models.io_level`:
+    digital non-zero → 1); an analog value (V) within ±``analog_limit`` when one is given
+    (:data:`ANALOG_LIMIT` for outputs)."""
     v = finite("value", value)
-    if abs(v) > ANALOG_LIMIT:
-        raise invalid(f"value is {v:g}, analog outputs are ±{ANALOG_LIMIT:g} V")
-    return v
+    if signal != "digital" and analog_limit is not None and abs(v) > analog_limit:
+        raise invalid(f"value is {v:g}, analog outputs are ±{analog_limit:g} V")
+    return io_level(signal, v)
 
 
 # ---- joints: servo steps -------------------------------------------------------------------

@@ -12,7 +12,7 @@ nothing. Methods take the request's units (:mod:`.force_checks`) and answer a
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable, Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
@@ -20,18 +20,17 @@ from ..backend.force import IdentificationStatus, ReadingType
 from ..common.results import Code, CommandRefused, Result
 from . import checks as check
 from . import force_checks as fcheck
-from .robot_driver import _answers
-
-if TYPE_CHECKING:
-    from .robot_driver import RobotDriver
+from .answers import answers
 
 
 class ForceRequests:
-    """Force requests through ``driver``'s door (see the module)."""
+    """Force requests through ``driver``'s door (see the module): the RobotDriver that owns
+    this part, whose backend, state checks and move loop it uses (not imported: the driver
+    imports this module)."""
 
-    def __init__(self, driver: "RobotDriver"):
+    def __init__(self, driver):
         self._driver = driver
-        self.clock = driver.clock          # _answers holds it, as RobotDriver's requests do
+        self.clock = driver.clock          # answers holds it, as RobotDriver's requests do
 
     @property
     def _force(self):
@@ -53,14 +52,14 @@ class ForceRequests:
         d._ready()
 
     # ---- readings and the sensor -------------------------------------------------------------
-    @_answers
+    @answers
     def settings(self) -> Result:
         """What force control is set to and does (``value``: a ForceSettings, SI units);
         never refused: without a sensor ``mounted`` is False."""
         force = self._force
         return Result.success(force.absent or "force control settings", force.settings())
 
-    @_answers
+    @answers
     def sensor_data(self, kind: int) -> Result:
         """The latest reading of ``kind`` (0 actual, 1 general, 2 real): ``value`` = (wrench
         (6, N and N·m, sensor frame), status, errcode)."""
@@ -73,13 +72,13 @@ class ForceRequests:
         return Result.success(f"{k.name.lower()} wrench in the sensor frame",
                               (reading.of(k).copy(), reading.status, reading.errcode))
 
-    @_answers
+    @answers
     def sensor_enable(self, on: bool) -> Result:
         """Switch the sensor on or off (off is refused while force control runs)."""
         self._sensor()
         return self._force.set_sensor_on(bool(on))
 
-    @_answers
+    @answers
     def zero_sensor(self) -> Result:
         """Take the sensor's offset now; refused while the arm moves (the offset would hold
         its inertia)."""
@@ -92,7 +91,7 @@ class ForceRequests:
                                  "the arm would be zeroed away)")
         return self._force.zero()
 
-    @_answers
+    @answers
     def set_sensor_payload(self, mass: float, centroid_mm: Sequence[float]) -> Result:
         """The sensor's tool payload: ``mass`` kg at ``centroid_mm`` (mm, sensor frame)."""
         self._sensor()
@@ -101,26 +100,26 @@ class ForceRequests:
                                     tuple((f"centroid[{i}]", v) for i, v in enumerate(c)))
         return self._force.set_tool_payload(m, centroid)
 
-    @_answers
+    @answers
     def sensor_payload(self) -> Result:
         """``value`` = (mass kg, centroid mm (3,)) of the sensor's tool payload."""
         self._sensor()
         p = self._force.settings().tool_payload
         return Result.success("the sensor's tool payload", (p.mass, p.centroid * 1000.0))
 
-    @_answers
+    @answers
     def set_filter(self, cutoff_hz: float) -> Result:
         self._sensor()
         return self._force.set_filter(fcheck.filter_hz(cutoff_hz))
 
-    @_answers
+    @answers
     def set_soft_limit(self, limit: Sequence[float]) -> Result:
         rng = self._sensor()
         return self._force.set_soft_limit(fcheck.wrench_limits("soft limit", limit, rng,
                                                                zero_allowed=False))
 
     # ---- payload identification --------------------------------------------------------------
-    @_answers
+    @answers
     def identify_payload(self, joint_positions: Sequence[float], apply: bool = False,
                          feedback: Optional[Callable[[IdentificationStatus], None]] = None,
                          period: float = 0.1) -> Result:
@@ -158,7 +157,7 @@ class ForceRequests:
         return self._force.identification_status()
 
     # ---- force control settings ----------------------------------------------------------------
-    @_answers
+    @answers
     def set_admittance(self, axis: int, opt: int, ft_user: float, ft_rebound: float,
                        ft_constant: float, normal_track: int = 0) -> Result:
         """Axis ``axis`` of admittance (JAKA's set_admit_ctrl_config): ``ft_user`` N or N·m,
@@ -168,7 +167,7 @@ class ForceRequests:
         return self._force.set_admittance(i, fcheck.admittance(i, opt, ft_user, ft_rebound,
                                                                ft_constant, normal_track, rng))
 
-    @_answers
+    @answers
     def set_compliance_type(self, sensor_compensation: bool, compliance_type: int) -> Result:
         """0 none (admittance), 1 constant force, 2 velocity compliance; compensation: force
         control acts on the gravity-compensated wrench."""
@@ -176,36 +175,36 @@ class ForceRequests:
         kind = check.integer_in("compliance_type", compliance_type, 0, 2)
         return self._force.set_compliance_type(bool(sensor_compensation), kind)
 
-    @_answers
+    @answers
     def set_velocity_compliance(self, level: int, rates: Sequence[float]) -> Result:
         self._sensor()
         return self._force.set_velocity_compliance(fcheck.velocity_compliance(level, rates))
 
-    @_answers
+    @answers
     def set_tool_drive(self, axis: int, opt: int, rigidity: float, rebound: float) -> Result:
         """Axis ``axis`` of tool drive: ``rigidity`` N or N·m, ``rebound`` N/mm or N·m/rad."""
         rng = self._sensor()
         i = fcheck.axis(axis)
         return self._force.set_tool_drive(i, fcheck.tool_drive(i, opt, rigidity, rebound, rng))
 
-    @_answers
+    @answers
     def set_frame(self, frame: int) -> Result:
         self._sensor()
         return self._force.set_frame(fcheck.frame("frame", frame))
 
-    @_answers
+    @answers
     def set_tool_drive_frame(self, frame: int) -> Result:
         self._sensor()
         return self._force.set_tool_drive_frame(fcheck.frame("frame", frame))
 
-    @_answers
+    @answers
     def set_compliance_condition(self, wrench: Sequence[float]) -> Result:
         rng = self._sensor()
         return self._force.set_condition(fcheck.wrench_limits("condition", wrench, rng,
                                                               zero_allowed=True))
 
     # ---- running force control ----------------------------------------------------------------
-    @_answers
+    @answers
     def enable_admittance(self, on: bool) -> Result:
         """Start what the compliance type says (refused unless the arm may move and nothing
         else moves), or end it."""
@@ -225,7 +224,7 @@ class ForceRequests:
                 self._arm_still("force control")
         return self._force.enable_admittance(bool(on))
 
-    @_answers
+    @answers
     def enable_tool_drive(self, on: bool) -> Result:
         self._sensor()
         if on:
@@ -235,14 +234,14 @@ class ForceRequests:
             self._arm_still("tool drive")
         return self._force.enable_tool_drive(bool(on))
 
-    @_answers
+    @answers
     def disable(self) -> Result:
         """End every force control; accepted whatever runs."""
         self._sensor()
         return self._force.disable()
 
     # ---- the twin's hand ----------------------------------------------------------------------
-    @_answers
+    @answers
     def push_tool(self, wrench: Sequence[float], duration: float) -> Result:
         """Push the twin's tool (Twin.push_tool): ``wrench`` N and N·m along the base's axes,
         for ``duration`` s (0: let go). -9 on a controller."""

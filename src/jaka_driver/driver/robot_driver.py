@@ -17,7 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend
+from ..backend import Backend, Camera, Twin
 from ..backend.robot_state import RobotState
 from ..common.constants import move_deadline
 from ..common.results import Code, CommandRefused, Result, invalid
@@ -25,35 +25,19 @@ from ..common.transforms import rpy_to_matrix
 from ..conventions import DOCUMENT, Conventions, ServoIncrements, cartesian
 from ..conventions.jog_speed import explained, jog_speed_field
 from . import checks as check
+from .answers import answers as _answers
+from .force_requests import ForceRequests
 from .watchdogs import JogWatchdog, ServoStream
 
 log = logging.getLogger(__name__)
 
-
-def _answers(method: Callable | None = None, *, react: bool = True) -> Callable:
-    """Turn a refusal into its Result and any other exception into a -3 answer: a request may
-    be refused, but it never takes the driver down. Simulated time stands still while a
-    request is in the driver (jaka_driver.backend.clock): it acts at the sim time it arrived.
-    ``react=False`` for requests a client streams once per cycle (servo_j, servo_p): their
-    reply does not keep time waiting for the next call (the twin's clock waits for the next
-    target instead). Use as ``@_answers`` or ``@_answers(react=False)``."""
-    if method is None:
-        return lambda m: _answers(m, react=react)
-
-    def wrapper(self, *args, **kwargs) -> Result:
-        try:
-            with self.clock.hold(react=react):
-                return method(self, *args, **kwargs)
-        except CommandRefused as refusal:
-            return refusal.result()
-        except Exception as exc:  # noqa: BLE001 — the node must survive any request
-            log.exception("%s failed", method.__name__)
-            return Result.failure(Code.COMMUNICATION_ERROR,
-                                  f"{method.__name__} failed inside the driver: {exc!r}")
-
-    wrapper.__name__ = method.__name__
-    wrapper.__doc__ = method.__doc__
-    return wrapper
+#: Why a twin's own request is refused on a controller (-9).
+NOT_A_TWIN = ("refused: this backend is a controller, not a twin (reset, pause and step are "
+              "the twin's own)")
+NOT_A_TWIN_FAULTS = ("refused: this backend is a controller, not a twin (faults and inputs "
+                     "are injected on a twin only)")
+#: the most cycles one step request runs (80 s of sim time)
+MAX_STEP = 10000
 
 
 class RobotDriver:
@@ -78,8 +62,6 @@ class RobotDriver:
         self._increments = ServoIncrements(self._servo_j, self._servo_p, backend.state,
                                            backend.forward_kinematics) \
             if self.conventions.servo_increment else None
-        # imported here: force_requests takes this module's _answers, so it comes after it
-        from .force_requests import ForceRequests
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(self)
 
@@ -370,17 +352,48 @@ class RobotDriver:
         """The ratio the robot runs at (the controller's, read back)."""
         return float(self.backend.speed_ratio())
 
-    # ---- the twin's own controls -------------------------------------------------------------
+    # ---- what only a twin can do (backend.twin): faults, inputs, its time, the camera -----------
+    @property
+    def has_twin(self) -> bool:
+        """The backend offers what only a twin can do (:class:`~jaka_driver.backend.Twin`):
+        the node then serves its fault, input and snapshot services."""
+        return self.backend.twin is not None
+
+    def _twin(self, refusal: str) -> Twin:
+        """The backend's twin; without one, a -9 refusal saying ``refusal``."""
+        twin = self.backend.twin
+        if twin is None:
+            raise CommandRefused(Code.WRONG_MODE, refusal)
+        return twin
+
+    @_answers
+    def emergency_stop(self, pressed: bool) -> Result:
+        """Press (True) or release (False) the twin's emergency stop. In sim time it happens
+        between two cycles, at the sim time the request arrived, as every request does."""
+        twin = self._twin(f"emergency stop {NOT_A_TWIN_FAULTS}")
+        return twin.press_emergency_stop() if pressed else twin.release_emergency_stop()
+
+    @_answers
+    def protective_stop(self) -> Result:
+        """A protective stop on the twin, as after a collision; clear_err recovers."""
+        return self._twin(f"protective stop {NOT_A_TWIN_FAULTS}").trigger_protective_stop()
+
+    @_answers
+    def set_input(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
+        """Drive the twin's input ``index`` (from 0) of ``signal`` on IO ``type`` to ``value``
+        as the outside world would (digital non-zero → 1, analog V)."""
+        sig = check.io_signal(signal)
+        check.io_address(self.model, sig, 0, type, index)
+        v = check.io_value(sig, value)
+        return self._twin(f"set_input {NOT_A_TWIN_FAULTS}").set_input(sig, int(type),
+                                                                       int(index), v)
+
     @_answers
     def reset_twin(self, joints: Sequence[float] = ()) -> Result:
         """A twin back to a fresh start (:meth:`jaka_driver.backend.Twin.reset`) at ``joints``
         (rad; empty: home); the driver forgets its jogs and servo stream. -9 without a twin.
         In sim time it happens between two cycles, at the sim time the request arrived."""
-        twin = self.backend.twin
-        if twin is None:
-            return Result.failure(Code.WRONG_MODE, "reset refused: this backend is a "
-                                  "controller, not a twin (reset, pause and step are the "
-                                  "twin's own)")
+        twin = self._twin(f"reset {NOT_A_TWIN}")
         q = check.joint_targets("joints", joints, self.model) if len(joints) else None
         self._jog.clear()
         self._twist.clear()
@@ -388,6 +401,39 @@ class RobotDriver:
         if self._increments is not None:
             self._increments.reset()
         return twin.reset(q)
+
+    @_answers
+    def pause_twin(self, pause: bool) -> Result:
+        """Stop (True) or run on (False) the twin's simulated time."""
+        twin = self._twin(NOT_A_TWIN)
+        return twin.pause() if pause else twin.unpause()
+
+    @_answers
+    def step_twin(self, cycles: int) -> Result:
+        """While paused, run ``cycles`` (1–:data:`MAX_STEP`) 8 ms cycles; ``Result.value`` is the
+        sim time (s) after them."""
+        twin = self._twin(NOT_A_TWIN)
+        if not 1 <= cycles <= MAX_STEP:
+            raise invalid(f"cycles is {cycles}, expected 1–{MAX_STEP}")
+        return twin.step(cycles)
+
+    def camera(self, width: int, height: int) -> Camera:
+        """The twin's offscreen camera (:meth:`jaka_driver.backend.Twin.camera`: made in the
+        thread that renders with it; raises ImportError or RuntimeError where rendering is
+        unavailable, RuntimeError without a twin)."""
+        twin = self.backend.twin
+        if twin is None:
+            raise RuntimeError(f"no camera: {NOT_A_TWIN_FAULTS}")
+        return twin.camera(width, height)
+
+    # ---- what the backend reports of itself ---------------------------------------------------
+    def frames(self) -> tuple[np.ndarray, np.ndarray]:
+        """The active (tool, user frame) 4x4 poses, m: flange → tool, base → user frame."""
+        return self.backend.frames()
+
+    def describe(self) -> dict:
+        """Facts for diagnostics (:meth:`Backend.describe`)."""
+        return self.backend.describe()
 
     @_answers
     def servo_move_enable(self, enable: bool) -> Result:
@@ -500,10 +546,7 @@ class RobotDriver:
         """Set an output (docs/interface.md, "set_io"); digital non-zero → 1."""
         sig = check.io_signal(signal)
         check.io_address(self.model, sig, 1, type, index)
-        if sig == "digital":
-            v = 1.0 if check.finite("value", value) != 0 else 0.0
-        else:
-            v = check.analog_value(value)
+        v = check.io_value(sig, value, analog_limit=check.ANALOG_LIMIT)
         return self.backend.set_io(sig, int(type), int(index), v)
 
     @_answers

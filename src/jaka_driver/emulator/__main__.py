@@ -1,4 +1,4 @@
-"""``python -m jaka_driver.emulator --model zu5 [--profile zu5s-1.5.14] [--host 127.0.0.1]
+"""``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
 [--dh-from MODEL] [--calibration FILE|SEED]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
@@ -17,7 +17,7 @@ import threading
 from ..common.models import MODEL_NAMES, load_model
 from ..host import latency_hint
 from .handlers import EMULATOR_COMMANDS
-from .profiles import DEFAULT_PROFILE, PROFILES, START_STATES
+from .profiles import ALIASES, DEFAULT_PROFILE, PROFILES, START_STATES
 from .ready_line import ready_line
 
 
@@ -25,13 +25,15 @@ def _parser() -> argparse.ArgumentParser:
     extra = "\n".join(f"  {name}: {what}" for name, what in EMULATOR_COMMANDS.items())
     profiles = "\n".join(f"  {p.name}: {p.summary}.\n    {p.describe()}"
                          for p in PROFILES.values())
+    profiles += "".join(f"\n  {old}: the former name of {new}" for old, new in ALIASES.items())
     parser = argparse.ArgumentParser(
         prog="jaka_emulator", formatter_class=argparse.RawDescriptionHelpFormatter,
         description="A JAKA controller emulated on the MuJoCo twin, over JAKA's TCP protocol.",
         epilog=f"controller profiles (--profile):\n{profiles}\n\n"
                f"emulator-only commands (JSON on the command port):\n{extra}")
     parser.add_argument("--model", default="zu5", choices=MODEL_NAMES, help="arm model")
-    parser.add_argument("--profile", default=DEFAULT_PROFILE, choices=list(PROFILES),
+    parser.add_argument("--profile", default=DEFAULT_PROFILE,
+                        choices=[*PROFILES, *ALIASES],
                         help=f"controller generation (default {DEFAULT_PROFILE}; see below)")
     parser.add_argument("--start", default=None, choices=START_STATES,
                         help="start state: off (powered off, disabled), on (powered, disabled), "

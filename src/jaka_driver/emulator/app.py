@@ -8,7 +8,7 @@ Use it in-process (tests, notebooks)::
         print(emu.command_port, emu.status_port)
 
     # another controller generation, its push period and start state overridden
-    Emulator("zu5", command_port=0, status_port=0, profile="tcp-doc", period=0.008,
+    Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14", period=0.008,
              start="enabled")
 
 or as a program: ``python -m jaka_driver.emulator --model zu5`` (:mod:`.__main__`).
@@ -34,8 +34,9 @@ class Emulator:
     """A JAKA controller emulated on the twin of ``model`` (a name such as ``"zu5"`` or a
     :class:`~jaka_driver.common.models.RobotModel`), serving ``host`` on the three ports.
 
-    ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default the
-    recorded Zu 5s on fw 1.5.14); ``period`` (s between status packets) and ``start``
+    ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default a
+    controller on fw 1.7.2, the one JAKA's SDK and ROS 2 driver are written for; the recorded Zu
+    5s on fw 1.5.14 is ``"zu5s-1.5.14"``); ``period`` (s between status packets) and ``start``
     (:data:`~.profiles.START_STATES`) override the profile's."""
 
     def __init__(self, model: Union[str, RobotModel] = "zu5", host: str = "127.0.0.1",

@@ -13,9 +13,9 @@ from ..protocol import units
 from ..protocol.fields import (ERROR_CODE_EXCEPTION, Cmd, CoordMap, Field, JogMode,
                                StatusField)
 from ..protocol.status_stream import encode_status
-from .replies import Answer, RecordedReply, done
+from .replies import ERROR_REQUEST, Answer, PlainFloats, RecordedReply, Rejected, done
 from .status_packet import status_fields, wire_pose
-from .twin_controller import ERROR_REQUEST, Rejected, TwinController
+from .twin_controller import TwinController
 from .wire_fields import flag, integer, joints, number, pose
 
 #: wire jog coord_map → the twin's coord (0 joint, 1 base, 2 tool)
@@ -95,9 +95,10 @@ class ArmCommands:
         return Answer({Field.EMERGENCY_STOP: int(self.c.state().emergency_stop)})
 
     def _get_data(self, _req) -> Answer:
+        """The status packet as a reply, written as the packet is (plain floats)."""
         fields = status_fields(self.c)
         # ``len`` as in the status packet with the same fields
-        return Answer({StatusField.LEN: len(encode_status(fields)), **fields})
+        return Answer(PlainFloats({StatusField.LEN: len(encode_status(fields)), **fields}))
 
     # ---- queued motion --------------------------------------------------------------------------
     def _joint_speed(self, req) -> Tuple[float, float]:

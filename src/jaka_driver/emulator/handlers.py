@@ -25,10 +25,10 @@ from .arm_commands import ArmCommands
 from .framing import Malformed
 from .io_commands import IoCommands
 from .program_commands import PROGRAM_COMMANDS
-from .replies import Answer, RecordedReply, error_reply, success_reply
+from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
 from .sensor_commands import SensorCommands
 from .setting_commands import SettingCommands
-from .twin_controller import ERROR_REFUSED, Rejected, TwinController
+from .twin_controller import TwinController
 from .wire_fields import flag, shown
 
 log = logging.getLogger(__name__)

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 from typing import Callable, Dict, Mapping, Tuple
 
+from ..common.models import io_level
 from ..protocol.fields import Cmd, Field, IOType
-from .replies import Answer
+from .replies import ERROR_REQUEST, Answer, Rejected
 from .status_packet import extio, io_values, zeros_of
-from .twin_controller import ERROR_REQUEST, Rejected, TwinController
+from .twin_controller import TwinController
 from .wire_fields import flag, integer, number, shown, shown_name
 
 SIGNALS = ("digital", "analog")
@@ -51,8 +52,8 @@ class IoCommands:
 
     def _set_output(self, req, signal: str) -> Answer:
         io_type, index = self._address(req, signal, OUTPUT)
-        value = (1.0 if flag(req, Field.VALUE) else 0.0) if signal == "digital" \
-            else number(req, Field.VALUE)
+        value = io_level(signal, flag(req, Field.VALUE) if signal == "digital"
+                         else number(req, Field.VALUE))
         self.c.set_output(signal, io_type, index, value)
         return Answer()
 
@@ -69,8 +70,6 @@ class IoCommands:
             raise Rejected(f"emulator_set_input: 'signal' must be 'digital' or 'analog'; got "
                            f"{shown(signal)}", ERROR_REQUEST)
         io_type, index = self._address(req, signal, INPUT)
-        value = number(req, Field.VALUE)
-        if signal == "digital":
-            value = 1.0 if value else 0.0
+        value = io_level(signal, number(req, Field.VALUE))
         self.c.set_input(signal, io_type, index, value)
         return Answer()

@@ -1,5 +1,11 @@
 """Controller generations the emulator can be: what differs between the JAKA controllers on
-record, selected by name (``--profile NAME``; README, "The emulator").
+record, selected by name (``--profile NAME``; docs/controller.md, "The emulator").
+
+The default is the controller JAKA's current software is written for: firmware 1.7.x, which
+JAKA's ROS 2 driver asks for (1.7.1 or newer) and whose ``emergency_stop_status`` JAKA's SDK
+2.1.14 asks inside its moves, jogs and state calls (its calls fail where that answer is not a
+success, as on the recorded fw 1.5.14). The recorded Zu 5s on fw 1.5.14 is one option away,
+with every recorded quirk.
 
 Everything here is evidence about a real controller or about what clients written from JAKA's
 documents expect; each profile says which. What does not differ between them (commands, reply
@@ -15,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping, Tuple
+from typing import Mapping, Optional, Tuple
 
 from ..common.constants import SERVO_CYCLE
 
@@ -25,6 +31,23 @@ START_WORDS = {"off": "powered off and disabled", "on": "powered on, disabled",
 START_STATES = tuple(START_WORDS)
 
 IoSizes = Mapping[Tuple[str, int, int], int]
+
+#: The status packet of the Zu 5s recorded on fw 1.5.14: its keys besides ``len``, in a real
+#: packet's order. The recording is reported by its count (35 with ``len``) and size (3208
+#: bytes), not key by key. JAKA's TCP protocol document lists 39 packet keys (as the public
+#: clients written from it quote it); the four of them left out here are the ones no client on
+#: record reads and the document does not mark obsolete — ``drag_near_limit``, ``funcdi``,
+#: ``curr_tcp_trans_vel``, ``point_key`` (the obsolete ``homed``, ``motion_mode`` and
+#: ``netState`` are what older controllers sent). The keys newer controllers add (``instVel``,
+#: ``motion_line``, the fieldbus and relay arrays, ...) are not in it: docs/protocol.md, "Status
+#: packet", lists every key beyond these with who reads it.
+RECORDED_PACKET_KEYS: Tuple[str, ...] = (
+    "drag_status", "extio", "errcode", "errmsg", "monitor_data", "torqsensor", "rapidrate",
+    "enabled", "powered_on", "inpos", "paused", "protective_stop", "emergency_stop",
+    "on_soft_limit", "task_state", "task_mode", "interp_state", "motion_mode",
+    "current_tool_id", "current_user_id", "joint_actual_position", "joint_position",
+    "actual_position", "position", "din", "dout", "ain", "aout", "tio_din", "tio_dout",
+    "tio_ain", "tio_key", "homed", "netState")
 
 
 def _io_sizes(cabinet_digital: int, cabinet_analog: int, tool_analog_in: int,
@@ -51,7 +74,7 @@ def _io_sizes(cabinet_digital: int, cabinet_analog: int, tool_analog_in: int,
 @dataclass(frozen=True)
 class ControllerProfile:
     name: str
-    summary: str                 # one line for --help and the README
+    summary: str                 # one line for --help and docs/controller.md
     version: str                 # get_version's "version"
     io_sizes: IoSizes
     din_status_count: int        # entries of get_digital_input_status
@@ -61,6 +84,9 @@ class ControllerProfile:
     #: failed"} without cmdName (every recorded run of fw 1.5.14); else {"emergency_stop": 0|1}
     estop_status_fails: bool
     homed_count: int = 9         # entries of the packet's "homed"
+    #: the status packet's keys (``len`` aside); None: every key the emulator has, each of them
+    #: one JAKA's SDK 2.1.14 reads or JAKA's TCP protocol document lists
+    packet_keys: Optional[Tuple[str, ...]] = None
 
     def describe(self) -> str:
         """What the profile sets, in one line (for --help and the log)."""
@@ -69,15 +95,18 @@ class ControllerProfile:
         estop = ("answers the recorded exception" if self.estop_status_fails
                  else "answers emergency_stop")
         extension = "an" if self.io_sizes.get(("digital", 2, 0)) else "no"
+        keys = ("every packet key JAKA's SDK reads" if self.packet_keys is None
+                else f"the recorded packet's {len(self.packet_keys) + 1} keys")   # len too
         return (f"version {self.version}; cabinet digital IO {din}, analog {ain} each way, "
-                f"{extension} extension IO module; "
+                f"{extension} extension IO module; {keys}; "
                 f"a packet every {self.period * 1000:g} ms; starts {START_WORDS[self.start]}; "
                 f"emergency_stop_status {estop}")
 
 
 _RECORDED = ControllerProfile(
     name="zu5s-1.5.14",
-    summary="the Zu 5s recorded on controller firmware 1.5.14 (the default)",
+    summary="the Zu 5s recorded on controller firmware 1.5.14, with its recorded answers "
+            "(JAKA's SDK 2.1.14 fails its moves, jogs and state calls on it)",
     version="1.5.14_13_X64",
     # the recorded packet: no extension module (extio num 0)
     io_sizes=_io_sizes(cabinet_digital=135, cabinet_analog=64, tool_analog_in=2,
@@ -87,11 +116,13 @@ _RECORDED = ControllerProfile(
     # tested on that arm; 8 ms is the servo cycle, not the push period
     period=0.030,
     start="off",             # as two of the three recorded sessions found it
-    estop_status_fails=True)
-_TCP_DOC = ControllerProfile(
-    name="tcp-doc",
-    summary="the controller of JAKA's TCP protocol document, as the public clients written "
-            "from it expect it (their packet example, a packet every servo cycle)",
+    estop_status_fails=True,
+    packet_keys=RECORDED_PACKET_KEYS)
+_FW_1_7 = ControllerProfile(
+    name="fw-1.7.2",
+    summary="a controller on firmware 1.7.2, the one JAKA's ROS 2 driver asks for (1.7.1 or "
+            "newer) and JAKA's SDK 2.1.14 works with; its packet as JAKA's TCP protocol "
+            "document gives it, a packet every servo cycle (the default)",
     version="1.7.2_16_X64",  # the version JAKA's ROS 2 driver recommends, recorded format
     io_sizes=_io_sizes(cabinet_digital=144, cabinet_analog=66, tool_analog_in=1,
                        extension=True),
@@ -100,21 +131,23 @@ _TCP_DOC = ControllerProfile(
     start="enabled",
     estop_status_fails=False)
 _LARGE_IO = dataclasses.replace(
-    _TCP_DOC, name="large-io",
+    _FW_1_7, name="large-io",
     summary="the largest status packet on record (a newer controller with 200 cabinet digital "
-            "IO and 128 analog each way); otherwise tcp-doc",
+            "IO and 128 analog each way); otherwise fw-1.7.2",
     io_sizes=_io_sizes(cabinet_digital=200, cabinet_analog=128, tool_analog_in=1,
                        extension=True))
-_PROFILES = (_RECORDED, _TCP_DOC, _LARGE_IO)
+_PROFILES = (_FW_1_7, _RECORDED, _LARGE_IO)
 
 #: name → profile, in the order --help lists them.
 PROFILES: Mapping[str, ControllerProfile] = MappingProxyType({p.name: p for p in _PROFILES})
-DEFAULT_PROFILE = "zu5s-1.5.14"
+DEFAULT_PROFILE = _FW_1_7.name
+#: former names, still accepted: ``tcp-doc`` was fw-1.7.2's name before it became the default
+ALIASES: Mapping[str, str] = MappingProxyType({"tcp-doc": _FW_1_7.name})
 
 
 def profile_named(name: str) -> ControllerProfile:
     try:
-        return PROFILES[name]
+        return PROFILES[ALIASES.get(name, name)]
     except KeyError:
         raise ValueError(f"unknown controller profile {name!r}; known: "
                          f"{', '.join(PROFILES)}") from None

@@ -13,8 +13,7 @@ from __future__ import annotations
 from typing import Callable, Dict, Mapping
 
 from ..protocol.fields import Cmd, Field, ProgramState
-from .replies import Answer
-from .twin_controller import Rejected
+from .replies import Answer, Rejected
 from .wire_fields import shown, shown_name
 
 NO_PROGRAMS = "(the emulator has no user programs)"

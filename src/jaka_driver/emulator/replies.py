@@ -1,5 +1,6 @@
-"""A command reply: its content (what a handler answers, :class:`Answer`; the reply objects,
-:func:`success_reply` and :func:`error_reply`) and its text (:func:`encode_reply`).
+"""A command reply: its content (what a handler answers, :class:`Answer`, or the refusal it
+raises, :class:`Rejected`; the reply objects, :func:`success_reply` and :func:`error_reply`)
+and its text (:func:`encode_reply`).
 
 Every reply begins ``errorCode``, ``errorMsg``, ``cmdName`` in that order, a refusal too, as
 recorded on a real controller; ``errorCode`` is a string: "0" success, "1" a wrong request
@@ -14,7 +15,10 @@ every non-integer number with 6 decimals (``482.000000``, as recorded on a Zu 5s
 
 Status packets keep Python's shortest float form (:func:`~jaka_driver.protocol.encode_status`):
 the recorded packet and the fixture written from it carry plain numbers (``35.6``, ``1.0``), the
-6-decimal form is recorded for replies only, and a packet goes out up to 125 times a second.
+6-decimal form is recorded for replies only, and a packet goes out up to 125 times a second. The
+one reply that is a packet, ``get_data``, is written as the packet is (:class:`PlainFloats`): no
+real ``get_data`` reply is on record, and with 6 decimals its several hundred zeros no longer fit
+the 8192-byte read of a client tested on a real controller.
 
 Strings are UTF-8; a lone surrogate (a ``\\ud800`` escape in a request, echoed in an error
 message) becomes ``?`` rather than making the reply unencodable.
@@ -28,7 +32,22 @@ from typing import Any, Dict, List, Mapping, Optional
 
 import numpy as np
 
-from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_OK, Field
+from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, ERROR_CODE_OK, Field
+
+#: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
+#: missing or malformed field); "2": a valid command refused in the current state.
+ERROR_REQUEST = ERROR_CODE_EXCEPTION
+ERROR_REFUSED = ERROR_CODE_FAILED
+
+
+class Rejected(Exception):
+    """A command the controller refuses: ``code`` (``errorCode``) and ``message``
+    (``errorMsg``) of its error reply."""
+
+    def __init__(self, message: str, code: str = ERROR_REFUSED):
+        super().__init__(message)
+        self.code = code
+        self.message = message
 
 
 @dataclass
@@ -56,9 +75,15 @@ class RecordedReply(Exception):
         self.reply = reply
 
 
+class PlainFloats(dict):
+    """Reply fields written as a status packet writes its numbers, floats in their shortest
+    round-trip form (``35.6``, ``0.0``), not with a reply's 6 decimals: ``get_data``'s, which are
+    the packet's. A reply made from them (:func:`success_reply`) is one too."""
+
+
 def success_reply(name: str, fields: Mapping[str, Any]) -> Dict[str, Any]:
-    reply: Dict[str, Any] = {Field.ERROR_CODE: ERROR_CODE_OK, Field.ERROR_MSG: "",
-                             Field.CMD_NAME: name}
+    reply: Dict[str, Any] = PlainFloats() if isinstance(fields, PlainFloats) else {}
+    reply.update({Field.ERROR_CODE: ERROR_CODE_OK, Field.ERROR_MSG: "", Field.CMD_NAME: name})
     reply.update(fields)
     return reply
 
@@ -71,13 +96,23 @@ def error_reply(name: Any, message: str, code: str = ERROR_CODE_EXCEPTION) -> Di
 
 
 def encode_reply(reply: Mapping[str, Any]) -> bytes:
-    """``reply`` in the controller's text layout, UTF-8."""
+    """``reply`` in the controller's text layout, UTF-8; floats with 6 decimals, or as the
+    status packet writes them when ``reply`` is :class:`PlainFloats`."""
     parts: List[str] = []
-    _write(reply, parts)
+    _write(reply, parts, _plain if isinstance(reply, PlainFloats) else _six_decimals)
     return "".join(parts).encode("utf-8", "replace")
 
 
-def _write(value: Any, out: List[str]) -> None:
+def _six_decimals(value: float) -> str:
+    text = f"{value:.6f}"
+    return "0.000000" if text == "-0.000000" else text   # no sign on a zero
+
+
+def _plain(value: float) -> str:
+    return json.dumps(value)        # the shortest text that reads back as the same double
+
+
+def _write(value: Any, out: List[str], real=_six_decimals) -> None:
     if isinstance(value, np.ndarray):
         value = value.tolist()
     elif isinstance(value, np.generic):
@@ -89,8 +124,7 @@ def _write(value: Any, out: List[str]) -> None:
     elif isinstance(value, float):
         if not math.isfinite(value):
             raise ValueError(f"{value!r} is not a JSON number")
-        text = f"{value:.6f}"
-        out.append("0.000000" if text == "-0.000000" else text)   # no sign on a zero
+        out.append(real(value))
     elif isinstance(value, Mapping):
         out.append("{")
         for i, (key, item) in enumerate(value.items()):
@@ -98,14 +132,14 @@ def _write(value: Any, out: List[str]) -> None:
                 out.append(", ")
             out.append(json.dumps(str(key), ensure_ascii=False))
             out.append(": ")
-            _write(item, out)
+            _write(item, out, real)
         out.append("}")
     elif isinstance(value, (list, tuple)):
         out.append("[")
         for i, item in enumerate(value):
             if i:
                 out.append(", ")
-            _write(item, out)
+            _write(item, out, real)
         out.append("]")
     else:
         raise TypeError(f"{type(value).__name__} is not JSON serialisable")

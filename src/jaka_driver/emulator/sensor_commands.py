@@ -21,9 +21,8 @@ from __future__ import annotations
 from typing import Callable, Dict, Mapping
 
 from ..protocol.fields import Field
-from .replies import Answer
+from .replies import ERROR_REFUSED, ERROR_REQUEST, Answer, Rejected
 from .torque_sensor import AXES, SOFT_LIMIT_KEYS, TorqueSensorSettings
-from .twin_controller import ERROR_REFUSED, ERROR_REQUEST, Rejected
 from .wire_fields import integer, number, required, shown, shown_name, text, vector
 
 NO_SENSOR = "no torque sensor is connected (the emulated arm has none)"

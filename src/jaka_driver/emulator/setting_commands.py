@@ -10,9 +10,9 @@ from typing import Callable, Dict, Mapping
 from ..common.frames import TOOL, USER_FRAME
 from ..kinematics.controller_dh import dh_of_model
 from ..protocol.fields import Cmd, Field
-from .replies import Answer, done
+from .replies import ERROR_REQUEST, Answer, Rejected, done
 from .status_packet import wire_pose
-from .twin_controller import ERROR_REQUEST, FRAME_IDS, MAX_CLSN_LEVEL, Rejected, TwinController
+from .twin_controller import FRAME_IDS, MAX_CLSN_LEVEL, TwinController
 from .wire_fields import integer, number, pose, vector
 
 #: set_servo_move_filter: filter_type → its parameters (JAKA's SDK sends them unconverted: Hz,

@@ -1,7 +1,8 @@
 """The emulator's status packet: the twin's state as the fields of a port-10000 packet (and of
 the port-10004 ``data_request`` reply and the ``get_data`` reply), in wire units — joints deg,
-TCP mm + RPY deg — with every key, type and array size of a real Zu 5s packet, in its key order
-(docs/protocol.md, "Status packet"; array sizes from the profile).
+TCP mm + RPY deg — with the keys, types and array sizes of a real packet, in its key order
+(docs/protocol.md, "Status packet"): the keys the profile's controller sends (the recorded fw
+1.5.14 packet's 35, or every key JAKA's SDK reads), its array sizes.
 
 Filled from the twin where the twin has the quantity:
 
@@ -168,4 +169,5 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     fields[S.ERR_ADD_LINE] = 0
     fields[S.EXECUTING_LINE] = int(controller.motion_line)
     fields[S.INST_VEL] = np.degrees(st.joint_velocity).tolist()
-    return fields
+    keys = controller.profile.packet_keys
+    return fields if keys is None else {key: fields[key] for key in keys}

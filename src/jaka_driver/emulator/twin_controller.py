@@ -2,45 +2,42 @@
 
 The twin (a backend that offers :class:`~jaka_driver.backend.Twin`: the MuJoCo twin) already
 moves like the arm; this layer adds what a controller has and the twin does not: refusing motion
-in the wrong state, a motion queue (a move is acknowledged at once and runs after the ones before it; ``inpos`` once the
-queue is done — docs/protocol.md, "Motion queue"), stored frames that are activated separately
-from being set, the servo ``stepNum`` interpolation, the speed override (the twin's speed ratio), the payload and
+in the wrong state, a motion queue (a move is acknowledged at once and runs after the ones
+before it; ``inpos`` once the queue is done — docs/protocol.md, "Motion queue"; the queue and
+its thread are :mod:`.motion_queue`, what may be queued is decided here), stored frames that are
+activated separately from being set, the servo ``stepNum`` interpolation, the speed override (the twin's speed ratio), the payload and
 collision settings to report back. Every method takes SI values (rad, m, 4x4 poses of the active
-tool in the active user frame) and raises :class:`Rejected` with the controller's message when
-the command is refused; wire parsing lives in :mod:`.handlers`.
+tool in the active user frame) and raises :class:`~.replies.Rejected` with the controller's
+message when the command is refused; wire parsing lives in :mod:`.handlers`.
 
 It uses only the backend's face: the contract (commands, ``state()``) and ``backend.twin`` (the
 commanded setpoint, the servo ramp, IO, faults), never the simulation's internals.
 
 Thread-safe: commands are serialised by one lock (a controller executes one at a time); the
-status snapshot reads without it. A queue thread starts each queued move when the one before it
-has ended.
+status snapshot reads without it. The queue's thread starts each queued move, under that lock,
+when the one before it has ended.
 """
 from __future__ import annotations
 
-import collections
 import logging
 import threading
 import time
-from typing import Callable, Deque, Optional, Tuple
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from ..backend import Backend, Completion, RobotState
+from ..backend import Backend, RobotState
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.joint_limits import fastest_step, outside_limits
-from ..common.results import Code, Result
-from ..protocol.fields import ERROR_CODE_EXCEPTION, ERROR_CODE_FAILED, IDENTITY_FIELDS
+from ..protocol.fields import IDENTITY_FIELDS
+from .motion_queue import MotionQueue
 from .profiles import DEFAULT_PROFILE, ControllerProfile, profile_named
+from .replies import ERROR_REFUSED, ERROR_REQUEST, Rejected
 from .torque_sensor import TorqueSensorSettings
 
 log = logging.getLogger(__name__)
 
-#: ``errorCode`` strings of the emulator. "1": the request itself is wrong (unknown command,
-#: missing or malformed field); "2": a valid command refused in the current state.
-ERROR_REQUEST = ERROR_CODE_EXCEPTION
-ERROR_REFUSED = ERROR_CODE_FAILED
 #: What fw 1.5.14 answers to servo_j outside servo mode (recorded, spelling included).
 ERROR_NOT_IN_SERVO_MODE = "-1"
 NOT_IN_SERVO_MODE = "{} command can only be excuted in servo move mode"
@@ -49,20 +46,6 @@ NOT_IN_SERVO_MODE = "{} command can only be excuted in servo move mode"
 #: JAKA's SDK reads them; 0 is the flange / the base itself and cannot be set).
 FRAME_IDS = range(0, 11)
 MAX_CLSN_LEVEL = 5
-QUEUE_SIZE = 64                   # moves the queue holds; one more is refused (queue_full)
-
-#: A queued move: (label, start) where start() returns the twin's Result of a started move.
-QueuedMove = Tuple[str, Callable[[], Result]]
-
-
-class Rejected(Exception):
-    """A command the controller refuses: ``code`` (``errorCode``) and ``message``
-    (``errorMsg``)."""
-
-    def __init__(self, message: str, code: str = ERROR_REFUSED):
-        super().__init__(message)
-        self.code = code
-        self.message = message
 
 
 class TwinController:
@@ -82,18 +65,8 @@ class TwinController:
         #: where a person reads it (get_version's robot_name, the log): this is the emulator
         self.identity = f"jaka_driver emulator ({self.model.name} MuJoCo twin), not a controller"
         self.lock = threading.RLock()
-        self._pending: Optional[Completion] = None    # the running move, until it ends
-        # A move taken from the queue and being started (planned): it counts as moving, so
-        # a client never sees the queue done between two queued moves.
-        self._starting = False
-        self._running_label = ""
-        self._queue: Deque[QueuedMove] = collections.deque()
-        self._queue_changed = threading.Condition(threading.Lock())
-        self.motion_line = 0                          # moves started so far
-        self._quit = threading.Event()
-        self._worker = threading.Thread(target=self._run_queue, daemon=True,
-                                        name="emulator-motion-queue")
-        self._worker.start()
+        #: the queued moves, started one after another by its own thread
+        self.queue = MotionQueue(self.lock)
         self.tio_vout = (0, 0)                        # (enable 0/1, voltage code 0 24 V, 1 12 V)
         self.sensor = TorqueSensorSettings()
         self.frames = FrameTable()
@@ -129,65 +102,28 @@ class TwinController:
             self.backend.set_enabled(start == "enabled")
 
     def close(self) -> None:
-        self._quit.set()
-        with self._queue_changed:
-            self._queue_changed.notify_all()
-        self._worker.join(2.0)
+        self.queue.close()
 
-    # ---- the motion queue ---------------------------------------------------------------
-    def _run_queue(self) -> None:
-        while not self._quit.is_set():
-            with self._queue_changed:
-                while not self._queue and not self._quit.is_set():
-                    self._queue_changed.wait(0.5)
-                if self._quit.is_set():
-                    return
-            with self.lock:
-                if not self._queue:
-                    continue
-                self._starting = True           # before the queue looks empty (lock-free readers)
-                label, start = self._queue.popleft()
-                try:
-                    started = start()
-                except Exception as exc:  # noqa: BLE001 - the queue must survive a bad move
-                    log.exception("emulator: queued %s failed", label)
-                    started = Result.failure(Code.INVALID_PARAMETER, f"{label}: {exc!r}")
-                self.motion_line += 1
-                if not started.ok:
-                    log.warning("emulator: queued %s refused when its turn came: %s; the queue "
-                                "is cleared", label, started.message)
-                    self._queue.clear()
-                    self._starting = False
-                    continue
-                self._pending, self._running_label = started.value[0], label
-                self._starting = False
-            outcome = started.value[0]
-            while outcome.wait(0.1) is None and not self._quit.is_set():
-                pass
-            if outcome.result is not None and not outcome.result.ok:
-                with self.lock:
-                    self._queue.clear()   # a stopped move ends the queue, as stop_program does
-
-    def enqueue(self, label: str, start: Callable[[], Result]) -> None:
-        """Queue a move; it is acknowledged now and starts when the moves before it have
-        ended."""
-        with self.lock:
-            if len(self._queue) >= QUEUE_SIZE:
-                raise Rejected(f"{label}: the motion queue is full ({QUEUE_SIZE} moves)")
-            self._queue.append((label, start))
-        with self._queue_changed:
-            self._queue_changed.notify_all()
+    # ---- state --------------------------------------------------------------------------
+    @property
+    def moving(self) -> bool:
+        """Queued moves wait, or one is being started or runs."""
+        return self.queue.moving
 
     @property
     def queued(self) -> int:
         """Moves waiting behind the running one."""
-        return len(self._queue)
+        return self.queue.queued
 
     @property
-    def moving(self) -> bool:
-        pending = self._pending
-        return (self._starting or bool(self._queue)
-                or (pending is not None and not pending.done))
+    def motion_line(self) -> int:
+        """Moves started so far."""
+        return self.queue.motion_line
+
+    @property
+    def inpos(self) -> bool:
+        """The queue is done and the arm is not being driven."""
+        return not self.moving and not self.twin.motion_active
 
     def wait_idle(self, timeout: float) -> bool:
         """Block until the queue is done (``wait_complete``); False on timeout."""
@@ -195,12 +131,6 @@ class TwinController:
         while not self.inpos and time.monotonic() < deadline:
             time.sleep(0.01)
         return self.inpos
-
-    # ---- state --------------------------------------------------------------------------
-    @property
-    def inpos(self) -> bool:
-        """The queue is done and the arm is not being driven."""
-        return not self.moving and not self.twin.motion_active
 
     def state(self) -> RobotState:
         """The arm's latest sample, its flags read now."""
@@ -296,7 +226,8 @@ class TwinController:
             self.require_can_move(what)
             if not self.moving:
                 self.check_limits(target(), what)   # refuse at once what is known to be wrong
-            self.enqueue(what, lambda: self._start_joint_move(target(), speed, accel, what))
+            self.queue.enqueue(what, lambda: self._start_joint_move(target(), speed, accel,
+                                                                    what))
 
     def _start_joint_move(self, q: np.ndarray, speed: float, accel: float,
                           what: str) -> Result:
@@ -320,7 +251,8 @@ class TwinController:
         comes."""
         with self.lock:
             self.require_can_move("moveL")
-            self.enqueue("moveL", lambda: self.backend.start_linear_move(target(), speed, accel))
+            self.queue.enqueue("moveL", lambda: self.backend.start_linear_move(target(), speed,
+                                                                               accel))
 
     def jog(self, coord: int, axis: int, direction: int, speed: float) -> None:
         """Continuous jog; ``coord`` as the twin numbers it (0 joint, 1 base, 2 tool)."""
@@ -341,12 +273,12 @@ class TwinController:
         (queued moves labelled ``jog``) are stopped with the queue."""
         with self.lock:
             self.backend.jog_stop()
-            if self._running_label == "jog" and self.moving:
+            if self.queue.running_label == "jog" and self.moving:
                 self.stop()
 
     def stop(self) -> None:
         with self.lock:
-            self._queue.clear()
+            self.queue.clear()
             self.backend.stop_move()
 
     # ---- servo mode -----------------------------------------------------------------------------
@@ -495,6 +427,7 @@ class TwinController:
             return self.twin.trigger_protective_stop(reason).message
 
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> None:
+        """Input ``index`` (from 0; checked with :meth:`check_io`) = ``value``, as the world
+        outside would drive it."""
         with self.lock:
-            self.check_io(signal, io_type, 0, index, "emulator_set_input")
             self.twin.set_input(signal, io_type, index, value)

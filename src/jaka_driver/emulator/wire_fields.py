@@ -1,6 +1,6 @@
 """Reading a request's fields as a JAKA controller reads them: joints deg, poses mm + RPY deg,
 keys in any order, unknown extra keys ignored. Each reader converts once, to SI, and raises
-:class:`~.twin_controller.Rejected` with ``errorCode`` "1" naming the field, the value and what
+:class:`~.replies.Rejected` with ``errorCode`` "1" naming the field, the value and what
 was expected when the field is missing or malformed.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from ..protocol import units
 from ..protocol.errors import ProtocolError
 from ..protocol.fields import Field
 from ..protocol.wire import as_flag, float_vector
-from .twin_controller import ERROR_REQUEST, Rejected
+from .replies import ERROR_REQUEST, Rejected
 
 _SHOWN = 80   # characters of a bad value quoted in a refusal
 

@@ -13,8 +13,9 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.wire` — the JSON layouts (compact requests, spaced controller output) and decoding.
 * :mod:`.status_stream` — status packets (port-10000 stream, port-10004 zlib reply) and
   :class:`StatusPacket`.
-* :mod:`.client` — :class:`CommandClient` (port 10001), :class:`StatusReceiver` (port 10000)
-  and :class:`StatusPoller` (port 10004).
+* :mod:`.command_client` — :class:`CommandClient` (port 10001); :mod:`.status_client` —
+  :class:`StatusReceiver` (port 10000) and :class:`StatusPoller` (port 10004); both connect
+  with :mod:`.connect`.
 * :mod:`.errors` — the :class:`JakaProtocolError` family.
 * :mod:`.tcp_server` — :class:`TcpServer`, the other end: listening, accepting and serving
   connections for whoever plays the controller (the emulator, the tests' fakes).
@@ -28,13 +29,14 @@ Typical use::
         q = commands.reply_joint_pos(reply)          # rad
 """
 from . import commands, fields, replies, torque_sensor, units
-from .client import CommandClient, StatusPoller, StatusReceiver
+from .command_client import CommandClient
 from .commands import encode
 from .errors import (CommandRejected, ConnectFailed, ConnectionLost, InvalidArgument,
                      JakaProtocolError, ProtocolError, TimeoutError)
 from .fields import (COMMAND_PORT, COMMANDS, STATUS_PORT, STATUS_REQUEST_PORT, Cmd, Field,
                      StatusField)
 from .replies import Reply, parse_reply
+from .status_client import StatusPoller, StatusReceiver
 from .status_stream import (StatusPacket, StatusStreamDecoder, decode_data_reply,
                             encode_data_reply, encode_status, parse_status)
 from .tcp_server import TcpServer

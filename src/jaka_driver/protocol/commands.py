@@ -461,7 +461,7 @@ def end_move(pose_mm_rpy, speed_rad_s: float, accel_rad_s2: float) -> Request:
 
 
 def data_request() -> Request:
-    """Port 10004 only: one status packet, zlib-compressed (see :class:`.client.StatusPoller`)."""
+    """Port 10004 only: one status packet, zlib-compressed (see :class:`.status_client.StatusPoller`)."""
     return _cmd(Cmd.DATA_REQUEST)
 
 

@@ -24,7 +24,7 @@ class Diagnostics:
 
     def status(self) -> DiagnosticStatus:
         st = self._driver.state()
-        info = self._driver.backend.describe()
+        info = self._driver.describe()
         rate = self._stats()
         level, message = DiagnosticStatus.OK, "ready"
         if not st.connected:

@@ -40,7 +40,7 @@ class FrameBroadcaster:
         while not rospy.is_shutdown():
             try:
                 st = self._driver.state()
-                tool, user = self._driver.backend.frames()
+                tool, user = self._driver.frames()
                 stamp = rospy.Time.now()
                 p = self._prefix
                 out = [_transform(f"{p}flange", f"{p}tool_{st.tool_id}", tool, stamp)]

@@ -14,11 +14,8 @@ from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger
 
 from jaka_msgs import srv as jaka
 
-from ..backend import Twin
-from ..common.models import RobotModel
-from ..common.results import CommandRefused, Result
+from ..common.results import Result
 from ..driver import RobotDriver
-from ..driver import checks as check
 
 log = logging.getLogger(__name__)
 
@@ -121,30 +118,23 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
     return services
 
 
-def advertise_faults(twin: Twin, model: RobotModel) -> list[rospy.Service]:
-    """Fault injection under ``~sim/``, on what only a twin can do (``backend.twin``):
-    ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop`` (Trigger),
-    ``set_input`` (jaka_msgs/SetIO on inputs of ``model``: signal, type, index, value)."""
+def advertise_faults(driver: RobotDriver) -> list[rospy.Service]:
+    """Fault injection under ``~sim/``, on what only a twin can do (the driver's twin
+    requests): ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop``
+    (Trigger), ``set_input`` (jaka_msgs/SetIO on the model's inputs: signal, type, index,
+    value)."""
     def emergency_stop(req):
-        result = twin.press_emergency_stop() if req.data else twin.release_emergency_stop()
+        result = driver.emergency_stop(req.data)
         rospy.logwarn("sim: %s", result.message)
         return SetBoolResponse(success=result.ok, message=result.message)
 
     def protective_stop(_req):
-        result = twin.trigger_protective_stop()
+        result = driver.protective_stop()
         rospy.logwarn("sim: %s", result.message)
         return TriggerResponse(success=result.ok, message=result.message)
 
     def set_input(req):
-        try:
-            signal = check.io_signal(req.signal)
-            check.io_address(model, signal, 0, req.type, req.index)
-            value = check.finite("value", req.value)
-            if signal == "digital":
-                value = 1.0 if value else 0.0
-            result = twin.set_input(signal, req.type, req.index, value)
-        except CommandRefused as refusal:
-            result = refusal.result()
+        result = driver.set_input(req.signal, req.type, req.index, req.value)
         return jaka.SetIOResponse(ret=int(result.code), message=result.message)
 
     return [rospy.Service("~sim/emergency_stop", SetBool, emergency_stop),

@@ -3,7 +3,8 @@
 The picture goes to the file named by the private parameter ``~snapshot_path``, read at every
 call (``rosparam set /jaka_driver/snapshot_path /tmp/arm.png`` redirects the next one); by
 default ``$ROS_HOME/<node name>_snapshot.png``. The answer's ``message`` is the path written, or
-why nothing was. 800 × 600 px, the twin's camera (:meth:`jaka_driver.backend.Twin.camera`).
+why nothing was. 800 × 600 px, the twin's camera (:meth:`RobotDriver.camera
+<jaka_driver.driver.RobotDriver.camera>`).
 
 A picture takes ~0.1 s of CPU in Mesa's software rasteriser. It is made in one worker thread at
 a lower scheduling priority (Mesa's own threads inherit it) so that the 125 Hz state publisher
@@ -21,7 +22,6 @@ from pathlib import Path
 import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 
-from ..backend import Twin
 from ..driver import RobotDriver
 
 RENDER_NICE = 10            # nice increment of the render thread (Linux: per thread)
@@ -38,12 +38,11 @@ def default_path() -> str:
 
 
 class SnapshotWorker:
-    """Renders pictures of the arm in its own thread, one at a time: ``twin``'s camera, the
-    joints of ``driver.state()``."""
+    """Renders pictures of the arm in its own thread, one at a time: the driver's camera (the
+    twin's), the joints of ``driver.state()``."""
 
-    def __init__(self, driver: RobotDriver, twin: Twin):
+    def __init__(self, driver: RobotDriver):
         self._driver = driver
-        self._twin = twin
         self._requests: queue.Queue = queue.Queue()
         self._camera = None
         threading.Thread(target=self._run, name="twin-snapshot", daemon=True).start()
@@ -70,7 +69,7 @@ class SnapshotWorker:
     def _render(self, path: str) -> tuple[bool, str]:
         try:
             if self._camera is None:
-                self._camera = self._twin.camera(WIDTH, HEIGHT)
+                self._camera = self._driver.camera(WIDTH, HEIGHT)
             q = self._driver.state().joint_position
             written = self._camera.save(q, path)
         except (ImportError, RuntimeError) as exc:
@@ -83,9 +82,9 @@ class SnapshotWorker:
                       f"[{joints}] rad")
 
 
-def advertise_snapshot(driver: RobotDriver, twin: Twin) -> list[rospy.Service]:
-    """``~sim/snapshot``, on the camera of what only a twin can do (``backend.twin``)."""
-    worker = SnapshotWorker(driver, twin)
+def advertise_snapshot(driver: RobotDriver) -> list[rospy.Service]:
+    """``~sim/snapshot``, on the twin's camera (a driver with a twin: ``driver.has_twin``)."""
+    worker = SnapshotWorker(driver)
 
     def snapshot(_req):
         # Absolute in the answer: roslaunch runs nodes in $ROS_HOME, not the caller's folder.

@@ -4,7 +4,9 @@ Its face is :class:`SimBackend` — the backend contract, ``backend.twin`` (:cla
 what only a twin can do) and ``backend.force``. The rest is how it works inside:
 
 * :mod:`.twin_model` — the MuJoCo model from the URDF, with floor, workcell and payload;
-* :mod:`.physics` — :class:`~.physics.PhysicsLoop`, the real-time loop and its samples;
+* :mod:`.physics` — :class:`~.physics.PhysicsLoop`, the real-time loop and its samples, and
+  its one motion slot (what runs now);
+* :mod:`.arm_flags` — :class:`~.arm_flags.ArmFlags`, the arm's flags, written only there;
 * :mod:`.servo` — the joint drives (their cycle compiled in ``joint_drives.c``, loaded by
   :mod:`.native_drives`);
 * :mod:`.motions` — what the twin's controller does each 8 ms cycle (hold, a trajectory, a jog,

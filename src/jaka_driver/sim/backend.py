@@ -7,11 +7,13 @@ Pinocchio on the same URDF.
 
 Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
 what the emulator reads and drives) and ``force`` (:class:`.force.SimForce` when the arm
-carries a force/torque sensor); everything else is private.
+carries a force/torque sensor); everything else is private. The motion that runs now has one
+owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted, stopped
+there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults and the
+force sensor's stops use too.
 """
 from __future__ import annotations
 
-import threading
 from typing import Optional
 
 import numpy as np
@@ -33,11 +35,13 @@ from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
 from . import jog_steps, native_drives
+from .arm_flags import ArmFlags
 from .collisions import CollisionMonitor
 from .force import SimForce
 from .ft_sensor import TOOL_BODY
 from .io_board import IoBoard
-from .motions import Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, stopped
+from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, servo_target,
+                      stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
@@ -62,52 +66,47 @@ class SimBackend(Backend):
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock."""
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
-        self.twin = SimTwin(self)
         self._kin = Kinematics(model)
         sensor = model.force_sensor.mounted_as(force_sensor)
         self._mj_model = build_twin_model(model, scene, force_sensor=sensor)
-        self._scene = scene
         # JAKA's pose_1, unless told otherwise
         q_start = model.home.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self._mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE,
                            native_drives.load())
         self._physics = PhysicsLoop(self._mj_model, servo, q_start, cycle=SERVO_CYCLE,
                                    clock=self.clock if sim_time else None)
+        self._flags = ArmFlags(self._physics)
+        self._lock = self._flags.lock       # the flags, and the motion a mode allows, together
         tool_body = TOOL_BODY if sensor.mounted else FLANGE_BODY
         self._payload = Payload(self._mj_model, tool_body)
         self._push = ToolPush(self._mj_model, tool_body)
-        self._collisions = CollisionMonitor(self._mj_model, self._collided)
-        self._overload = FollowingErrorMonitor(servo, model.joint_names, self._overloaded)
+        self._collisions = CollisionMonitor(self._mj_model, self._flags.collided)
+        self._overload = FollowingErrorMonitor(servo, model.joint_names, self._flags.overloaded)
         self._physics.on_cycle += [self._collisions.check, self._overload.check,
                                    self._push.apply]
         if sensor.mounted:
-            self.force = SimForce(self, sensor)
+            self.force = SimForce(sensor, model, self.clock, self._physics, self._flags,
+                                  self._kin, self.frames, self._velocity_jog)
             self._physics.on_cycle.append(self.force.check)
             self._physics.force_reading = lambda: self.force.readings.latest
         else:
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
-        self._lock = threading.RLock()
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
         self._cache: tuple[tuple, np.ndarray] | None = None
+        self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
+                            self._collisions, self._push, self._kin, self.frames, self._reset,
+                            scene=scene)
 
     def _defaults(self) -> None:
-        """The controller's state of a fresh twin: powered, enabled, no error, default frames,
-        collision level 2, full speed."""
+        """The controller's state of a fresh twin: powered, enabled, no error (the flags'),
+        default frames, collision level 2, full speed."""
+        self._flags.reset()
         self._frame_table = FrameTable()
         self._tool_id = 0
         self._user_id = 0
-        self._powered = True
-        self._enabled = True
-        self._servo_mode = False
-        self._drag_mode = False
-        self._emergency_stop = False
-        self._protective_stop = False
-        self._collision = False
-        self._error_code = 0
-        self._error_message = ""
-        self._collision_level = self._collisions.level = 2
+        self._collisions.level = 2
         self._collisions.armed = True
         self._speed_ratio = 1.0
 
@@ -154,6 +153,7 @@ class SimBackend(Backend):
         # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
         # flags are read fresh, a mode may change between two physics samples.
         key = (sample.stamp, self._tool_id, self._user_id)
+        flags = self._flags
         cached = self._cache
         if cached is not None and cached[0] == key:
             tcp = cached[1]
@@ -163,10 +163,10 @@ class SimBackend(Backend):
         return RobotState(
             stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
             joint_effort=sample.tau, tcp_pose=tcp, tool_id=self._tool_id, user_id=self._user_id,
-            powered=self._powered, enabled=self._enabled, servo_mode=self._servo_mode,
-            drag_mode=self._drag_mode, emergency_stop=self._emergency_stop,
-            protective_stop=self._protective_stop, collision=self._collision,
-            moving=sample.moving, error_code=self._error_code, error_message=self._error_message,
+            powered=flags.powered, enabled=flags.enabled, servo_mode=flags.servo_mode,
+            drag_mode=flags.drag_mode, emergency_stop=flags.emergency_stop,
+            protective_stop=flags.protective_stop, collision=flags.collision,
+            moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
             force=sample.force)
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
@@ -174,55 +174,12 @@ class SimBackend(Backend):
 
     # ---- power ----------------------------------------------------------------------------
     def set_power(self, on: bool) -> Result:
-        with self._lock:
-            if not on:
-                # Brakes: the arm holds where it is, servo mode and drag end.
-                self._halt(stopped("stopped: power off"))
-                self._enabled = self._servo_mode = self._drag_mode = False
-                self._physics.servo.released = False
-            self._powered = on
+        self._flags.power(on)
         return Result.success("powered on" if on else "powered off")
 
     def set_enabled(self, on: bool) -> Result:
-        with self._lock:
-            if not on:
-                self._halt(stopped("stopped: robot disabled"))
-                self._servo_mode = self._drag_mode = False
-                self._physics.servo.released = False
-            self._enabled = on
+        self._flags.enable(on)
         return Result.success("enabled" if on else "disabled")
-
-    def _halt(self, reason: Result) -> None:
-        """Halt within one cycle where the arm is; tell a waiting move why."""
-        self._physics.hold_here().abort(reason)
-
-    # ---- faults the twin detects itself (the ones injected: .twin) ------------------------------
-    def _collided(self, message: str) -> None:
-        """Protective stop on a contact above the threshold (runs in the physics thread).
-
-        Contacts are checked once per 8 ms cycle, so the force is seen over the threshold up
-        to a cycle after it crossed it; the arm is held where it stood at the end of the
-        previous cycle, whose contacts were below the threshold, so it does not stay pressed
-        into the obstacle (up to ~2 mm back at a 0.3 m/s swing)."""
-        self._collision = True
-        self._error_message = message
-        self._physics.hold_at(self._physics.checked_pose()).abort(stopped(message))
-        self._servo_mode = False
-
-    def _overloaded(self, message: str) -> None:
-        """Protective stop on brakes when a drive cannot hold (runs in the physics thread)."""
-        self._protective_stop = True
-        self._error_message = message
-        self._physics.engage_brakes().abort(stopped(message))
-        self._servo_mode = False
-
-    def _force_stop(self, message: str) -> None:
-        """Protective stop on the force/torque sensor's soft limit or the compliance condition
-        (runs in the physics thread): the arm halts where it is, as a controller's does."""
-        self._protective_stop = True
-        self._error_message = message
-        self._physics.hold_here().abort(stopped(message))
-        self._servo_mode = False
 
     def _cannot_hold(self, mass: float, centroid: np.ndarray, share: float) -> Optional[str]:
         """Why the drives could not hold the arm still here with this payload (None if they
@@ -383,7 +340,7 @@ class SimBackend(Backend):
 
     def servo_enable(self, on: bool) -> Result:
         with self._lock:
-            if on == self._servo_mode:
+            if on == self._flags.servo_mode:
                 return Result.success(f"servo mode already {'on' if on else 'off'}")
             if on:
                 if self._physics.motion.active:
@@ -392,16 +349,12 @@ class SimBackend(Backend):
                 self._physics.switch(ServoTarget(self._physics.servo.setpoint, self._physics))
             else:
                 self._physics.switch(Hold())
-            self._servo_mode = on
+            self._flags.set_servo_mode(on)
         return Result.success(f"servo mode {'on' if on else 'off'}")
-
-    def _servo_target(self) -> Optional[ServoTarget]:
-        motion = self._physics.motion
-        return motion if isinstance(motion, ServoTarget) else None
 
     def servo_j(self, q_target, increment=None) -> Result:
         # the twin's drives follow absolute targets: an increment's target is already here
-        target = self._servo_target()
+        target = servo_target(self._physics.motion)
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         target.set(np.asarray(q_target, float))
@@ -409,7 +362,7 @@ class SimBackend(Backend):
         return Result.success("servo_j target accepted")
 
     def servo_p(self, target_pose, increment=None) -> Result:
-        target = self._servo_target()
+        target = servo_target(self._physics.motion)
         if target is None:
             return Result.failure(Code.SERVO_MODE_OFF, "servo mode is off")
         tool, user = self.frames()
@@ -484,10 +437,10 @@ class SimBackend(Backend):
 
     def set_drag_mode(self, on: bool) -> Result:
         with self._lock:
-            if on == self._drag_mode:
+            if on == self._flags.drag_mode:
                 return Result.success(f"drag mode already {'on' if on else 'off'}")
             if on:
-                if self._servo_mode:
+                if self._flags.servo_mode:
                     return Result.failure(Code.WRONG_MODE, "drag mode refused in servo mode")
                 if self._physics.motion.active:
                     return Result.failure(Code.BUSY, "drag mode refused while the arm moves")
@@ -497,12 +450,12 @@ class SimBackend(Backend):
                 with self._physics.lock:
                     self._physics.servo.released = False
                     self._physics.hold_here()
-            self._drag_mode = on
+            self._flags.set_drag_mode(on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
 
     def set_collision_level(self, level) -> Result:
         with self._lock:
-            self._collision_level = self._collisions.level = level
+            self._collisions.level = level
         if level == 0:
             return Result.success("collision detection off")
         return Result.success(f"collision level {level} ({25 * level} N)")
@@ -526,11 +479,7 @@ class SimBackend(Backend):
                                           f"{why}; set a lighter payload first")
                 self._physics.release_brakes()
             self._overload.rearm()
-            was = [name for name, flag in (("collision", self._collision),
-                                           ("protective stop", self._protective_stop),
-                                           ("error", self._error_code != 0)) if flag]
-            self._collision = self._protective_stop = False
-            self._error_code, self._error_message = 0, ""
+            was = self._flags.clear()
             self._collisions.armed = True
         return Result.success(f"cleared {', '.join(was)}" if was else "no error to clear")
 

@@ -1,8 +1,8 @@
 """The twin's force capability: :class:`~jaka_driver.backend.force.Force` on a
 :class:`~.backend.SimBackend` whose arm carries a sensor, offered as ``backend.force``.
 
-A facet of the backend, as :mod:`.twin` is: it acts on the same physics, frames and flags (same
-package, so it reaches the backend's private parts). What it keeps: the settings
+A facet of the backend, as :mod:`.twin` is: it acts on the same physics loop, flags, kinematics
+and frames, each handed to it by the backend that owns them. What it keeps: the settings
 (:class:`ForceSettings`), the sensor (:class:`~.ft_sensor.SensorReadings`), the
 identification's status. What it starts: force control and identification, as motion sources
 of the physics thread (:mod:`.force_control`, :mod:`.payload_identification`) — so the mode
@@ -10,33 +10,36 @@ is the running source's, never a flag that could disagree with the arm.
 
 :meth:`SimForce.check` runs every cycle in the physics thread, after the contact and overload
 checks: it reads the sensor, stops the arm on the soft limit or the compliance condition (a
-protective stop, as a controller's), and paces a running move under velocity compliance.
+protective stop, as a controller's: the flags' ``force_stopped`` event), and paces a running move under velocity compliance.
 Units: the facet's (jaka_driver.backend.force).
 """
 from __future__ import annotations
 
 import dataclasses
 import threading
-from typing import TYPE_CHECKING, Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import mujoco
 import numpy as np
 
+from ..backend.clock import SimClock, WallClock
 from ..backend.completion import Completion
 from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
                              ForceFrame, ForceMode, ForceSettings, IdentificationStatus, SensorPayload,
                              ToolDriveAxis, VelocityCompliance)
 from ..common.constants import IN_POSITION, SERVO_CYCLE
+from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.sensor_spec import ForceSensorSpec
+from ..kinematics import Kinematics
 from ..motion.profiles import joint_move_profile
 from ..motion.trajectory import JointTrajectory
+from ..motion.velocity_jog import VelocityJog
+from .arm_flags import ArmFlags
 from .force_control import AxisLaws, ForceControlRun, wrench_at_tcp
 from .ft_sensor import ZERO_SAMPLES, SensorReadings
 from .payload_identification import MIN_SPREAD, IdentificationRun, spread
-
-if TYPE_CHECKING:
-    from .backend import SimBackend
+from .physics import PhysicsLoop
 
 #: share of the joints' speed and acceleration limits an identification moves at
 IDENTIFY_SPEED_SHARE = 0.3
@@ -50,13 +53,24 @@ PACE_STEP = 0.05
 
 
 class SimForce(Force):
-    """Force control on the twin ``backend`` with the sensor ``spec`` (see the module)."""
+    """Force control with the sensor ``spec`` on the twin of ``model`` (see the module): its
+    ``clock``, ``physics`` loop, ``flags``; ``kinematics`` at the active ``frames()`` (the
+    backend's: tool and user frame, 4x4, m); ``velocity_jog(in_tool)`` the backend's velocity
+    jog, which force control drives (its ramp at the speed ratio, as ~twist_command's)."""
 
-    def __init__(self, backend: "SimBackend", spec: ForceSensorSpec):
-        self._b = backend
+    def __init__(self, spec: ForceSensorSpec, model: RobotModel, clock: SimClock | WallClock,
+                 physics: PhysicsLoop, flags: ArmFlags, kinematics: Kinematics,
+                 frames: Callable[[], tuple], velocity_jog: Callable[[bool], VelocityJog]):
         self._spec = spec
+        self._model = model
+        self._clock = clock
+        self._physics = physics
+        self._flags = flags
+        self._kin = kinematics
+        self._frames = frames
+        self._velocity_jog = velocity_jog
         self._lock = threading.Lock()
-        self.readings = SensorReadings(backend._mj_model, spec, SERVO_CYCLE)
+        self.readings = SensorReadings(physics.m, spec, SERVO_CYCLE)
         self.reset()
 
     def reset(self) -> None:
@@ -81,7 +95,7 @@ class SimForce(Force):
                                        tool_payload=self.readings.payload, mode=self._mode())
 
     def _mode(self) -> str:
-        motion = self._b._physics.motion
+        motion = self._physics.motion
         if isinstance(motion, ForceControlRun) and motion.active:
             return motion.mode
         if isinstance(motion, IdentificationRun) and motion.active:
@@ -122,7 +136,7 @@ class SimForce(Force):
         return None
 
     def _arm_moving(self, what: str) -> Optional[Result]:
-        motion = self._b._physics.motion
+        motion = self._physics.motion
         if motion.active:
             return Result.failure(Code.BUSY, f"{what} refused: {motion.busy_reason}")
         return None
@@ -133,7 +147,7 @@ class SimForce(Force):
             refused = self._force_active("switching the sensor off")
             if refused:
                 return refused
-        with self._b._physics.lock:
+        with self._physics.lock:
             self.readings.on = bool(on)
         return Result.success(f"force/torque sensor {'on' if on else 'off'}")
 
@@ -141,9 +155,9 @@ class SimForce(Force):
         refused = self._sensor_off("zeroing") or self._force_active("zeroing")
         if refused:
             return refused
-        with self._b._physics.lock:
+        with self._physics.lock:
             done = self.readings.start_zero()
-        if not self._b.clock.wait(done, ZERO_TIMEOUT):
+        if not self._clock.wait(done, ZERO_TIMEOUT):
             return Result.failure(Code.COMMUNICATION_ERROR, f"zeroing did not end within "
                                   f"{ZERO_TIMEOUT:g} s (the twin's cycles stalled)")
         return Result.success(f"sensor zeroed over {ZERO_SAMPLES * SERVO_CYCLE:.3f} s: offset "
@@ -154,14 +168,14 @@ class SimForce(Force):
         if refused:
             return refused
         payload = SensorPayload(float(mass), np.asarray(centroid, float).copy())
-        with self._b._physics.lock:
+        with self._physics.lock:
             self.readings.payload = payload
         c = payload.centroid * 1000.0
         return Result.success(f"sensor tool payload {mass:g} kg at ({c[0]:.1f}, {c[1]:.1f}, "
                               f"{c[2]:.1f}) mm")
 
     def set_filter(self, cutoff_hz: float) -> Result:
-        with self._b._physics.lock:
+        with self._physics.lock:
             self.readings.set_filter(cutoff_hz)
         return Result.success("sensor filter off" if cutoff_hz == 0 else
                               f"sensor filter {cutoff_hz:g} Hz")
@@ -259,9 +273,8 @@ class SimForce(Force):
                    or self._arm_moving(label))
         if refused:
             return refused
-        b = self._b
-        tool, _ = b.frames()
-        kin = b._kin
+        tool, _ = self._frames()
+        kin = self._kin
         readings = self.readings
 
         def wrench():
@@ -270,14 +283,15 @@ class SimForce(Force):
                 return None
             return reading.real if compensated else reading.actual
 
-        with b._lock:
-            q0 = b._physics.servo.setpoint.copy()
+        physics = self._physics
+        with self._flags.lock:
+            q0 = physics.servo.setpoint.copy()
             # the velocity jog of ~twist_command (its ramp scaled by the speed ratio, as a jog's)
-            jog = b._velocity_jog(frame == ForceFrame.TOOL)
+            jog = self._velocity_jog(frame == ForceFrame.TOOL)
             run = ForceControlRun(mode, laws, frame, jog, wrench,
                                   lambda q: kin.tcp_pose(q, tool), kin.flange_pose, tool, q0,
                                   SERVO_CYCLE)
-            b._physics.switch(run)
+            physics.switch(run)
         return Result.success(f"{label} on in the {_frame_name(frame)} frame")
 
     def _end(self, *modes: str, quiet: bool = False) -> Result:
@@ -286,8 +300,8 @@ class SimForce(Force):
         if ForceMode.VELOCITY_COMPLIANCE in modes and self._velocity_on:
             self._velocity_on = False
             ended.append("velocity compliance")
-        with self._b._lock:
-            motion = self._b._physics.motion
+        with self._flags.lock:
+            motion = self._physics.motion
             if isinstance(motion, ForceControlRun) and motion.active and motion.mode in modes:
                 motion.stop()
                 ended.append(motion.mode.replace("_", " "))
@@ -303,19 +317,19 @@ class SimForce(Force):
                    or self._arm_moving("payload identification"))
         if refused:
             return refused
-        b = self._b
-        q0 = b._physics.servo.setpoint.copy()
+        physics = self._physics
+        q0 = physics.servo.setpoint.copy()
         targets = [np.asarray(p, float) for p in poses]
         if len(targets) == 1:       # JAKA's end pose: measured on the way there too
             targets = [q0 + (targets[0] - q0) * k / WAY_POSES for k in range(1, WAY_POSES + 1)]
-        rotations = [b._kin.flange_pose(q)[:3, :3] for q in [q0] + targets]
+        rotations = [self._kin.flange_pose(q)[:3, :3] for q in [q0] + targets]
         quality = spread(rotations)
         if quality < MIN_SPREAD:
             return Result.failure(Code.INVALID_PARAMETER, f"poses turn the sensor too little "
                                   f"to tell the centroid from the offset (spread {quality:.3f}, "
                                   f"needs ≥ {MIN_SPREAD:g}): give poses pointing the tool in at "
                                   "least three different directions")
-        m = b.model
+        m = self._model
         v, a = m.max_velocity * IDENTIFY_SPEED_SHARE, m.max_acceleration * IDENTIFY_SPEED_SHARE
         segments, start = [], q0
         for q in targets:
@@ -330,13 +344,13 @@ class SimForce(Force):
                                                  readings.rotation.copy())
 
         completion = Completion()
-        with b._lock:
-            if b._physics.motion.active:
+        with self._flags.lock:
+            if physics.motion.active:
                 return Result.failure(Code.BUSY, "payload identification refused: "
-                                      f"{b._physics.motion.busy_reason}")
+                                      f"{physics.motion.busy_reason}")
             run = IdentificationRun(segments, SERVO_CYCLE, IN_POSITION, measure, completion,
                                     self._report)
-            b._physics.switch(run)
+            physics.switch(run)
         return Result.success(f"payload identification started through {len(targets) + 1} "
                               f"poses (planned {run.planned:.1f} s)", (completion, run.planned))
 
@@ -347,19 +361,19 @@ class SimForce(Force):
         reading = self.readings.read(d)
         if reading is None:
             return
-        b = self._b
+        flags = self._flags
         s = self._settings
         over = np.abs(reading.actual) > s.soft_limit
-        if over.any() and not (b._protective_stop or b._collision):
+        if over.any() and not (flags.protective_stop or flags.collision):
             i = int(np.argmax(over))
-            b._force_stop(f"force/torque sensor soft limit: {WRENCH_NAMES[i]} "
+            flags.force_stopped(f"force/torque sensor soft limit: {WRENCH_NAMES[i]} "
                           f"{reading.actual[i]:.1f} beyond {s.soft_limit[i]:g}")
             return
-        motion = b._physics.motion
+        motion = self._physics.motion
         if not motion.active or not np.any(s.condition > 0):
             return
         frame = s.tool_drive_frame if self._mode() == ForceMode.TOOL_DRIVE else s.frame
-        tool, _ = b.frames()
+        tool, _ = self._frames()
         flange = np.eye(4)
         flange[:3, :3] = self.readings.rotation
         w = wrench_at_tcp(reading.real if s.compensation else reading.actual, tool, flange,
@@ -368,7 +382,7 @@ class SimForce(Force):
         share = np.where(checked, np.abs(w) / np.where(checked, s.condition, 1.0), 0.0)
         i = int(np.argmax(share))
         if share[i] > 1.0:
-            b._force_stop(f"compliance condition: {WRENCH_NAMES[i]} {w[i]:.1f} beyond "
+            flags.force_stopped(f"compliance condition: {WRENCH_NAMES[i]} {w[i]:.1f} beyond "
                           f"{s.condition[i]:g} ({_frame_name(frame)} frame)")
             return
         if self._velocity_on:

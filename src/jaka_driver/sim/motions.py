@@ -257,5 +257,10 @@ class TwistRun(Motion):
         return q
 
 
+def servo_target(motion: Motion) -> Optional[ServoTarget]:
+    """``motion`` if it is servo mode's source (the one running), else None."""
+    return motion if isinstance(motion, ServoTarget) else None
+
+
 def stopped(reason: str) -> Result:
     return Result.failure(Code.MOTION_STOPPED, reason)
