@@ -104,6 +104,24 @@ def test_each_request_is_the_sdks_keys_order_types_and_values(sdk, call):
             else ours[key] == expected[key], key
 
 
+@pytest.mark.parametrize("sdk, call", [
+    ('{"axis":2,"cmdName":"set_admit_ctrl_config","ftConstant":-10.0,"ftNnormalTrack":0,'
+     '"ftReboundFK":0.250,"ftUser":20.0,"opt":1}',
+     lambda: t.set_admit_ctrl_config(2, True, 20.0, -10.0, False, 0.25)),
+    ('{"centroid":[0.0,0.0,30.0],"cmdName":"set_tool_payload","mass":1.50}',
+     lambda: t.set_tool_payload(1.5, [0, 0, 30])),
+    ('{"centroid":[0.0,0.0,30.0],"cmdName":"set_tool_payload","mass":2.00}',
+     lambda: t.set_tool_payload(2.0012, [0, 0, 30])),
+    ('{"axis":3,"cmdName":"set_admit_ctrl_config","ftConstant":0.0,"ftNnormalTrack":0,'
+     '"ftReboundFK":1.235,"ftUser":5.0,"opt":1}',
+     lambda: t.set_admit_ctrl_config(3, True, 5.0, 0.0, False, 1.23456)),
+], ids=["rebound", "mass", "mass rounded", "rebound rounded"])
+def test_the_fixed_decimal_fields_are_written_as_the_sdk_writes_them(sdk, call):
+    """mass with 2 decimals, ftReboundFK with 3, byte for byte (the rest: 16 digits, which
+    Python's shortest form equals for these values)."""
+    assert encode(call()).decode() == sdk
+
+
 def reply(text):
     return parse_reply(json.loads(text))
 

@@ -24,9 +24,14 @@ from . import units
 from .errors import InvalidArgument, ProtocolError
 from .fields import SOFT_LIMIT_KEYS, Cmd, Field
 from .replies import Reply, _field, _number, _table, _wire_vector, reply_payload
+from .wire import Fixed
 
 Request = Dict[str, Any]
 AXES = 6
+#: decimals JAKA's SDK writes these fields with (measured: "mass":1.50, "ftReboundFK":0.250);
+#: the value goes out rounded to them, and is read back as such
+MASS_DECIMALS = 2
+REBOUND_DECIMALS = 3
 
 
 def _request(name: str, **fields) -> Request:
@@ -90,10 +95,11 @@ def zero_end_sensor() -> Request:
 
 
 def set_tool_payload(mass_kg: float, centroid_mm: Sequence[float]) -> Request:
-    """The sensor's tool payload: ``mass_kg`` at ``centroid_mm`` (mm, sensor frame)."""
-    return _request(Cmd.SET_TOOL_PAYLOAD, **{Field.CENTROID: _floats(centroid_mm, 3,
-                                                                     "centroid (mm)"),
-                                             Field.MASS: _float(mass_kg, "mass (kg)")})
+    """The sensor's tool payload: ``mass_kg`` at ``centroid_mm`` (mm, sensor frame); the mass
+    goes out with the SDK's 2 decimals (``"mass":1.50``)."""
+    return _request(Cmd.SET_TOOL_PAYLOAD, **{
+        Field.CENTROID: _floats(centroid_mm, 3, "centroid (mm)"),
+        Field.MASS: Fixed(_float(mass_kg, "mass (kg)"), MASS_DECIMALS)})
 
 
 def get_tool_payload() -> Request:
@@ -167,13 +173,14 @@ def get_torq_sensor_payload_identify_result() -> Request:
 def set_admit_ctrl_config(axis: int, opt: bool, ft_user: float, ft_constant: float,
                           normal_track: bool, ft_rebound: float) -> Request:
     """Axis ``axis`` (0–5: x y z rx ry rz) of admittance: ``opt`` on, ``ft_user`` and
-    ``ft_constant`` (N or N·m), normal tracking, ``ft_rebound``."""
+    ``ft_constant`` (N or N·m), normal tracking, ``ft_rebound`` (with the SDK's 3 decimals,
+    ``"ftReboundFK":0.250``)."""
     return _request(Cmd.SET_ADMIT_CTRL_CONFIG, **{
         Field.AXIS: _int(axis, "axis", 0, 5), Field.OPT: _flag(opt),
         Field.FT_USER: _float(ft_user, "ftUser"), Field.FT_CONSTANT: _float(ft_constant,
                                                                             "ftConstant"),
         Field.FT_NORMAL_TRACK: _flag(normal_track),
-        Field.FT_REBOUND: _float(ft_rebound, "ftReboundFK")})
+        Field.FT_REBOUND: Fixed(_float(ft_rebound, "ftReboundFK"), REBOUND_DECIMALS)})
 
 
 def get_admit_ctrl_config() -> Request:
