@@ -10,7 +10,7 @@ from jaka_driver.backend.force import COMPLIANT_SPEED, ForceFrame, SensorPayload
     VelocityCompliance
 from jaka_driver.common.transforms import rotvec_to_matrix
 from jaka_driver.sim.force_control import DEAD_BAND, AxisLaws, wrench_at_tcp
-from jaka_driver.sim.ft_sensor import gravity_wrench
+from jaka_driver.backend.force import gravity_wrench
 from jaka_driver.sim.payload_identification import MIN_SPREAD, estimate_payload, spread
 
 DOWN = np.diag([1.0, -1.0, -1.0])            # sensor z along the world's -z

@@ -55,6 +55,8 @@ AXES = ("x", "y", "z", "rx", "ry", "rz")
 WRENCH_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: the URDF link the sensor frame is (and the header frame of the wrench topics)
 SENSOR_FRAME = "flange"
+#: m/s², the base frame's gravity (z up)
+GRAVITY = np.array([0.0, 0.0, -9.81])
 #: m/s and rad/s: the compliant speed limit, the speed an axis reaches at ``ft_user``
 #: (``rigidity`` for tool drive) and never exceeds under force control
 COMPLIANT_SPEED = (0.1, 0.1, 0.1, 0.5, 0.5, 0.5)
@@ -171,6 +173,36 @@ class IdentificationStatus:
     progress: float = 0.0
     message: str = "no identification has run"
     result: Optional[SensorPayload] = None
+
+
+def gravity_wrench(payload: "SensorPayload", rotation: np.ndarray) -> np.ndarray:
+    """The load (N, N·m, sensor frame) of ``payload`` hanging still on a sensor turned
+    ``rotation`` (sensor → base, 3x3): its weight, and that weight's moment about the sensor —
+    what ``real`` takes out of ``actual``."""
+    weight = payload.mass * (rotation.T @ GRAVITY)
+    return np.concatenate([weight, np.cross(payload.centroid, weight)])
+
+
+def frame_name(frame: int) -> str:
+    """A :class:`ForceFrame` in words."""
+    return "tool" if frame == ForceFrame.TOOL else "base (world)"
+
+
+def wrench_text(w) -> str:
+    """A wrench in words: ``Fx 1.2, …, Mz 0.03``."""
+    return ", ".join(f"{n} {v:.3g}" for n, v in zip(WRENCH_NAMES, w))
+
+
+def rebound_to_si(axis: int, value: float) -> float:
+    """A rebound in the unit requests and the wire give it — N/mm on x y z (a stiffness in the
+    length unit payload centroids and JAKA's poses use), N·m/rad on rx ry rz — → N/m or
+    N·m/rad."""
+    return float(value) * 1000.0 if axis < 3 else float(value)
+
+
+def rebound_from_si(axis: int, value: float) -> float:
+    """:func:`rebound_to_si`'s inverse."""
+    return float(value) / 1000.0 if axis < 3 else float(value)
 
 
 def _six(value: float = 0.0) -> np.ndarray:

@@ -16,6 +16,9 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
   is not an error the arm must be cleared of: it is jogged out of);
 * ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
 * servo mode: not in the stream; the backend's, from ``is_in_servomove``;
+* ``force``: the force/torque sensor's readings of the same packet (``torqsensor``), made by
+  :attr:`StatusView.force_reading` (the backend's force part when the arm carries a sensor:
+  :func:`.force.sensor_reading`), None otherwise;
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -27,6 +30,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
+from ..backend.force import ForceReading
 from ..backend.robot_state import RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.status_stream import StatusPacket
@@ -61,6 +65,9 @@ class StatusView:
         self._tcp = np.eye(4)
         self._serial = 0
         self._cache: Optional[tuple[tuple, RobotState]] = None
+        #: the sensor's readings in a packet, with the joints (rad) the view read from it
+        self.force_reading: Callable[[StatusPacket, np.ndarray],
+                                     Optional[ForceReading]] = lambda status, q: None
 
     def reset(self) -> None:
         """A new connection: the next packet starts a new finite difference."""
@@ -136,7 +143,8 @@ class StatusView:
             collision=is_collision(status), moving=not status.inpos,
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
-            else f"torque sensor error {status.sensor_errcode}")
+            else f"torque sensor error {status.sensor_errcode}",
+            force=self.force_reading(status, q))
         with self._lock:
             self._cache = (key, st)
         return st

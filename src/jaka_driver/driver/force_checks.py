@@ -13,7 +13,8 @@ from typing import Sequence
 
 import numpy as np
 
-from ..backend.force import AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis, VelocityCompliance
+from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis,
+                             VelocityCompliance, rebound_to_si)
 from ..common.models import RobotModel
 from ..common.results import invalid
 from . import checks as check
@@ -63,7 +64,7 @@ def _rebound(i: int, value: float, enabled: bool = True) -> float:
     if enabled and not 0.0 <= r <= REBOUND_MAX[i]:
         raise invalid(f"rebound on {AXES[i]} is {r:g} {unit}, expected 0–{REBOUND_MAX[i]:g} "
                       f"{unit}")
-    return r * 1000.0 if i < 3 else r
+    return rebound_to_si(i, r)
 
 
 def _stiffness(name: str, i: int, value: float, sensor_range: np.ndarray) -> float:

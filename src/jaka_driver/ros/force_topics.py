@@ -24,7 +24,7 @@ from geometry_msgs.msg import Wrench, WrenchStamped
 
 from jaka_driver_msgs.msg import AdmittanceAxis, ForceControlState, ToolDriveAxis
 
-from ..backend.force import SENSOR_FRAME, ForceSettings
+from ..backend.force import SENSOR_FRAME, ForceSettings, rebound_from_si
 from ..backend.robot_state import RobotState
 from ..driver import RobotDriver
 
@@ -36,10 +36,6 @@ def fill_wrench(msg: Wrench, values) -> None:
     v = [float(x) for x in values]
     msg.force.x, msg.force.y, msg.force.z = v[:3]
     msg.torque.x, msg.torque.y, msg.torque.z = v[3:]
-
-
-def _rebound_msg(i: int, rebound: float) -> float:
-    return rebound / 1000.0 if i < 3 else rebound       # N/m → N/mm on x y z
 
 
 def state_message(s: ForceSettings) -> ForceControlState:
@@ -55,12 +51,12 @@ def state_message(s: ForceSettings) -> ForceControlState:
         tool_drive_frame=int(s.tool_drive_frame),
         condition=[float(v) for v in s.condition])
     msg.admittance = [AdmittanceAxis(opt=int(a.enabled), ft_user=float(a.ft_user),
-                                     ft_rebound=_rebound_msg(i, a.rebound),
+                                     ft_rebound=rebound_from_si(i, a.rebound),
                                      ft_constant=float(a.constant),
                                      normal_track=int(a.normal_track))
                       for i, a in enumerate(s.admittance)]
     msg.tool_drive = [ToolDriveAxis(opt=int(a.enabled), rigidity=float(a.rigidity),
-                                    rebound=_rebound_msg(i, a.rebound))
+                                    rebound=rebound_from_si(i, a.rebound))
                       for i, a in enumerate(s.tool_drive)]
     return msg
 

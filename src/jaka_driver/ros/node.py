@@ -21,8 +21,9 @@ Parameters (private, ``~name``):
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
-  ``force_sensor``   sim: a flange force/torque sensor on the twin: ``true``, ``false``, or
-                     ``""`` (default: as config/<model>.yaml's ``force_sensor.mounted`` says)
+  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
+                     (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
+                     twin's is mounted, a controller's arm is said to carry one
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
                      increments, jog speed from mvacc, tool_position a PoseStamped in mm,
@@ -86,13 +87,15 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  status_port=params["status_port"],
                                  status_source=params["status_source"],
                                  data_port=params["data_port"],
-                                 kinematics=params["kinematics"])
+                                 kinematics=params["kinematics"],
+                                 force_sensor=force_sensor_param(params.get("force_sensor", "")))
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
 def force_sensor_param(value) -> bool | None:
-    """``~force_sensor``: True / False mount or remove the twin's sensor; "" (or "model") as
-    the model's configuration says."""
+    """``~force_sensor``: True / False — the arm carries a sensor or not (the twin's is
+    mounted; a controller's force requests are sent); "" (or "model") as the model's
+    configuration says."""
     text = str(value).strip().lower()
     if text in ("", "model"):
         return None

@@ -25,8 +25,9 @@ import numpy as np
 from ..backend.clock import SimClock, WallClock
 from ..backend.completion import Completion
 from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
-                             ForceFrame, ForceMode, ForceSettings, IdentificationStatus, SensorPayload,
-                             ToolDriveAxis, VelocityCompliance)
+                             ForceFrame, ForceMode, ForceSettings, IdentificationStatus,
+                             SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
+                             wrench_text)
 from ..common.constants import IN_POSITION, SERVO_CYCLE
 from ..common.models import RobotModel
 from ..common.results import Code, Result
@@ -161,7 +162,7 @@ class SimForce(Force):
             return Result.failure(Code.COMMUNICATION_ERROR, f"zeroing did not end within "
                                   f"{ZERO_TIMEOUT:g} s (the twin's cycles stalled)")
         return Result.success(f"sensor zeroed over {ZERO_SAMPLES * SERVO_CYCLE:.3f} s: offset "
-                              + _wrench_text(self.readings.offset))
+                              + wrench_text(self.readings.offset))
 
     def set_tool_payload(self, mass: float, centroid: np.ndarray) -> Result:
         refused = self._force_active("the sensor's tool payload")
@@ -182,7 +183,7 @@ class SimForce(Force):
 
     def set_soft_limit(self, limit: np.ndarray) -> Result:
         self._update(soft_limit=np.asarray(limit, float).copy())
-        return Result.success("sensor soft limit " + _wrench_text(limit))
+        return Result.success("sensor soft limit " + wrench_text(limit))
 
     # ---- settings of force control ----------------------------------------------------------------
     def set_admittance(self, axis: int, config: AdmittanceAxis) -> Result:
@@ -221,14 +222,14 @@ class SimForce(Force):
         if refused:
             return refused
         self._update(frame=int(frame))
-        return Result.success(f"force control in the {_frame_name(frame)} frame")
+        return Result.success(f"force control in the {frame_name(frame)} frame")
 
     def set_tool_drive_frame(self, frame: int) -> Result:
         refused = self._force_active("changing the tool drive frame")
         if refused:
             return refused
         self._update(tool_drive_frame=int(frame))
-        return Result.success(f"tool drive in the {_frame_name(frame)} frame")
+        return Result.success(f"tool drive in the {frame_name(frame)} frame")
 
     def set_condition(self, wrench: np.ndarray) -> Result:
         self._update(condition=np.asarray(wrench, float).copy())
@@ -292,7 +293,7 @@ class SimForce(Force):
                                   lambda q: kin.tcp_pose(q, tool), kin.flange_pose, tool, q0,
                                   SERVO_CYCLE)
             physics.switch(run)
-        return Result.success(f"{label} on in the {_frame_name(frame)} frame")
+        return Result.success(f"{label} on in the {frame_name(frame)} frame")
 
     def _end(self, *modes: str, quiet: bool = False) -> Result:
         """End force control if it runs in one of ``modes``: the arm ramps to rest."""
@@ -383,17 +384,9 @@ class SimForce(Force):
         i = int(np.argmax(share))
         if share[i] > 1.0:
             flags.force_stopped(f"compliance condition: {WRENCH_NAMES[i]} {w[i]:.1f} beyond "
-                          f"{s.condition[i]:g} ({_frame_name(frame)} frame)")
+                          f"{s.condition[i]:g} ({frame_name(frame)} frame)")
             return
         if self._velocity_on:
             target = s.velocity.speed_factor(float(share[i]))
             motion.pace = float(np.clip(target, motion.pace - PACE_STEP,
                                         motion.pace + PACE_STEP))
-
-
-def _frame_name(frame: int) -> str:
-    return "tool" if frame == 0 else "base (world)"
-
-
-def _wrench_text(w) -> str:
-    return ", ".join(f"{n} {v:.3g}" for n, v in zip(WRENCH_NAMES, w))

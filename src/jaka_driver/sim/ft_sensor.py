@@ -28,7 +28,7 @@ from typing import Optional
 import mujoco
 import numpy as np
 
-from ..backend.force import ForceReading, SensorPayload
+from ..backend.force import ForceReading, SensorPayload, gravity_wrench
 from ..common.sensor_spec import ForceSensorSpec
 
 TOOL_BODY = "ft_tool"
@@ -39,7 +39,6 @@ _NEIGHBOURS = ("link_4", "link_5", "link_6")
 FLANGE_BODY = "link_6"
 #: raw readings a zeroing averages (0.128 s)
 ZERO_SAMPLES = 16
-GRAVITY = np.array([0.0, 0.0, -9.81])       # m/s², world
 NOISE_SEED = 31
 
 
@@ -73,13 +72,6 @@ def add_sensor(spec: mujoco.MjSpec, sensor: ForceSensorSpec) -> None:
     for other in _NEIGHBOURS:
         exclude = spec.add_exclude()
         exclude.bodyname1, exclude.bodyname2 = other, TOOL_BODY
-
-
-def gravity_wrench(payload: SensorPayload, rotation: np.ndarray) -> np.ndarray:
-    """The load (N, N·m, sensor frame) of ``payload`` hanging still on a sensor turned
-    ``rotation`` (sensor → world): its weight, and that weight's moment about the sensor."""
-    weight = payload.mass * (rotation.T @ GRAVITY)
-    return np.concatenate([weight, np.cross(payload.centroid, weight)])
 
 
 class SensorReadings:

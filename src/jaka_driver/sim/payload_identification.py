@@ -25,10 +25,9 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from ..backend.completion import Completion
-from ..backend.force import IdentificationStatus, SensorPayload
+from ..backend.force import GRAVITY, IdentificationStatus, SensorPayload
 from ..common.results import Code, Result
 from ..motion.trajectory import JointTrajectory
-from .ft_sensor import GRAVITY
 from .motions import Motion, TrajectoryRun
 
 SETTLE_S = 0.3          # s at rest before measuring
