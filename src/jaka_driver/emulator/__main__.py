@@ -1,6 +1,6 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
-[--dh-from MODEL] [--calibration FILE|SEED]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--dh-from MODEL] [--calibration FILE|SEED] [--scene FILE] [--force-sensor]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -56,6 +56,11 @@ def _parser() -> argparse.ArgumentParser:
                              "rows (alpha deg, a mm, d mm, joint_homeoff deg). The twin moves "
                              "on it and get_dh_param answers it")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
+    parser.add_argument("--force-sensor", action="store_true",
+                        help="the arm carries a flange force/torque sensor: the twin's, "
+                             "answering JAKA's torque-sensor and force-control commands and "
+                             "filling the status packet's torqsensor (default: no sensor, as "
+                             "most arms ship)")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
     parser.add_argument("--log-level", default="INFO")
@@ -77,7 +82,8 @@ def main(argv=None) -> int:
         model = arm_model(load_model(args.model), args.dh_from, args.calibration)
         emulator = Emulator(model, args.host, args.command_port, args.status_port,
                             data_port=args.data_port, profile=args.profile, period=args.period,
-                            start=args.start, scene=args.scene, io_loopback=args.io_loopback)
+                            start=args.start, scene=args.scene, io_loopback=args.io_loopback,
+                            force_sensor=args.force_sensor)
         emulator.start()
     except ValueError as exc:
         print(f"jaka_emulator: {exc}", file=sys.stderr)
@@ -86,7 +92,8 @@ def main(argv=None) -> int:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
     print(ready_line(args.model, emulator.host, emulator.command_port, emulator.status_port,
-                     emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, started "
+                     emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, "
+                     f"{'a force/torque sensor, ' if args.force_sensor else ''}started "
                      f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms"),
           flush=True)
     try:

@@ -37,13 +37,17 @@ class Emulator:
     ``profile`` names the controller generation (:data:`~.profiles.PROFILES`; default a
     controller on fw 1.7.2, the one JAKA's SDK and ROS 2 driver are written for; the recorded Zu
     5s on fw 1.5.14 is ``"zu5s-1.5.14"``); ``period`` (s between status packets) and ``start``
-    (:data:`~.profiles.START_STATES`) override the profile's."""
+    (:data:`~.profiles.START_STATES`) override the profile's. ``force_sensor``: the arm carries
+    the flange force/torque sensor (the twin's, of the model's configuration), and the
+    emulator answers JAKA's torque-sensor and force-control commands from it
+    (:mod:`.force_commands`); without it, as a controller whose arm has none."""
 
     def __init__(self, model: Union[str, RobotModel] = "zu5", host: str = "127.0.0.1",
                  command_port: int = 10001, status_port: int = 10000, *,
                  data_port: Optional[int] = None, profile: Union[str, ControllerProfile] =
                  DEFAULT_PROFILE, period: Optional[float] = None, start: Optional[str] = None,
-                 scene: Optional[str] = None, io_loopback: bool = False):
+                 scene: Optional[str] = None, io_loopback: bool = False,
+                 force_sensor: bool = False):
         self.profile = profile_named(profile) if isinstance(profile, str) else profile
         self.start_state = self.profile.start if start is None else start
         if self.start_state not in START_STATES:
@@ -55,7 +59,8 @@ class Emulator:
         # The twin gets the IO of the profile's controller cabinet, as its packets show it.
         self.model = dataclasses.replace(self.model, io_sizes=self.profile.io_sizes)
         #: the arm: the MuJoCo twin, through its face (the contract and ``backend.twin``)
-        self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback)
+        self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback,
+                                  force_sensor=bool(force_sensor))
         self.controller = TwinController(self.backend, self.profile)
         if data_port is None:   # free ports for tests stay free ports: no fixed 10004 then
             data_port = 0 if command_port == 0 else 10004
