@@ -107,7 +107,7 @@ def sdk_json(obj: Any, fixed: Dict[str, int], key: str = "") -> str:
     return json.dumps(obj)
 
 
-FIXED_DECIMALS = {"rate_value": 2, "mass": 2}
+FIXED_DECIMALS = {"rate_value": 2, "mass": 2, "ftReboundFK": 3}
 
 
 def deg(values) -> List[float]:

@@ -97,8 +97,8 @@ class SimForce(Force):
 
     def _mode(self) -> str:
         motion = self._physics.motion
-        if isinstance(motion, ForceControlRun) and motion.active:
-            return motion.mode
+        if isinstance(motion, ForceControlRun) and motion.active and not motion.stopping:
+            return motion.mode          # (stopping: off, the arm ramps to rest)
         if isinstance(motion, IdentificationRun) and motion.active:
             return ForceMode.IDENTIFYING
         return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
@@ -303,7 +303,8 @@ class SimForce(Force):
             ended.append("velocity compliance")
         with self._flags.lock:
             motion = self._physics.motion
-            if isinstance(motion, ForceControlRun) and motion.active and motion.mode in modes:
+            if isinstance(motion, ForceControlRun) and motion.active and not motion.stopping \
+                    and motion.mode in modes:
                 motion.stop()
                 ended.append(motion.mode.replace("_", " "))
         if ended:

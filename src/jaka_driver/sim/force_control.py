@@ -128,6 +128,11 @@ class ForceControlRun(Motion):
         self._stopping = True
         self.jog.stop()
 
+    @property
+    def stopping(self) -> bool:
+        """Told to stop: force control is off, the arm ramps to rest."""
+        return self._stopping
+
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
         if not self._stopping:
             self.jog.command(self._twist(q_sp))
