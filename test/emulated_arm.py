@@ -11,12 +11,17 @@ from jaka_driver.emulator import Emulator
 
 
 @contextmanager
-def driver_on_emulator(model: str = "zu5", **driver_args):
-    """``(emulator, driver)``: the emulator of ``model`` (its default profile) and a started
-    RobotDriver on a ControllerBackend connected to it (``driver_args`` to RobotDriver); the
-    driver is shut down and the emulator stopped on leaving."""
-    with Emulator(model, command_port=0, status_port=0) as emu:
-        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+def driver_on_emulator(model: str = "zu5", force_sensor: bool = False, scene=None,
+                       **driver_args):
+    """``(emulator, driver)``: the emulator of ``model`` (its default profile; ``force_sensor``:
+    its arm carries the twin's force/torque sensor and the backend is told so; ``scene`` the
+    twin's workcell) and a started RobotDriver on a ControllerBackend connected to it
+    (``driver_args`` to RobotDriver); the driver is shut down and the emulator stopped on
+    leaving."""
+    with Emulator(model, command_port=0, status_port=0, force_sensor=force_sensor,
+                  scene=scene) as emu:
+        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                                    force_sensor=force_sensor)
         driver = RobotDriver(backend, **driver_args)
         driver.start()
         try:
