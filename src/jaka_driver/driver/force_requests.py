@@ -52,10 +52,12 @@ class ForceRequests:
         d._ready()
 
     # ---- readings and the sensor -------------------------------------------------------------
-    @answers
+    @answers(react=False)
     def settings(self) -> Result:
         """What force control is set to and does (``value``: a ForceSettings, SI units);
-        never refused: without a sensor ``mounted`` is False."""
+        never refused: without a sensor ``mounted`` is False. A read, polled by the node's
+        state watcher: it does not open a reaction window in sim time (which, 10 times a
+        second, would keep the twin's time from ever advancing)."""
         force = self._force
         return Result.success(force.absent or "force control settings", force.settings())
 
