@@ -41,25 +41,6 @@ PRESS_N = 10.0
 STEP_S = 4.0                # the step's window: settling, then the last second held
 
 
-def _record_ages(driver, seconds: float) -> dict:
-    """(receipt, stamp) arrays of ``~wrench`` and ``joint_position`` over ``seconds``."""
-    with ExitStack() as stack:
-        recs = {"wrench": ros_session.recorder(stack, driver.name("wrench"), WrenchStamped),
-                "joint_position": ros_session.recorder(stack, driver.name("joint_position"),
-                                                       JointState)}
-        ros_session.wait_until(lambda: all(r.latest() is not None for r in recs.values()), 10.0)
-        time.sleep(0.5)
-        t0 = time.time()
-        time.sleep(seconds)
-        t1 = time.time()
-        out = {}
-        for name, rec in recs.items():
-            got = [(t, m) for t, m in rec.since(t0) if t <= t1]
-            out[name] = (np.array([t for t, _ in got]),
-                         np.array([m.header.stamp.to_sec() for _, m in got]))
-    return out
-
-
 def _step(driver, calls, seconds: float) -> dict:
     """Constant force from standing above the table: (t since the enable, Fz) of every
     ``~wrench`` sample, by its stamp."""
@@ -88,7 +69,8 @@ def run(driver, calls, seconds: float, log=print) -> list[Row]:
         raise RuntimeError("zero_ftsensor refused")
     log(f"  wrench and state topics, sensor on, {seconds:g} s")
     with MachineWindow() as machine, CpuWindow(driver.proc.pid) as idle:
-        ages = _record_ages(driver, seconds)
+        ages = state_topics.record(driver, seconds, (("wrench", WrenchStamped),
+                                                     ("joint_position", JointState)))
     reply = calls("set_admittance", SetAdmittance, axis=2, opt=1, ft_user=40.0, ft_rebound=0.0,
                   ft_constant=PRESS_N)          # the tool's z
     if reply.ret != 1:
@@ -106,12 +88,12 @@ def run(driver, calls, seconds: float, log=print) -> list[Row]:
 
 def rows(ages: dict, step: dict, idle_cpu: dict, force_cpu: dict) -> list[Row]:
     out = []
-    wrench_age = summary(ages["wrench"][0] - ages["wrench"][1], 1e3)
-    state_age = summary(ages["joint_position"][0] - ages["joint_position"][1], 1e3)
+    wrench_age = summary(ages["wrench"]["recv"] - ages["wrench"]["stamp"], 1e3)
+    state_age = summary(ages["joint_position"]["recv"] - ages["joint_position"]["stamp"], 1e3)
     ok = wrench_age["p99"] is not None and wrench_age["p99"] <= AGE_P99_MS
     out.append(Row(GROUP, "wrench sample age p50 / p99 / max, sensor on",
                    f"{fmt(wrench_age['p50'])} / {fmt(wrench_age['p99'])} / "
-                   f"{fmt(wrench_age['max'])} ms ({ages['wrench'][0].size} msgs); "
+                   f"{fmt(wrench_age['max'])} ms ({ages['wrench']['recv'].size} msgs); "
                    f"joint_position in the same window (the floor) {fmt(state_age['p50'])} / "
                    f"{fmt(state_age['p99'])} / {fmt(state_age['max'])} ms",
                    f"p99 ≤ {AGE_P99_MS:g} ms", judged(ok),

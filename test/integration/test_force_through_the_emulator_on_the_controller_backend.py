@@ -59,7 +59,7 @@ def at_home(arm):
 
 def test_the_backend_shows_the_twins_wrench_within_one_packet(at_home):
     emu, driver = at_home
-    twin, seen = {}, []
+    twin, seen = {}, []                 # twin: reading → its cycle (stamp / 8 ms)
     last = driver.state().stamp
     twin_last = emu.backend.state().stamp
     while len(seen) < 100:                              # 0.8 s of packets
@@ -67,20 +67,28 @@ def test_the_backend_shows_the_twins_wrench_within_one_packet(at_home):
         st = driver.state()
         newest = emu.backend.state()                    # the twin's, as the sample arrives
         for sample in emu.backend.states_since(twin_last):
-            twin[tuple(np.round(sample.force.general, 4))] = sample.stamp
+            twin[tuple(np.round(sample.force.general, 4))] = round(sample.stamp / SERVO_CYCLE)
             twin_last = sample.stamp
         last = st.stamp
-        seen.append((st.force.general, newest.stamp))
-    lags = []
+        seen.append((st.force.general, round(newest.stamp / SERVO_CYCLE)))
+    cycles = set(twin.values())
+    lags, unseen = [], 0
     for general, newest in seen:
-        stamp = twin.get(tuple(np.round(general, 4)))
-        assert stamp is not None, f"{general} is no twin sample's reading"
-        lags.append(round((newest - stamp) / SERVO_CYCLE))
+        cycle = twin.get(tuple(np.round(general, 4)))
+        if cycle is None:
+            # this test thread fell more than the twin's history (0.26 s) behind and missed
+            # the twin's samples around it; anywhere else the reading must be the twin's
+            assert not all(newest - k in cycles for k in range(4)), \
+                f"{general} is no twin sample's reading"
+            unseen += 1
+            continue
+        lags.append(newest - cycle)
     print(f"the backend's sample is the twin's newest less {np.median(lags):g} cycles (median; "
-          f"max {max(lags)} while this test thread waited for the CPU)")
+          f"max {max(lags)} while this test thread waited for the CPU; {unseen} of "
+          f"{len(seen)} samples arrived while it was too far behind to check)")
     # every sample differs (the sensor's noise), so the match is exact; the median is the
     # structural lag, the tail the test thread's own scheduling
-    assert np.median(lags) <= 1
+    assert len(lags) >= len(seen) // 2 and np.median(lags) <= 1
 
 
 def test_constant_force_10_n_through_the_controller_settles_on_the_table(at_home):

@@ -41,8 +41,9 @@ contract: a refused request changes nothing; every refusal says why (-9 no senso
 """
 from __future__ import annotations
 
+import threading
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import IntEnum
 from typing import NamedTuple, Optional, Sequence, Tuple
 
@@ -231,6 +232,44 @@ class ForceSettings:
     tool_drive_frame: int = ForceFrame.TOOL
     condition: np.ndarray = field(default_factory=_six)
     mode: str = ForceMode.OFF
+
+
+class KeptSettings:
+    """What a facet keeps of force control — its :class:`ForceSettings` and the
+    identification's status — changed from any thread under one lock, each replaced whole, so
+    a reader always gets one consistent value."""
+
+    def __init__(self, settings: ForceSettings):
+        self._lock = threading.Lock()
+        self.reset(settings)
+
+    def reset(self, settings: ForceSettings) -> None:
+        with self._lock:
+            self._settings = settings
+            self._identification = IdentificationStatus()
+
+    @property
+    def value(self) -> ForceSettings:
+        return self._settings
+
+    @property
+    def identification(self) -> IdentificationStatus:
+        return self._identification
+
+    def report(self, status: IdentificationStatus) -> None:
+        with self._lock:
+            self._identification = status
+
+    def update(self, **changes) -> None:
+        with self._lock:
+            self._settings = replace(self._settings, **changes)
+
+    def update_row(self, table: str, axis: int, row) -> None:
+        """Row ``axis`` of the six-axis table ``table`` (read, changed and written at once)."""
+        with self._lock:
+            rows = list(getattr(self._settings, table))
+            rows[axis] = row
+            self._settings = replace(self._settings, **{table: tuple(rows)})
 
 
 class Force(ABC):

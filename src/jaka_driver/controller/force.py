@@ -45,6 +45,7 @@ import numpy as np
 from ..backend.completion import Completion
 from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
                              ForceMode, ForceReading, ForceSettings, IdentificationStatus,
+                             KeptSettings,
                              SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
                              gravity_wrench, rebound_from_si, rebound_to_si, wrench_text)
 from ..common.models import RobotModel
@@ -118,13 +119,11 @@ class ControllerForce(Force):
         self.identity = identity
         self.kinematics = kinematics
         self._spec = spec
-        self._lock = threading.Lock()
         #: what the controller was last read back or accepted as (the sensor's own state and
         #: tool payload come from the packets)
-        self._settings = ForceSettings(mounted=True, range=spec.range.copy(),
-                                       soft_limit=spec.range.copy())
+        self._kept = KeptSettings(ForceSettings(mounted=True, range=spec.range.copy(),
+                                                soft_limit=spec.range.copy()))
         self._velocity_on = False
-        self._identification = IdentificationStatus()
 
     # ---- the packets -----------------------------------------------------------------------
     def reading(self, status: StatusPacket, q: np.ndarray) -> Optional[ForceReading]:
@@ -144,8 +143,7 @@ class ControllerForce(Force):
     def settings(self) -> ForceSettings:
         latest = self.view.latest
         ts = None if latest is None else latest.torque_sensor
-        with self._lock:
-            s = self._settings
+        s = self._kept.value
         if ts is not None:
             s = dataclasses.replace(s, tool_payload=SensorPayload(
                 ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0))
@@ -161,18 +159,7 @@ class ControllerForce(Force):
         return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
 
     def identification_status(self) -> IdentificationStatus:
-        with self._lock:
-            return self._identification
-
-    def _update(self, **changes) -> None:
-        with self._lock:
-            self._settings = dataclasses.replace(self._settings, **changes)
-
-    def _update_row(self, table: str, axis: int, row) -> None:
-        with self._lock:
-            rows = list(getattr(self._settings, table))
-            rows[axis] = row
-            self._settings = dataclasses.replace(self._settings, **{table: tuple(rows)})
+        return self._kept.identification
 
     def read_all(self) -> None:
         """Every setting the controller can be asked for, as it has it now (at every
@@ -200,7 +187,7 @@ class ControllerForce(Force):
         )
         for what, request, accessor, changes in reads:
             try:
-                self._update(**changes(self.send.read(request, accessor)))
+                self._kept.update(**changes(self.send.read(request, accessor)))
             except CommandRefused as refusal:
                 log.info("the controller's torque-sensor %s is unknown: %s", what,
                          refusal.message)
@@ -254,7 +241,7 @@ class ControllerForce(Force):
             request, wire.get_tool_payload(), reply_payload,
             lambda v: abs(v[0] - sent) < READBACK and np.allclose(v[1], c_mm, atol=READBACK),
             "the sensor's tool payload")
-        self._update(tool_payload=SensorPayload(float(read[0]), np.asarray(read[1]) / 1000.0))
+        self._kept.update(tool_payload=SensorPayload(float(read[0]), np.asarray(read[1]) / 1000.0))
         # the packets carry it too (settings() reads it there): answer once one shows it
         self.view.wait_until(lambda status: status.torque_sensor is not None and abs(
             status.torque_sensor.payload_mass - read[0]) < READBACK, PACKET_CATCH_UP)
@@ -267,7 +254,7 @@ class ControllerForce(Force):
         read = self.send.settled(wire.set_torque_sensor_filter(hz),
                                  wire.get_torque_sensor_filter(), wire.reply_torque_sensor_filter,
                                  lambda v: abs(v - hz) < READBACK, "the sensor filter")
-        self._update(filter_hz=float(read))
+        self._kept.update(filter_hz=float(read))
         return Result.success("sensor filter off (read back)" if hz == 0 else
                               f"sensor filter {read:g} Hz (read back)")
 
@@ -279,7 +266,7 @@ class ControllerForce(Force):
                                  wire.reply_torque_sensor_soft_limit,
                                  lambda v: np.allclose(v, limit, atol=READBACK),
                                  "the sensor soft limit")
-        self._update(soft_limit=read)
+        self._kept.update(soft_limit=read)
         return Result.success("sensor soft limit " + wrench_text(read) + " (read back)")
 
     # ---- settings of force control -----------------------------------------------------------
@@ -297,7 +284,7 @@ class ControllerForce(Force):
                                  lambda rows: _same_row(rows[axis], sent),
                                  f"admittance {AXES[axis]}")
         row = _admittance_axis(axis, rows[axis])
-        self._update_row("admittance", axis, row)
+        self._kept.update_row("admittance", axis, row)
         return Result.success(f"admittance {AXES[axis]}: " + (
             f"on, ft_user {row.ft_user:g}, rebound {sent.ft_rebound:g}, constant "
             f"{row.constant:g}" if row.enabled else "off") + " (read back)")
@@ -309,7 +296,7 @@ class ControllerForce(Force):
         self.send.settled(wire.set_compliant_type(*want), wire.get_compliant_type(),
                           wire.reply_compliant_type, lambda v: tuple(v) == want,
                           "the compliance type")
-        self._update(compensation=bool(compensation), compliance_type=int(kind))
+        self._kept.update(compensation=bool(compensation), compliance_type=int(kind))
         return Result.success(f"compliance type {ComplianceType(kind).name.lower()}, "
                               f"{'compensated' if compensation else 'uncompensated'} wrench "
                               "(read back)")
@@ -318,7 +305,7 @@ class ControllerForce(Force):
     def set_velocity_compliance(self, config: VelocityCompliance) -> Result:
         """``set_vel_compliant_ctrl``: the controller has no get of it."""
         self.send.accepted(wire.set_vel_compliant_ctrl(config.level, config.rates))
-        self._update(velocity=config)
+        self._kept.update(velocity=config)
         return Result.success(f"velocity compliance level {config.level}, rates "
                               f"{', '.join(f'{r:g}' for r in config.rates)} (accepted; the "
                               "controller has no get of it)")
@@ -335,7 +322,7 @@ class ControllerForce(Force):
                                  lambda rows: _same_row(rows[axis], sent),
                                  f"tool drive {AXES[axis]}")
         row = _tool_drive_axis(axis, rows[axis])
-        self._update_row("tool_drive", axis, row)
+        self._kept.update_row("tool_drive", axis, row)
         return Result.success(f"tool drive {AXES[axis]}: " + (
             f"on, rigidity {row.rigidity:g}, rebound {sent.rebound:g}" if row.enabled
             else "off") + " (read back)")
@@ -345,7 +332,7 @@ class ControllerForce(Force):
         self._require_force_off("changing the force-control frame")
         self.send.settled(wire.set_ft_ctrl_frame(frame), wire.get_ft_ctrl_frame(), _ft_frame,
                           lambda v: v == frame, "the force-control frame")
-        self._update(frame=int(frame))
+        self._kept.update(frame=int(frame))
         return Result.success(f"force control in the {frame_name(frame)} frame (read back)")
 
     @answers
@@ -353,7 +340,7 @@ class ControllerForce(Force):
         self._require_force_off("changing the tool drive frame")
         self.send.settled(wire.set_tool_drive_frame(frame), wire.get_tool_drive_frame(),
                           _tool_drag_frame, lambda v: v == frame, "the tool drive frame")
-        self._update(tool_drive_frame=int(frame))
+        self._kept.update(tool_drive_frame=int(frame))
         return Result.success(f"tool drive in the {frame_name(frame)} frame (read back)")
 
     @answers
@@ -361,7 +348,7 @@ class ControllerForce(Force):
         """``set_compliance_condition``: the controller has no get of it."""
         wrench = np.asarray(wrench, float)
         self.send.accepted(wire.set_compliance_condition(wrench))
-        self._update(condition=wrench.copy())
+        self._kept.update(condition=wrench.copy())
         checked = [f"{WRENCH_NAMES[i]} {v:g}" for i, v in enumerate(wrench) if v > 0]
         return Result.success("compliance condition " + (", ".join(checked) if checked else
                                                          "off (nothing checked)")
@@ -438,10 +425,16 @@ class ControllerForce(Force):
             return Result.success("no force control was on" if quiet else
                                   f"{' / '.join(m.replace('_', ' ') for m in modes)} was not on")
         self._switch(False, f"{mode.replace('_', ' ')} off")
+        return self._ended(mode)
+
+    def _ended(self, mode: str) -> Result:
+        """Force control is off on the controller (it said so): off here too."""
         self._velocity_on = False
         run = self.motion.running(ForceControlRun)
         if run is not None:
             run.end()
+        if mode in (ForceMode.OFF, ForceMode.IDENTIFYING):
+            return Result.success("no force control was on")
         return Result.success(f"{mode.replace('_', ' ')} off: the arm comes to rest")
 
     @answers
@@ -451,13 +444,7 @@ class ControllerForce(Force):
         mode = self._mode()
         self.send.settled(wire.disable_force_control(), wire.get_tool_drive_stat(),
                           wire.reply_tool_drive_stat, lambda v: not v[0], "force control off")
-        self._velocity_on = False
-        run = self.motion.running(ForceControlRun)
-        if run is not None:
-            run.end()
-        if mode in (ForceMode.OFF, ForceMode.IDENTIFYING):
-            return Result.success("no force control was on")
-        return Result.success(f"{mode.replace('_', ' ')} off: the arm comes to rest")
+        return self._ended(mode)
 
     # ---- payload identification --------------------------------------------------------------
     @answers
@@ -479,7 +466,7 @@ class ControllerForce(Force):
         except CommandRefused as refusal:
             completion.finish(refusal.result())
             raise
-        self._report(IdentificationStatus(1, 0.0, f"{what} started"))
+        self._kept.report(IdentificationStatus(1, 0.0, f"{what} started"))
         threading.Thread(target=self._follow_identification, args=(completion, planned),
                          name="jaka-identify", daemon=True).start()
         return Result.success(f"{what} started on the way to the end pose (planned "
@@ -494,10 +481,6 @@ class ControllerForce(Force):
                                   m.max_acceleration * IDENTIFY_PACE)
         return plan.duration + IDENTIFY_MEASURE_S
 
-    def _report(self, status: IdentificationStatus) -> None:
-        with self._lock:
-            self._identification = status
-
     def _follow_identification(self, completion: Completion, planned: float) -> None:
         """Poll the controller's identification status until it is done or failed, then read
         the result (``jaka-identify`` thread)."""
@@ -511,7 +494,7 @@ class ControllerForce(Force):
                                        wire.reply_identify_status)
                 if state == 1:
                     seen_running = True
-                    self._report(IdentificationStatus(1, min(0.99, elapsed / planned),
+                    self._kept.report(IdentificationStatus(1, min(0.99, elapsed / planned),
                                                       f"{what} running ({elapsed:.1f} s)"))
                     continue
                 if state == 0 and not seen_running and elapsed < IDENTIFY_START_GRACE:
@@ -522,18 +505,18 @@ class ControllerForce(Force):
                 mass, centroid_mm = self.send.read(wire.get_torq_sensor_payload_identify_result(),
                                                    wire.reply_identify_result)
             except CommandRefused as refusal:
-                self._report(IdentificationStatus(2, 0.0, refusal.message))
+                self._kept.report(IdentificationStatus(2, 0.0, refusal.message))
                 completion.finish(refusal.result())
                 return
             payload = SensorPayload(float(mass), np.asarray(centroid_mm, float) / 1000.0)
             message = (f"{what} done in {elapsed:.1f} s: {payload.mass:.3f} kg at "
                        f"({centroid_mm[0]:.1f}, {centroid_mm[1]:.1f}, {centroid_mm[2]:.1f}) mm")
-            self._report(IdentificationStatus(0, 1.0, message, payload))
+            self._kept.report(IdentificationStatus(0, 1.0, message, payload))
             completion.finish(Result.success(message, payload))
             return
         result = completion.result
         if result is not None and not result.ok:
-            self._report(IdentificationStatus(2, 0.0, result.message))
+            self._kept.report(IdentificationStatus(2, 0.0, result.message))
 
 
 def _same_row(read, sent) -> bool:

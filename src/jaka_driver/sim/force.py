@@ -16,7 +16,6 @@ Units: the facet's (jaka_driver.backend.force).
 from __future__ import annotations
 
 import dataclasses
-import threading
 from typing import Callable, Optional, Sequence
 
 import mujoco
@@ -26,6 +25,7 @@ from ..backend.clock import SimClock, WallClock
 from ..backend.completion import Completion
 from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
                              ForceFrame, ForceMode, ForceSettings, IdentificationStatus,
+                             KeptSettings,
                              SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
                              wrench_text)
 from ..common.constants import IN_POSITION, SERVO_CYCLE
@@ -70,19 +70,20 @@ class SimForce(Force):
         self._kin = kinematics
         self._frames = frames
         self._velocity_jog = velocity_jog
-        self._lock = threading.Lock()
         self.readings = SensorReadings(physics.m, spec, SERVO_CYCLE)
-        self.reset()
+        self._kept = KeptSettings(self._fresh())
+        self._velocity_on = False
+
+    def _fresh(self) -> ForceSettings:
+        return ForceSettings(mounted=True, range=self._spec.range.copy(),
+                             soft_limit=self._spec.range.copy())
 
     def reset(self) -> None:
         """A fresh sensor and force control: off, every setting at its default (call with the
         physics lock held, between cycles)."""
-        with self._lock:
-            self.readings.reset()
-            self._settings = ForceSettings(mounted=True, range=self._spec.range.copy(),
-                                           soft_limit=self._spec.range.copy())
-            self._velocity_on = False
-            self._identification = IdentificationStatus()
+        self.readings.reset()
+        self._kept.reset(self._fresh())
+        self._velocity_on = False
 
     # ---- what it is and does --------------------------------------------------------------
     @property
@@ -90,10 +91,9 @@ class SimForce(Force):
         return None
 
     def settings(self) -> ForceSettings:
-        with self._lock:
-            return dataclasses.replace(self._settings, sensor_on=self.readings.on,
-                                       filter_hz=self.readings.filter_hz,
-                                       tool_payload=self.readings.payload, mode=self._mode())
+        return dataclasses.replace(self._kept.value, sensor_on=self.readings.on,
+                                   filter_hz=self.readings.filter_hz,
+                                   tool_payload=self.readings.payload, mode=self._mode())
 
     def _mode(self) -> str:
         motion = self._physics.motion
@@ -104,23 +104,7 @@ class SimForce(Force):
         return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
 
     def identification_status(self) -> IdentificationStatus:
-        with self._lock:
-            return self._identification
-
-    def _report(self, status: IdentificationStatus) -> None:
-        with self._lock:
-            self._identification = status
-
-    def _update(self, **changes) -> None:
-        with self._lock:
-            self._settings = dataclasses.replace(self._settings, **changes)
-
-    def _update_row(self, table: str, axis: int, row) -> None:
-        """Row ``axis`` of the six-axis table ``table`` (read, changed and written at once)."""
-        with self._lock:
-            rows = list(getattr(self._settings, table))
-            rows[axis] = row
-            self._settings = dataclasses.replace(self._settings, **{table: tuple(rows)})
+        return self._kept.identification
 
     # ---- refusals only the facet can make ---------------------------------------------------------
     def _sensor_off(self, what: str) -> Optional[Result]:
@@ -182,7 +166,7 @@ class SimForce(Force):
                               f"sensor filter {cutoff_hz:g} Hz")
 
     def set_soft_limit(self, limit: np.ndarray) -> Result:
-        self._update(soft_limit=np.asarray(limit, float).copy())
+        self._kept.update(soft_limit=np.asarray(limit, float).copy())
         return Result.success("sensor soft limit " + wrench_text(limit))
 
     # ---- settings of force control ----------------------------------------------------------------
@@ -190,7 +174,7 @@ class SimForce(Force):
         refused = self._force_active("changing the admittance")
         if refused:
             return refused
-        self._update_row("admittance", axis, config)
+        self._kept.update_row("admittance", axis, config)
         return Result.success(f"admittance {AXES[axis]}: " + (
             f"on, ft_user {config.ft_user:g}, rebound {config.rebound:g}, constant "
             f"{config.constant:g}" if config.enabled else "off"))
@@ -199,12 +183,12 @@ class SimForce(Force):
         refused = self._force_active("changing the compliance type")
         if refused:
             return refused
-        self._update(compensation=bool(compensation), compliance_type=int(kind))
+        self._kept.update(compensation=bool(compensation), compliance_type=int(kind))
         return Result.success(f"compliance type {ComplianceType(kind).name.lower()}, "
                               f"{'compensated' if compensation else 'uncompensated'} wrench")
 
     def set_velocity_compliance(self, config: VelocityCompliance) -> Result:
-        self._update(velocity=config)
+        self._kept.update(velocity=config)
         return Result.success(f"velocity compliance level {config.level}, rates "
                               f"{', '.join(f'{r:g}' for r in config.rates)}")
 
@@ -212,7 +196,7 @@ class SimForce(Force):
         refused = self._force_active("changing the tool drive")
         if refused:
             return refused
-        self._update_row("tool_drive", axis, config)
+        self._kept.update_row("tool_drive", axis, config)
         return Result.success(f"tool drive {AXES[axis]}: " + (
             f"on, rigidity {config.rigidity:g}, rebound {config.rebound:g}"
             if config.enabled else "off"))
@@ -221,18 +205,18 @@ class SimForce(Force):
         refused = self._force_active("changing the force-control frame")
         if refused:
             return refused
-        self._update(frame=int(frame))
+        self._kept.update(frame=int(frame))
         return Result.success(f"force control in the {frame_name(frame)} frame")
 
     def set_tool_drive_frame(self, frame: int) -> Result:
         refused = self._force_active("changing the tool drive frame")
         if refused:
             return refused
-        self._update(tool_drive_frame=int(frame))
+        self._kept.update(tool_drive_frame=int(frame))
         return Result.success(f"tool drive in the {frame_name(frame)} frame")
 
     def set_condition(self, wrench: np.ndarray) -> Result:
-        self._update(condition=np.asarray(wrench, float).copy())
+        self._kept.update(condition=np.asarray(wrench, float).copy())
         checked = [f"{WRENCH_NAMES[i]} {v:g}" for i, v in enumerate(wrench) if v > 0]
         return Result.success("compliance condition " + (", ".join(checked) if checked else
                                                          "off (nothing checked)"))
@@ -351,7 +335,7 @@ class SimForce(Force):
                 return Result.failure(Code.BUSY, "payload identification refused: "
                                       f"{physics.motion.busy_reason}")
             run = IdentificationRun(segments, SERVO_CYCLE, IN_POSITION, measure, completion,
-                                    self._report)
+                                    self._kept.report)
             physics.switch(run)
         return Result.success(f"payload identification started through {len(targets) + 1} "
                               f"poses (planned {run.planned:.1f} s)", (completion, run.planned))
@@ -364,7 +348,7 @@ class SimForce(Force):
         if reading is None:
             return
         flags = self._flags
-        s = self._settings
+        s = self._kept.value
         over = np.abs(reading.actual) > s.soft_limit
         if over.any() and not (flags.protective_stop or flags.collision):
             i = int(np.argmax(over))
