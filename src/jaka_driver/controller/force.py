@@ -279,15 +279,21 @@ class ControllerForce(Force):
         sent = wire.AdmitRow(int(config.enabled), float(request["ftUser"]),
                              float(request["ftReboundFK"]), float(request["ftConstant"]),
                              int(config.normal_track))
-        rows = self.send.settled(request, wire.get_admit_ctrl_config(),
-                                 wire.reply_admit_ctrl_config,
-                                 lambda rows: _same_row(rows[axis], sent),
-                                 f"admittance {AXES[axis]}")
-        row = _admittance_axis(axis, rows[axis])
-        self._kept.update_row("admittance", axis, row)
+        row = self._set_axis("admittance", axis, request, sent, wire.get_admit_ctrl_config(),
+                             wire.reply_admit_ctrl_config, _admittance_axis)
         return Result.success(f"admittance {AXES[axis]}: " + (
             f"on, ft_user {row.ft_user:g}, rebound {sent.ft_rebound:g}, constant "
             f"{row.constant:g}" if row.enabled else "off") + " (read back)")
+
+    def _set_axis(self, table: str, axis: int, request, sent, readback, reply, as_axis):
+        """Send ``request`` (one axis of ``table``), read the table back until the axis's row
+        is ``sent``; keep and return the row read, as the facet's axis (``as_axis``)."""
+        rows = self.send.settled(request, readback, reply,
+                                 lambda rows: _same_row(rows[axis], sent),
+                                 f"{table.replace('_', ' ')} {AXES[axis]}")
+        row = as_axis(axis, rows[axis])
+        self._kept.update_row(table, axis, row)
+        return row
 
     @answers
     def set_compliance_type(self, compensation: bool, kind: int) -> Result:
@@ -317,12 +323,8 @@ class ControllerForce(Force):
                                              rebound_from_si(axis, config.rebound))
         sent = wire.ToolDriveRow(int(config.enabled), float(request["rigidity"]),
                                  float(request["rebound"]))
-        rows = self.send.settled(request, wire.get_tool_drive_config(),
-                                 wire.reply_tool_drive_config,
-                                 lambda rows: _same_row(rows[axis], sent),
-                                 f"tool drive {AXES[axis]}")
-        row = _tool_drive_axis(axis, rows[axis])
-        self._kept.update_row("tool_drive", axis, row)
+        row = self._set_axis("tool_drive", axis, request, sent, wire.get_tool_drive_config(),
+                             wire.reply_tool_drive_config, _tool_drive_axis)
         return Result.success(f"tool drive {AXES[axis]}: " + (
             f"on, rigidity {row.rigidity:g}, rebound {sent.rebound:g}" if row.enabled
             else "off") + " (read back)")
