@@ -13,14 +13,15 @@ status), and the request waits up to 1 s for one that does. The velocity-complia
 the compliance condition have no get at all: accepted is all there is.
 
 **The readings** come with every status packet (``torqsensor``, no request per sample):
-:func:`sensor_reading`. **What runs**: admittance, constant force and tool drive hold the arm,
+:func:`.status_view.sensor_reading`. **What runs**: admittance, constant force and tool drive hold the arm,
 so they take the backend's one slot (:class:`~.running_motion.ForceControlRun`: moves are
 refused meanwhile, stop_move ends them, a halt in a packet ends them); velocity compliance
 lets moves run and only slows them, so it is a flag here. **Identification**:
 ``start_torq_sensor_payload_identify`` with the end pose, then ``get_torq_sensor_identify_staus``
 polled every :data:`IDENTIFY_POLL` s until it reads done or failed, then
-``get_torq_sensor_payload_identify_result`` — behind the same started-motion contract as the
-twin's (:class:`~.running_motion.IdentificationRun` in the slot).
+``get_torq_sensor_payload_identify_result`` (:mod:`.payload_identification`) — behind the same
+started-motion contract as the twin's (:class:`~.running_motion.IdentificationRun` in the
+slot).
 
 Refusals as on the twin: the sensor off (as the packets report it) -9, force control running
 -10, the arm moving -10; a controller identifies on the way to one end pose only (-2 for more).
@@ -47,12 +48,11 @@ from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType,
                              ForceMode, ForceReading, ForceSettings, IdentificationStatus,
                              KeptSettings,
                              SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
-                             gravity_wrench, rebound_from_si, rebound_to_si, wrench_text)
+                             rebound_from_si, rebound_to_si, wrench_text)
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.sensor_spec import ForceSensorSpec
 from ..kinematics import Kinematics
-from ..motion.profiles import joint_move_profile
 from ..protocol import torque_sensor as wire
 from ..protocol.fields import Field
 from ..protocol.replies import reply_payload
@@ -61,43 +61,14 @@ from .arm_identity import ArmIdentity
 from .arm_settings import PACKET_CATCH_UP
 from .commander import SETTLE_TIMEOUT, Commander, answers
 from .connection import ControllerLink
+from .payload_identification import follow_identification, identification_plan
 from .running_motion import ForceControlRun, IdentificationRun, RunningMotion, keeps_out
-from .status_view import StatusView
+from .status_view import StatusView, sensor_reading
 
 log = logging.getLogger(__name__)
 
 #: A number read back matches what was sent within this (replies carry 6 decimals)
 READBACK = 1e-3
-#: s between two get_torq_sensor_identify_staus while an identification runs
-IDENTIFY_POLL = 0.1
-#: s after the start during which "done" (0) is taken for the previous run's, until the
-#: controller has said "running" (1) once
-IDENTIFY_START_GRACE = 1.0
-#: The controller's own pace of an identification is not on record: the plan (the door's
-#: deadline, 1.5 × plan + 2 s) assumes a joint move at this share of the joints' limits and
-#: IDENTIFY_MEASURE_S of measuring
-IDENTIFY_PACE = 0.1
-IDENTIFY_MEASURE_S = 2.0
-
-
-def sensor_reading(status: StatusPacket,
-                   flange_rotation: Callable[[], np.ndarray]) -> Optional[ForceReading]:
-    """The packet's ``torqsensor`` as a :class:`ForceReading` (N, N·m, sensor frame): its
-    ``actTorque``, ``torque`` and ``realTorque`` are ``actual``, ``general`` and ``real``, as
-    JAKA's SDK reads them. None without the field, or while the sensor is off (``status`` 0).
-    A packet without the third vector (the recorded Zu 5s sends two) gets ``real`` computed as
-    the twin computes it: ``actual`` less the weight of the sensor's tool payload the same
-    packet states, at the flange's orientation ``flange_rotation()`` (3x3, flange → base:
-    gravity along the base's −z) — so ``~wrench_compensated`` means the same on every
-    controller. A packet without ``actual`` has no reading."""
-    ts = status.torque_sensor
-    if ts is None or ts.status == 0 or not np.all(np.isfinite(ts.actual)):
-        return None
-    real = ts.real
-    if not np.all(np.isfinite(real)):
-        payload = SensorPayload(ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0)
-        real = ts.actual - gravity_wrench(payload, flange_rotation())
-    return ForceReading(ts.actual, ts.general, real, ts.status, ts.errcode)
 
 
 class ControllerForce(Force):
@@ -127,7 +98,8 @@ class ControllerForce(Force):
 
     # ---- the packets -----------------------------------------------------------------------
     def reading(self, status: StatusPacket, q: np.ndarray) -> Optional[ForceReading]:
-        """:func:`sensor_reading` of ``status``, the flange turned as at joints ``q`` (rad)."""
+        """:func:`.status_view.sensor_reading` of ``status``, the flange turned as at joints
+        ``q`` (rad)."""
         return sensor_reading(status, lambda: self.kinematics().flange_pose(q)[:3, :3])
 
     def _sensor_status(self) -> Optional[int]:
@@ -460,7 +432,9 @@ class ControllerForce(Force):
         self._require_sensor_on(what)
         self._require_force_off(what)
         q_end = np.asarray(poses[0], float)
-        planned = self._identification_plan(q_end)
+        latest = self.view.latest
+        planned = identification_plan(self.model, None if latest is None
+                                      else latest.joint_position, q_end)
         completion = Completion()
         self.motion.take(IdentificationRun(completion), keeps_out(what))
         try:
@@ -469,56 +443,11 @@ class ControllerForce(Force):
             completion.finish(refusal.result())
             raise
         self._kept.report(IdentificationStatus(1, 0.0, f"{what} started"))
-        threading.Thread(target=self._follow_identification, args=(completion, planned),
+        threading.Thread(target=follow_identification,
+                         args=(self.send, completion, planned, self._kept.report),
                          name="jaka-identify", daemon=True).start()
         return Result.success(f"{what} started on the way to the end pose (planned "
                               f"{planned:.1f} s, the controller's pace)", (completion, planned))
-
-    def _identification_plan(self, q_end: np.ndarray) -> float:
-        latest = self.view.latest
-        if latest is None or not np.all(np.isfinite(latest.joint_position)):
-            return 30.0
-        m = self.model
-        plan = joint_move_profile(latest.joint_position, q_end, m.max_velocity * IDENTIFY_PACE,
-                                  m.max_acceleration * IDENTIFY_PACE)
-        return plan.duration + IDENTIFY_MEASURE_S
-
-    def _follow_identification(self, completion: Completion, planned: float) -> None:
-        """Poll the controller's identification status until it is done or failed, then read
-        the result (``jaka-identify`` thread)."""
-        t0 = time.monotonic()
-        seen_running = False
-        what = "payload identification"
-        while not completion.wait(IDENTIFY_POLL):
-            elapsed = time.monotonic() - t0
-            try:
-                state = self.send.read(wire.get_torq_sensor_identify_staus(),
-                                       wire.reply_identify_status)
-                if state == 1:
-                    seen_running = True
-                    self._kept.report(IdentificationStatus(1, min(0.99, elapsed / planned),
-                                                      f"{what} running ({elapsed:.1f} s)"))
-                    continue
-                if state == 0 and not seen_running and elapsed < IDENTIFY_START_GRACE:
-                    continue            # the previous run's "done": not begun yet
-                if state != 0:
-                    raise CommandRefused(Code.CONTROLLER_REJECTED, f"{what} failed: the "
-                                         f"controller reports identify_status {state}")
-                mass, centroid_mm = self.send.read(wire.get_torq_sensor_payload_identify_result(),
-                                                   wire.reply_identify_result)
-            except CommandRefused as refusal:
-                self._kept.report(IdentificationStatus(2, 0.0, refusal.message))
-                completion.finish(refusal.result())
-                return
-            payload = SensorPayload(float(mass), np.asarray(centroid_mm, float) / 1000.0)
-            message = (f"{what} done in {elapsed:.1f} s: {payload.mass:.3f} kg at "
-                       f"({centroid_mm[0]:.1f}, {centroid_mm[1]:.1f}, {centroid_mm[2]:.1f}) mm")
-            self._kept.report(IdentificationStatus(0, 1.0, message, payload))
-            completion.finish(Result.success(message, payload))
-            return
-        result = completion.result
-        if result is not None and not result.ok:
-            self._kept.report(IdentificationStatus(2, 0.0, result.message))
 
 
 def _same_row(read, sent) -> bool:

@@ -18,7 +18,7 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
 * servo mode: not in the stream; the backend's, from ``is_in_servomove``;
 * ``force``: the force/torque sensor's readings of the same packet (``torqsensor``), made by
   :attr:`StatusView.force_reading` (the backend's force part when the arm carries a sensor:
-  :func:`.force.sensor_reading`), None otherwise;
+  :func:`sensor_reading`), None otherwise;
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -30,7 +30,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from ..backend.force import ForceReading
+from ..backend.force import ForceReading, SensorPayload, gravity_wrench
 from ..backend.robot_state import RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.status_stream import StatusPacket
@@ -42,6 +42,26 @@ def is_collision(status: StatusPacket) -> bool:
     """JAKA reports a collision as a protective stop; only its message tells them apart (the
     emulator and real controllers both name it), so ``collision_state`` follows the text."""
     return status.protective_stop and "collision" in status.errmsg.lower()
+
+
+def sensor_reading(status: StatusPacket,
+                   flange_rotation: Callable[[], np.ndarray]) -> Optional[ForceReading]:
+    """The packet's ``torqsensor`` as a :class:`ForceReading` (N, N·m, sensor frame): its
+    ``actTorque``, ``torque`` and ``realTorque`` are ``actual``, ``general`` and ``real``, as
+    JAKA's SDK reads them. None without the field, or while the sensor is off (``status`` 0).
+    A packet without the third vector (the recorded Zu 5s sends two) gets ``real`` computed as
+    the twin computes it: ``actual`` less the weight of the sensor's tool payload the same
+    packet states, at the flange's orientation ``flange_rotation()`` (3x3, flange → base:
+    gravity along the base's −z) — so ``~wrench_compensated`` means the same on every
+    controller. A packet without ``actual`` has no reading."""
+    ts = status.torque_sensor
+    if ts is None or ts.status == 0 or not np.all(np.isfinite(ts.actual)):
+        return None
+    real = ts.real
+    if not np.all(np.isfinite(real)):
+        payload = SensorPayload(ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0)
+        real = ts.actual - gravity_wrench(payload, flange_rotation())
+    return ForceReading(ts.actual, ts.general, real, ts.status, ts.errcode)
 
 
 class StatusView:
