@@ -410,12 +410,13 @@ class FakeTorqueSensor:
 
     def torqsensor(self, recorded: list) -> list:
         """The packet's torqsensor: the recorded one's settings with the sensor's payload,
-        and ``[status, errcode, actual, general(, real)]``."""
+        and ``[status, errcode, actual, general(, real)]`` (the errcode the packet has: a test
+        may set it)."""
         config = copy.deepcopy(recorded[0])
         payload = self.values["payload"]
         config[2] = [payload["mass"], list(payload["centroid"])]
         vectors = [self.actual, self.general] + ([self.real] if self.three_vectors else [])
-        return [config, [self.mode, 0] + [list(v) for v in vectors]]
+        return [config, [self.mode, recorded[1][1]] + [list(v) for v in vectors]]
 
 
 @pytest.fixture

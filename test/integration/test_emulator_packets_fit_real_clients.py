@@ -19,6 +19,7 @@ import time
 import pytest
 
 from raw_client import RawClient
+from ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE
@@ -57,6 +58,9 @@ def test_get_data_fits_one_8192_byte_read_at_rest_and_while_moving(profile, sens
         with RawClient(emu.command_port, timeout=10) as client:
             if sensor:
                 assert client.call("set_torque_sensor_mode", sensor_mode=1)["errorCode"] == "0"
+                # on from the next sample (8 ms)
+                assert wait_until(lambda: json.loads(_get_data(client))["torqsensor"][1][0] == 1,
+                                  1.0)
             replies = _replies_while_a_move_runs(client)
             if sensor:
                 assert all(json.loads(text)["torqsensor"][1][0] == 1 for text in replies[1:])
