@@ -4,7 +4,8 @@ Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
 idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
 service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
-(:mod:`bench.servo_filters`), and the node on the controller backend through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
+(:mod:`bench.servo_filters`), simulated time, the force/torque sensor and force control
+(:mod:`bench.force`), and the node on the controller backend through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
 A group that fails is reported as "not run" with the reason and the others still run; every
 process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
@@ -31,9 +32,10 @@ OUT = ROOT / "bench" / "results"
 SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
-GROUPS = ("ik", "twin", "startup", "sim", "streams", "filters", "sim_time", "controller")
+GROUPS = ("ik", "twin", "startup", "sim", "streams", "filters", "sim_time", "force",
+          "controller")
 #: the groups that need a rosmaster
-ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "controller")
+ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "force", "controller")
 STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
 FILTERS = "Servo filters beside the unfiltered stream (zu5 twin through ROS), report only"
 
@@ -157,6 +159,16 @@ def _sim_time(run: Run) -> None:
     run.rows += sim_time.rows(speed, same)
 
 
+def _force(run: Run) -> None:
+    from . import force, ros_session
+    with ExitStack() as stack:
+        run.log("force node: starting (the zu5 twin with its sensor over the table)")
+        driver = ros_session.start_driver(stack, "bench_force", backend="sim", model="zu5",
+                                          force_sensor="true", scene=force.TABLE)
+        calls = ros_session.services(stack, driver)
+        run.rows += force.run(driver, calls, seconds=3 if run.quick else 20, log=run.log)
+
+
 def _emulator(run: Run, out: Path) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
@@ -260,6 +272,10 @@ def main(argv=None) -> int:
             run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
                         "60 s of sim time through ROS; determinism idle vs loaded",
                         "≤ 15 s wall; ≤ 1e-9 rad", lambda: _sim_time(run))
+        if ros_up and "force" in chosen:
+            from .force import GROUP as FORCE
+            run.guarded(FORCE, "wrench sample age, constant-force step, CPU with force "
+                        "control on", "see the table", lambda: _force(run))
         if ros_up and "controller" in chosen:
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                         "report", lambda: _emulator(run, out))

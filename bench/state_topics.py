@@ -28,14 +28,14 @@ TOPICS = (("tool_position", TwistStamped), ("joint_position", JointState),
 RATE_HZ, RATE_TOL_HZ = 125.0, 0.5
 INTERARRIVAL_P99_MS = 10.0
 AGE_P99_MS = 8.0
-TOPICS_BY_NAME = dict(TOPICS)
 
 
-def record(driver, seconds: float) -> dict:
-    """Receipt times (s, wall clock) and stamps (s, or None) per topic over ``seconds``."""
+def record(driver, seconds: float, topics=TOPICS) -> dict:
+    """Receipt times (s, wall clock) and stamps (s, or None) per topic of ``topics`` ((name,
+    message type) pairs; default the state topics) over ``seconds``."""
     with ExitStack() as stack:
         recs = {name: ros_session.recorder(stack, driver.name(name), msg_type)
-                for name, msg_type in TOPICS}
+                for name, msg_type in topics}
         ros_session.wait_until(lambda: all(r.latest() is not None for r in recs.values()), 10.0)
         time.sleep(0.5)       # connections settled
         t0 = time.time()
@@ -47,7 +47,7 @@ def record(driver, seconds: float) -> dict:
             out[name] = {
                 "recv": np.array([t for t, _ in got]),
                 "stamp": (np.array([m.header.stamp.to_sec() for _, m in got])
-                          if TOPICS_BY_NAME[name]._has_header else None),
+                          if dict(topics)[name]._has_header else None),
             }
     return out
 

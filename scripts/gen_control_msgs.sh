@@ -10,6 +10,7 @@
 # Usage: scripts/gen_control_msgs.sh [DEVEL_DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+. "$root/scripts/action_msgs.sh"
 devel=${1:-$root/devel}
 if env -u PYTHONPATH /usr/bin/python3 -c "import control_msgs.msg" 2>/dev/null; then
   echo "control_msgs: using the installed package"; exit 0
@@ -29,18 +30,7 @@ done
 rm -rf "$share" "$out" "$inc"
 mkdir -p "$share/msg" "$out/msg" "$inc"
 cp "$src"/msg/*.msg "$share/msg/"
-for action in "$src"/action/*.action; do
-  name=$(basename "$action" .action)
-  # split the three sections on the '---' lines
-  awk -v dir="$share/msg" -v n="$name" '
-    BEGIN { part = 0; f[0] = "Goal"; f[1] = "Result"; f[2] = "Feedback" }
-    /^---$/ { part++; next }
-    { print > (dir "/" n f[part] ".msg") }' "$action"
-  printf 'Header header\nactionlib_msgs/GoalID goal_id\n%sGoal goal\n' "$name" > "$share/msg/${name}ActionGoal.msg"
-  printf 'Header header\nactionlib_msgs/GoalStatus status\n%sResult result\n' "$name" > "$share/msg/${name}ActionResult.msg"
-  printf 'Header header\nactionlib_msgs/GoalStatus status\n%sFeedback feedback\n' "$name" > "$share/msg/${name}ActionFeedback.msg"
-  printf '%sActionGoal action_goal\n%sActionResult action_result\n%sActionFeedback action_feedback\n' "$name" "$name" "$name" > "$share/msg/${name}Action.msg"
-done
+for action in "$src"/action/*.action; do derive_action_msgs "$action" "$share/msg"; done
 includes=(-Icontrol_msgs:"$share/msg" -Istd_msgs:/usr/share/std_msgs/msg
           -Itrajectory_msgs:/usr/share/trajectory_msgs/msg -Iactionlib_msgs:/usr/share/actionlib_msgs/msg
           -Igeometry_msgs:/usr/share/geometry_msgs/msg)

@@ -245,6 +245,13 @@ def reach(arm: Arm) -> float:
     return top
 
 
+def sensor_range_of(arm: Arm) -> tuple[float, ...]:
+    """A flange sensor's range for ``arm`` (N, N·m): 1.5 g on the rated payload, at least
+    200 N, rounded up to 50 N; moments that force at a 50 mm lever."""
+    force = max(200.0, 50.0 * np.ceil(1.5 * 9.81 * arm.payload_kg / 50.0))
+    return (force,) * 3 + (force * 0.05,) * 3
+
+
 def render_config(name: str) -> str:
     """The text of ``config/<name>.yaml``: what the URDF cannot say."""
     arm = ARMS[name]
@@ -253,6 +260,7 @@ def render_config(name: str) -> str:
     deg = [round(np.degrees(a)) for a in acc]
     payload_note = "; the MiniCobo's is an assumption" if name == "minicobo" else ""
     home_note = "; for the A12 J4 and J5 at 0 (JAKA's is singular)" if name == "a12" else ""
+    sensor_range = sensor_range_of(arm)
     io = "\n".join(f"  {k + ':':<10} {{{', '.join(f'{s}: {n}' for s, n in v.items())}}}"
                    for k, v in IO.items())
     return f"""\
@@ -304,6 +312,18 @@ servo:
 # bus and function IO; these are the physical channels of a standard cabinet and tool.
 io:
 {io}
+
+# Flange force/torque sensor (docs/interface.md, "Force"): whether this arm carries one (the
+# node parameter ~force_sensor overrides it), the largest reading per axis (Fx Fy Fz N,
+# Mx My Mz N·m, sensor frame = flange), and what the twin adds: the offset of an unzeroed
+# sensor, the noise of each sample (standard deviation), and the tool under the sensor, a
+# capsule along flange z (length to its tip's centre, radius) that touches what it presses on.
+force_sensor:
+  mounted: false
+  range: [{", ".join(f"{x:g}" for x in sensor_range)}]
+  bias: [1.2, -0.8, 2.5, 0.04, -0.03, 0.02]
+  noise: [0.05, 0.05, 0.05, 0.002, 0.002, 0.002]
+  probe: {{length_mm: 100, radius_mm: 10}}
 """
 
 

@@ -46,7 +46,7 @@ if [ "${1:-}" = --deps ]; then say "dependencies ready"; exit 0; fi
 
 # 3. Messages (jaka_msgs, control_msgs, jaka_driver_msgs) ------------------------
 stamp=devel/.msgs.stamp
-if [ ! -f "$stamp" ] || [ -n "$(find msg srv ext_msgs driver_msgs cmake scripts/gen_msgs.sh scripts/gen_control_msgs.sh scripts/gen_driver_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
+if [ ! -f "$stamp" ] || [ -n "$(find msg srv ext_msgs driver_msgs cmake scripts/gen_msgs.sh scripts/gen_control_msgs.sh scripts/gen_driver_msgs.sh scripts/action_msgs.sh -newer "$stamp" 2>/dev/null)" ]; then
   scripts/gen_msgs.sh devel
   [ -x scripts/gen_control_msgs.sh ] && scripts/gen_control_msgs.sh devel
   scripts/gen_driver_msgs.sh devel

@@ -19,6 +19,7 @@ import time
 import pytest
 
 from support.raw_client import RawClient
+from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import DEFAULT_PROFILE
@@ -46,15 +47,28 @@ def _get_data(client: RawClient) -> str:
     return client.read_text()
 
 
-@pytest.mark.parametrize("profile", [DEFAULT_PROFILE, "zu5s-1.5.14"])
-def test_get_data_fits_one_8192_byte_read_at_rest_and_while_moving(profile):
+@pytest.mark.parametrize("profile, sensor", [(DEFAULT_PROFILE, False), ("zu5s-1.5.14", False),
+                                             (DEFAULT_PROFILE, True)],
+                         ids=[DEFAULT_PROFILE, "zu5s-1.5.14", "with a force sensor on"])
+def test_get_data_fits_one_8192_byte_read_at_rest_and_while_moving(profile, sensor):
+    """``sensor``: an arm with a force/torque sensor, switched on, so that torqsensor carries
+    three wrenches of full-precision numbers too."""
     with Emulator("zu5", command_port=0, status_port=0, profile=profile,
-                  start="enabled") as emu:
+                  start="enabled", force_sensor=sensor) as emu:
         with RawClient(emu.command_port, timeout=10) as client:
+            if sensor:
+                assert client.call("set_torque_sensor_mode", sensor_mode=1)["errorCode"] == "0"
+                # on from the next sample (8 ms)
+                assert wait_until(lambda: json.loads(_get_data(client))["torqsensor"][1][0] == 1,
+                                  1.0)
             replies = _replies_while_a_move_runs(client)
+            if sensor:
+                assert all(json.loads(text)["torqsensor"][1][0] == 1 for text in replies[1:])
             client.send(b'{"cmdName":"get_tcp_pos"}')
             short = client.read_text()
     longest = max(replies, key=lambda text: len(text.encode()))
+    print(f"{profile}{' with a sensor' if sensor else ''}: get_data at most "
+          f"{len(longest.encode())} bytes")
     assert len(longest.encode()) < CLIENT_READ, f"{len(longest.encode())} bytes"
     for text in replies:
         reply = json.loads(text)

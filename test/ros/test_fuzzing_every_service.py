@@ -1,5 +1,6 @@
 """Property-based fuzzing (hypothesis) of every service of the driver through ROS, on the zu5
-twin. Each service gets ``JAKA_FUZZ_EXAMPLES`` random requests (200 in ``make
+twin with its flange force/torque sensor mounted (so the force services act: the sensor on
+for theirs, force control started, pushes on the tool). Each service gets ``JAKA_FUZZ_EXAMPLES`` random requests (200 in ``make
 test``, 10 000 in ``make fuzz``): field values from NaN, ±inf, ±3.4e38, subnormals, zero,
 negative, wrong array lengths, random strings and int16 extremes, mixed with values near the
 valid range, and each request sent with the arm in a random state (as it is, ready, servo
@@ -43,7 +44,8 @@ from hypothesis import strategies as st
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Empty, SetBool, Trigger
 
-from support.ros_harness import START, go_home, Recorder, wait_until
+from jaka_driver_msgs import srv as force_srv
+from support.ros_harness import START, go_home, Recorder, start_driver, wait_until
 from jaka_driver.common.models import load_model
 from jaka_driver.common.results import CommandRefused
 from jaka_driver.common.transforms import matrix_to_rpy, pose_to_matrix
@@ -125,6 +127,13 @@ def f32s(values) -> list:
 
 def deltas(bound: float, n: int = 6):
     return st.lists(sane(-bound, bound), min_size=n, max_size=n)
+
+
+@pytest.fixture(scope="module")
+def sim_driver(request, rospy_node):
+    """The node on the zu5 twin with its force/torque sensor mounted (conftest's, plus the
+    sensor)."""
+    return start_driver(request, backend="sim", model="zu5", force_sensor="true")
 
 
 # ---- what the fuzz watches --------------------------------------------------------------------
@@ -317,8 +326,12 @@ class Fuzz:
 
 
 def ready(call) -> None:
-    """Released, powered, enabled, no error, servo and drag off, nothing moving."""
+    """Released, powered, enabled, no error, servo and drag off, nothing moving, no force
+    control, the sensor off."""
     call("sim/emergency_stop", SetBool, data=False)
+    call("disable_force_control", Trigger)
+    call("ft_sensor_enable", SetBool, data=False)
+    call("sim/push_tool", force_srv.PushTool, duration=0.0)
     call("power", SetBool, data=True)
     call("enable", SetBool, data=True)
     call("clear_err", ClearErr)
@@ -347,7 +360,12 @@ OTHER_STATES = ["as_is", "ready", "servo", "drag", "unpowered", "disabled", "est
 # collision level / IO, which do not gate motion)
 PURE = {"get_fk", "get_ik", "get_io", "set_io", "sim/set_input", "set_toolframe",
         "set_userframe", "set_payload", "set_collisionlevel", "set_servo_filter",
-        "program/load", "program/set_variable"}
+        "program/load", "program/set_variable",
+        # force settings and readings (force control is not on in their fuzz)
+        "get_ft_sensor_payload", "get_ft_sensor_data", "set_ft_sensor_payload",
+        "set_ft_sensor_filter", "set_admittance", "set_compliance_type",
+        "set_velocity_compliance", "set_force_control_frame", "set_tool_drive",
+        "set_tool_drive_frame", "set_compliance_condition", "zero_ftsensor"}
 # motion services whose success or -2 refusal leaves the state as it was (a jog keeps running)
 SETTLED_BY = {"joint_move", "linear_move", "servo_j", "servo_p"}
 
@@ -757,6 +775,111 @@ def program_command(leaf: str, srv=ProgramCommand):
     return fuzz
 
 
+# ---- the force/torque sensor and force control ------------------------------------------------
+def uint8(lo: int, hi: int):
+    """A uint8 field: in and just outside [lo, hi], and its extremes (rospy refuses to send
+    anything else)."""
+    return st.one_of(st.integers(max(0, lo - 2), min(255, hi + 2)), st.sampled_from([0, 255]))
+
+
+def wrench(data, clean: bool, label: str, valid):
+    from geometry_msgs.msg import Wrench
+    values = field(data, clean, label, st.lists(valid, min_size=6, max_size=6),
+                   st.lists(wild_float, min_size=6, max_size=6))
+    w = Wrench()
+    (w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z) = values
+    return w
+
+
+def set_ft_sensor_payload(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("set_ft_sensor_payload", force_srv.SetSensorPayload,
+            mass=field(data, clean, "mass", sane(0.0, 5.0), sane(-1.0, 20.0), wild_float),
+            **{c: field(data, clean, c, sane(-100.0, 100.0), wild_float)
+               for c in ("xc", "yc", "zc")})
+
+
+def set_ft_sensor_filter(fz: Fuzz, data):
+    fz.send("set_ft_sensor_filter", force_srv.SetSensorFilter,
+            cutoff_hz=field(data, False, "cutoff_hz", sane(0.0, 100.0), sane(-10.0, 200.0),
+                            wild_float))
+
+
+def set_wrench(leaf: str, lo: float):
+    def fuzz(fz: Fuzz, data):
+        clean = data.draw(st.booleans(), label="clean")
+        fz.send(leaf, force_srv.SetWrench,
+                wrench=wrench(data, clean, "wrench", sane(lo, 200.0)))
+    return fuzz
+
+
+def set_admittance(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("set_admittance", force_srv.SetAdmittance,
+            axis=field(data, clean, "axis", st.integers(0, 5), uint8(0, 5)),
+            opt=field(data, clean, "opt", st.integers(0, 1), uint8(0, 1)),
+            ft_user=field(data, clean, "ft_user", sane(5.0, 200.0), wild_float),
+            ft_rebound=field(data, clean, "ft_rebound", sane(0.0, 20.0), wild_float),
+            ft_constant=field(data, clean, "ft_constant", sane(-20.0, 20.0), wild_float),
+            normal_track=field(data, clean, "normal_track", st.just(0), uint8(0, 1)))
+
+
+@burst
+def set_compliance_type(fz: Fuzz, data):
+    fz.send("set_compliance_type", force_srv.SetComplianceType,
+            sensor_compensation=data.draw(st.booleans(), label="compensation"),
+            compliance_type=data.draw(uint8(0, 2), label="compliance_type"))
+
+
+def set_velocity_compliance(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("set_velocity_compliance", force_srv.SetVelocityCompliance,
+            level=field(data, clean, "level", st.integers(1, 3), uint8(1, 3)),
+            rates=field(data, clean, "rates", st.just([0.8, 0.5, 0.2, 0.0]),
+                        st.lists(wild_float, min_size=4, max_size=4)))
+
+
+def set_frame(leaf: str):
+    @burst
+    def fuzz(fz: Fuzz, data):
+        fz.send(leaf, force_srv.SetForceFrame, frame=data.draw(uint8(0, 1), label="frame"))
+    return fuzz
+
+
+def set_tool_drive(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("set_tool_drive", force_srv.SetToolDrive,
+            axis=field(data, clean, "axis", st.integers(0, 5), uint8(0, 5)),
+            opt=field(data, clean, "opt", st.integers(0, 1), uint8(0, 1)),
+            rigidity=field(data, clean, "rigidity", sane(5.0, 200.0), wild_float),
+            rebound=field(data, clean, "rebound", sane(0.0, 20.0), wild_float))
+
+
+def trigger(leaf: str):
+    @burst
+    def fuzz(fz: Fuzz, data):
+        fz.send(leaf, Trigger)
+    return fuzz
+
+
+@burst
+def get_ft_sensor_payload(fz: Fuzz, data):
+    fz.send("get_ft_sensor_payload", force_srv.GetSensorPayload)
+
+
+@burst
+def get_ft_sensor_data(fz: Fuzz, data):
+    fz.send("get_ft_sensor_data", force_srv.GetSensorData, type=data.draw(uint8(0, 2)))
+
+
+def push_tool(fz: Fuzz, data):
+    clean = data.draw(st.booleans(), label="clean")
+    fz.send("sim/push_tool", force_srv.PushTool,
+            wrench=wrench(data, clean, "wrench", sane(-30.0, 30.0)),
+            duration=field(data, clean, "duration", sane(0.0, 0.1), sane(-1.0, 100.0),
+                           wild_float))
+
+
 SERVICES = {
     "circular_move": circular_move, "set_servo_filter": set_servo_filter,
     "program/load": load_program, "program/loaded": program_command("program/loaded",
@@ -777,7 +900,29 @@ SERVICES = {
     "power": set_bool("power"), "enable": set_bool("enable"),
     "sim/emergency_stop": set_bool("sim/emergency_stop"),
     "sim/protective_stop": protective_stop, "sim/set_input": set_input,
+    "set_ft_sensor_payload": set_ft_sensor_payload, "set_ft_sensor_filter": set_ft_sensor_filter,
+    "set_ft_sensor_soft_limit": set_wrench("set_ft_sensor_soft_limit", 1.0),
+    "set_admittance": set_admittance, "set_compliance_type": set_compliance_type,
+    "set_velocity_compliance": set_velocity_compliance,
+    "set_compliance_condition": set_wrench("set_compliance_condition", 0.0),
+    "set_force_control_frame": set_frame("set_force_control_frame"),
+    "set_tool_drive": set_tool_drive, "set_tool_drive_frame": set_frame("set_tool_drive_frame"),
+    "ft_sensor_enable": set_bool("ft_sensor_enable"),
+    "enable_admittance": set_bool("enable_admittance"),
+    "tool_drive_enable": set_bool("tool_drive_enable"),
+    "zero_ftsensor": trigger("zero_ftsensor"),
+    "disable_force_control": trigger("disable_force_control"),
+    "get_ft_sensor_payload": get_ft_sensor_payload, "get_ft_sensor_data": get_ft_sensor_data,
+    "sim/push_tool": push_tool,
 }
+#: the force services: their fuzz runs with the sensor on, and, for the two that start force
+#: control, with an axis of each set up, so that on happens too
+FORCE = {name for name in SERVICES if name.startswith(("set_ft", "set_admittance",
+                                                       "set_compliance", "set_velocity",
+                                                       "set_force", "set_tool_drive", "ft_",
+                                                       "enable_admittance", "tool_drive",
+                                                       "zero_ft", "disable_force", "get_ft",
+                                                       "sim/push_tool"))}
 SERVO = {"servo_j", "servo_p"}
 
 
@@ -788,6 +933,12 @@ def test_random_requests_keep_the_node_alive_answering_and_within_limits(
     restore(call)
     if service in SERVO:
         assert call("servo_move_enable", ServoMoveEnable, enable=True).ret == 1
+    if service in FORCE:
+        assert call("ft_sensor_enable", SetBool, data=True).success
+        assert call("set_admittance", force_srv.SetAdmittance, axis=2, opt=1, ft_user=40.0,
+                    ft_rebound=0.5, ft_constant=0.0).ret == 1
+        assert call("set_tool_drive", force_srv.SetToolDrive, axis=0, opt=1, rigidity=40.0,
+                    rebound=0.5).ret == 1
     fz = Fuzz(sim_driver, call, monitors)
     fuzz_one = SERVICES[service]
     states = states_for(service)

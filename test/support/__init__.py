@@ -10,7 +10,9 @@ Real parts, started and stopped here:
   * :mod:`.move_helpers` — waiting for a move a backend started, within the driver's deadline;
   * :mod:`.threads` — starting and joining a test's threads, failing when one is still alive;
   * :mod:`.twin_samples` — a twin in simulated time with every sample collected, for tests that
-    read a motion sample by sample.
+    read a motion sample by sample;
+  * :mod:`.sensor_twin` — a twin with its flange force/torque sensor, in simulated time, for the
+    force tests.
 
 Counterparts written from the evidence, not from our code:
   * :mod:`.fake_controller` — a controller scripted from the recorded exchanges (test/data/);
@@ -25,4 +27,4 @@ Shared facts: :mod:`.malformed_inputs` (how deep "deep" is, every status key rea
 
 __all__ = ["emulated_arm", "fake_controller", "jaka_ros_node_model", "jaka_sdk_json",
            "jaka_sdk_model", "jaka_sdk_status", "malformed_inputs", "move_helpers", "pictures",
-           "raw_client", "ros_harness", "scripted_server", "threads", "twin_samples"]
+           "raw_client", "ros_harness", "scripted_server", "sensor_twin", "threads", "twin_samples"]

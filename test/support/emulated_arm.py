@@ -42,13 +42,15 @@ def emu(request) -> Iterator[Emulator]:
 
 @contextmanager
 def driver_on_emulator(model: str = "zu5", *, programs: str | None = "default",
-                       **driver_args):
+                       force_sensor: bool = False, scene=None, **driver_args):
     """``(emulator, driver)``: the emulator of ``model`` (its default profile; ``programs`` its
-    programs folder, default the package's examples) and a started RobotDriver on a
-    ControllerBackend connected to it (``driver_args`` to RobotDriver); the driver is shut down
-    and the emulator stopped on leaving."""
-    with emulator(model, programs=programs) as emu:
-        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+    programs folder, default the package's examples; ``force_sensor``: its arm carries the
+    twin's force/torque sensor and the backend is told so; ``scene`` the twin's workcell) and a
+    started RobotDriver on a ControllerBackend connected to it (``driver_args`` to
+    RobotDriver); the driver is shut down and the emulator stopped on leaving."""
+    with emulator(model, programs=programs, force_sensor=force_sensor, scene=scene) as emu:
+        backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                                    force_sensor=force_sensor)
         driver = RobotDriver(backend, **driver_args)
         driver.start()
         try:

@@ -22,6 +22,14 @@ where they were recorded: ``servo_j`` outside servo mode answers the transcript'
 :meth:`FakeController.on_pendant` changes frames as an operator at the teach pendant would, and
 ``raw_replies`` makes the next reply to a command any bytes at all.
 
+The torque sensor and force control (:class:`FakeTorqueSensor`, ``fake.sensor``) answer as
+sdk_wire_formats §5 gives the replies JAKA's SDK reads (no transcript records them): every set
+shows in its get, ``set_torque_sensor_mode`` in the packet's ``torqsensor`` status,
+``enable_admittance_ctrl`` / ``disable_force_control`` in ``get_tool_drive_stat``;
+identification answers the statuses a test scripts, then its result. The packet's
+``torqsensor`` keeps the recorded layout — two wrenches, ``[status, errcode, actual,
+general]`` — with the values a test sets (``three_vectors`` adds ``real``).
+
 Tests take the fixtures ``fake`` and ``backend`` (a ControllerBackend connected to it) from here.
 
 Ports: command (10001 role), status stream (10000 role, optional), data_request (10004 role,
@@ -114,11 +122,13 @@ class FakeController:
                         for kind in ("tool", "user")}               # row = id: mm, RPY deg
         self.active = {"tool": self.packet["current_tool_id"],
                        "user": self.packet["current_user_id"]}
-        self.settings = {"get_payload": {}, "get_tool_payload": {}, "get_rapid_rate": {},
+        self.settings = {"get_payload": {}, "get_rapid_rate": {},
                          "get_tio_vout_param": {}}                  # what a get answers
+        self.sensor = FakeTorqueSensor()
         self.raw_replies: Dict[str, bytes] = {}                     # next reply, any bytes
         self.queue: List[Dict[str, Any]] = []                       # moves, the first runs
         self.requests: List[Dict[str, Any]] = []                    # every request decoded
+        self.texts: List[str] = []                                  # and as it was sent
         self.lock = threading.RLock()
         self._quit = threading.Event()
         self._servers: List[TcpServer] = []
@@ -171,6 +181,9 @@ class FakeController:
         name = req.get("cmdName", "")
         with self.lock:
             self._advance()
+            sensor = self.sensor.answer(name, req)
+            if sensor is not None:
+                return {"errorCode": "0", "errorMsg": "", "cmdName": name, **sensor}
             if name not in self.replies:
                 if name in self.refusals:   # recorded only as a non-success
                     return copy.deepcopy(self.refusals[name])
@@ -234,7 +247,7 @@ class FakeController:
             self.active[kind] = int(req["tool_id" if kind == "tool" else "user_frame_id"])
         elif name in ("get_curr_tool_id", "get_curr_user_id"):
             reply["id"] = self.active[name[9:13]]
-        elif name in ("set_payload", "set_tool_payload", "set_tio_vout_param"):
+        elif name in ("set_payload", "set_tio_vout_param"):
             self.settings[name.replace("set_", "get_")] = {
                 k: v for k, v in req.items() if k != "cmdName"}
         elif name == "rapid_rate":
@@ -259,6 +272,7 @@ class FakeController:
             p["powered_on"], p["enabled"] = int(self.powered), self.enabled
             p["drag_status"] = self.drag
             p["current_tool_id"], p["current_user_id"] = self.active["tool"], self.active["user"]
+            p["torqsensor"] = self.sensor.torqsensor(p["torqsensor"])
             for (kind, io_type, index), value in self.io.items():
                 field = {"digital_output": "dout", "analog_output": "aout"}.get(kind)
                 if field and io_type == 0:
@@ -294,6 +308,7 @@ class FakeController:
                     break
                 with self.lock:
                     self.requests.append(obj)
+                    self.texts.append(buf[:end])
                 buf = buf[end:]
                 yield obj
 
@@ -331,6 +346,90 @@ class FakeController:
                     return
 
 
+class FakeTorqueSensor:
+    """The torque sensor's side of :class:`FakeController` (see its module)."""
+
+    GETS = {"get_tool_payload": ("payload",), "get_torque_sensor_filter": ("filter",),
+            "get_torque_sensor_soft_limit": ("soft_limit",),
+            "get_admit_ctrl_config": ("admit",), "get_tool_drive_config": ("drive",),
+            "get_compliant_type": ("compliant",), "get_ft_ctrl_frame": ("ft_frame",),
+            "get_tool_drive_frame": ("drag_frame",), "get_tool_drive_stat": ("stat",)}
+
+    def __init__(self):
+        self.mode = 0
+        self.values = {
+            "payload": {"mass": 0.449, "centroid": [0, 0, 20]},     # the recorded packet's
+            "filter": {"torqueSensorFilter": 0.0},
+            "soft_limit": {"torqueSensorSoftLimit": {k: 0.0 for k in
+                                                     ("Fx", "Fy", "Fz", "Mx", "My", "Mz")}},
+            "admit": {"admitConfig": [[0, 0.0, 0.0, 0.0, 0] for _ in range(6)]},
+            "drive": {"force_ctrl_config": [[0, 0.0, 0.0] for _ in range(6)]},
+            "compliant": {"sensor_compensation": 0, "compliance_type": 0},
+            "ft_frame": {"ftFrame": 0}, "drag_frame": {"toolDragFrame": 0},
+            "stat": {"enable_flag": 0, "drive_stat": 0}}
+        #: what the sensor reads (N, N·m), and whether the packet carries ``real`` as well
+        self.actual = [0.0] * 6
+        self.general = [0.0] * 6
+        self.real = [0.0] * 6
+        self.three_vectors = False
+        #: sets acknowledged but not done (their get keeps the old value; mode: the packet)
+        self.ignored: set = set()
+        #: what get_torq_sensor_identify_staus answers next, one per poll (the last repeats)
+        self.identify_statuses: List[int] = [0]
+        self.identify_result = {"mass": 0.0, "centroid": [0.0, 0.0, 0.0]}
+
+    def answer(self, name: str, req: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+        """The reply fields of a torque-sensor command (None: not one)."""
+        if name in self.GETS:
+            return copy.deepcopy(self.values[self.GETS[name][0]])
+        fields = {k: v for k, v in req.items() if k != "cmdName"}
+        if name in self.ignored:
+            return {}
+        if name == "set_torque_sensor_mode":
+            self.mode = int(req["sensor_mode"])
+        elif name == "set_tool_payload":
+            self.values["payload"] = fields
+        elif name in ("set_torque_sensor_filter", "set_torque_sensor_soft_limit",
+                      "set_compliant_type", "set_ft_ctrl_frame", "set_tool_drive_frame"):
+            key = {"set_torque_sensor_filter": "filter",
+                   "set_torque_sensor_soft_limit": "soft_limit",
+                   "set_compliant_type": "compliant", "set_ft_ctrl_frame": "ft_frame",
+                   "set_tool_drive_frame": "drag_frame"}[name]
+            self.values[key] = fields
+        elif name == "set_admit_ctrl_config":
+            self.values["admit"]["admitConfig"][int(req["axis"])] = [
+                req["opt"], req["ftUser"], req["ftReboundFK"], req["ftConstant"],
+                req["ftNnormalTrack"]]
+        elif name == "set_tool_drive_config":
+            self.values["drive"]["force_ctrl_config"][int(req["axis"])] = [
+                req["opt"], req["rigidity"], req["rebound"]]
+        elif name == "enable_admittance_ctrl":
+            self.values["stat"]["enable_flag"] = int(req["enable_flag"])
+        elif name == "disable_force_control":
+            self.values["stat"]["enable_flag"] = 0
+        elif name == "get_torq_sensor_identify_staus":
+            status = self.identify_statuses[0]
+            if len(self.identify_statuses) > 1:
+                self.identify_statuses.pop(0)
+            return {"identify_status": status}
+        elif name == "get_torq_sensor_payload_identify_result":
+            return dict(self.identify_result)
+        elif name not in ("zero_end_sensor", "set_vel_compliant_ctrl",
+                          "set_compliance_condition", "start_torq_sensor_payload_identify"):
+            return None
+        return {}
+
+    def torqsensor(self, recorded: list) -> list:
+        """The packet's torqsensor: the recorded one's settings with the sensor's payload,
+        and ``[status, errcode, actual, general(, real)]`` (the errcode the packet has: a test
+        may set it)."""
+        config = copy.deepcopy(recorded[0])
+        payload = self.values["payload"]
+        config[2] = [payload["mass"], list(payload["centroid"])]
+        vectors = [self.actual, self.general] + ([self.real] if self.three_vectors else [])
+        return [config, [self.mode, recorded[1][1]] + [list(v) for v in vectors]]
+
+
 @pytest.fixture
 def fake():
     """A FakeController (moves take 0.3 s), closed after the test."""
@@ -346,13 +445,16 @@ def backend(fake):
     b.shutdown()
 
 
-def start_backend(fake: "FakeController", model="zu5", source: str = "stream"):
-    """A ControllerBackend connected to ``fake`` (status from ``source``), started."""
+def start_backend(fake: "FakeController", model="zu5", source: str = "stream",
+                  force_sensor: Optional[bool] = None):
+    """A ControllerBackend connected to ``fake`` (status from ``source``; ``force_sensor``: the
+    arm carries one), started."""
     from jaka_driver.controller import ControllerBackend
     from jaka_driver.common.models import load_model
     backend = ControllerBackend(load_model(model), "127.0.0.1", fake.command_port,
                                 fake.status_port, status_source=source,
-                                data_port=fake.data_port, call_timeout=2.0, stall_timeout=2.0)
+                                data_port=fake.data_port, call_timeout=2.0, stall_timeout=2.0,
+                                force_sensor=force_sensor)
     backend.start()
     assert backend.link.connected, backend.link.down_message()
     return backend

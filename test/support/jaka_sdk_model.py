@@ -53,6 +53,7 @@ COORD_BASE, COORD_JOINT, COORD_TOOL = 0, 1, 2
 IDENTITY = ("version", "controller_id", "controller_guarantee", "robot_id", "robot_name",
             "scb_version", "servo_version")
 PROGRAM_STATES = {"idle": 0, "running": 1, "paused": 2}
+FT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")    # torqueSensorSoftLimit's keys
 #: The SDK calls that ask ``emergency_stop_status`` inside them (one request per call) and
 #: return 2 when it does not answer success. Where in the call it goes out is not on record;
 #: the model sends it after the call's own command.
@@ -329,6 +330,131 @@ class JakaSdk:
             return RC_OK, (1, "", 0)
         return rc, (comm_type, as_string(member(reply, "ip_addr")),
                     as_int(member(reply, "port")))
+
+    # -- the torque sensor and force control (sdk_wire_formats §5) --
+    def set_torque_sensor_mode(self, mode: int) -> int:
+        """No wait: the sensor's state is in the status packet (there is no get)."""
+        return self.call("set_torque_sensor_mode", sensor_mode=int(mode))[0]
+
+    def zero_end_sensor(self) -> int:
+        return self.call("zero_end_sensor")[0]
+
+    def set_torque_sensor_filter(self, cutoff: float) -> int:
+        return self.call("set_torque_sensor_filter", torqueSensorFilter=float(cutoff))[0]
+
+    def get_torque_sensor_filter(self) -> Tuple[int, float]:
+        rc, reply = self.call("get_torque_sensor_filter")
+        return rc, as_double(member(reply, "torqueSensorFilter")) if rc == RC_OK else 0.0
+
+    def set_torque_sensor_soft_limit(self, limit: Sequence[float]) -> int:
+        return self.call("set_torque_sensor_soft_limit", torqueSensorSoftLimit={
+            key: float(v) for key, v in zip(FT_KEYS, limit)})[0]
+
+    def get_torque_sensor_soft_limit(self) -> Tuple[int, List[float]]:
+        rc, reply = self.call("get_torque_sensor_soft_limit")
+        limit = member(reply, "torqueSensorSoftLimit")
+        return rc, [as_double(member(limit, key)) for key in FT_KEYS] if rc == RC_OK else []
+
+    def set_admit_ctrl_config(self, axis: int, opt: int, ft_user: float, ft_constant: float,
+                              normal_track: int, rebound: float) -> int:
+        """``ftReboundFK`` written with 3 decimals, as measured (``0.250``)."""
+        return self.call("set_admit_ctrl_config", axis=int(axis), opt=int(opt),
+                          ftUser=float(ft_user), ftConstant=float(ft_constant),
+                          ftNnormalTrack=int(normal_track), ftReboundFK=float(rebound))[0]
+
+    def get_admit_ctrl_config(self) -> Tuple[int, List[Tuple[int, float, float, float, int]]]:
+        """Six rows [opt, ft_user, ft_rebound, ft_constant, ft_normal_track], row = axis."""
+        rc, reply = self.call("get_admit_ctrl_config")
+        if rc != RC_OK:
+            return rc, []
+        table = member(reply, "admitConfig")
+        rows = []
+        for axis in range(6):
+            row = element(table, axis)
+            rows.append((as_int(element(row, 0)), as_double(element(row, 1)),
+                         as_double(element(row, 2)), as_double(element(row, 3)),
+                         as_int(element(row, 4))))
+        return rc, rows
+
+    def set_compliant_type(self, compensation: int, compliance_type: int) -> int:
+        return self.call("set_compliant_type", sensor_compensation=int(compensation),
+                          compliance_type=int(compliance_type))[0]
+
+    def get_compliant_type(self) -> Tuple[int, Tuple[int, int]]:
+        rc, reply = self.call("get_compliant_type")
+        return rc, (as_int(member(reply, "sensor_compensation")),
+                    as_int(member(reply, "compliance_type")))
+
+    def set_vel_compliant_ctrl(self, level: int, rates: Sequence[float]) -> int:
+        return self.call("set_vel_compliant_ctrl",
+                          compliant_ctrl=[int(level)] + [float(r) for r in rates])[0]
+
+    def set_compliance_condition(self, wrench: Sequence[float]) -> int:
+        return self.call("set_compliance_condition",
+                          compliant_condition=[float(v) for v in wrench])[0]
+
+    def set_ft_ctrl_frame(self, frame: int) -> int:
+        return self.call("set_ft_ctrl_frame", ftFrame=int(frame))[0]
+
+    def get_ft_ctrl_frame(self) -> Tuple[int, int]:
+        rc, reply = self.call("get_ft_ctrl_frame")
+        return rc, as_int(member(reply, "ftFrame"))
+
+    def enable_admittance_ctrl(self, on: int) -> int:
+        return self.call("enable_admittance_ctrl", enable_flag=int(on))[0]
+
+    def enable_tool_drive(self, on: int) -> int:
+        """The same command as enable_admittance_ctrl (measured)."""
+        return self.enable_admittance_ctrl(on)
+
+    def disable_force_control(self) -> int:
+        return self.call("disable_force_control")[0]
+
+    def set_tool_drive_config(self, axis: int, opt: int, rigidity: float,
+                              rebound: float) -> int:
+        return self.call("set_tool_drive_config", axis=int(axis), opt=int(opt),
+                          rigidity=float(rigidity), rebound=float(rebound))[0]
+
+    def get_tool_drive_config(self) -> Tuple[int, List[Tuple[int, int, float, float]]]:
+        """Six rows as (axis, opt, rigidity, rebound): the SDK sets axis = row."""
+        rc, reply = self.call("get_tool_drive_config")
+        if rc != RC_OK:
+            return rc, []
+        table = member(reply, "force_ctrl_config")
+        return rc, [(axis, as_int(element(element(table, axis), 0)),
+                     as_double(element(element(table, axis), 1)),
+                     as_double(element(element(table, axis), 2))) for axis in range(6)]
+
+    def get_tool_drive_state(self) -> Tuple[int, Tuple[int, int]]:
+        rc, reply = self.call("get_tool_drive_stat")
+        return rc, (as_int(member(reply, "enable_flag")), as_int(member(reply, "drive_stat")))
+
+    def set_tool_drive_frame(self, frame: int) -> int:
+        return self.call("set_tool_drive_frame", toolDragFrame=int(frame))[0]
+
+    def get_tool_drive_frame(self) -> Tuple[int, int]:
+        rc, reply = self.call("get_tool_drive_frame")
+        return rc, as_int(member(reply, "toolDragFrame"))
+
+    def get_torque_sensor_data(self, kind: int) -> Tuple[int, Optional[Tuple[int, int, list]]]:
+        """TorqSensorData: status, errorCode (the reply's ``errcode``), data [6]."""
+        rc, reply = self.call("get_torque_sensor_data", type=int(kind))
+        if rc != RC_OK:
+            return rc, None
+        return rc, (as_int(member(reply, "status")), as_int(member(reply, "errcode")),
+                    doubles(member(reply, "data"), 6))
+
+    def start_torq_sensor_payload_identify(self, joints: Sequence[float]) -> int:
+        return self.call("start_torq_sensor_payload_identify", jointPosition=deg(joints))[0]
+
+    def get_torq_sensor_identify_staus(self) -> Tuple[int, int]:
+        """(sic) 0 done, 1 running, 2 error."""
+        rc, reply = self.call("get_torq_sensor_identify_staus")
+        return rc, as_int(member(reply, "identify_status"))
+
+    def get_torq_sensor_payload_identify_result(self) -> Tuple[int, Tuple[float, List[float]]]:
+        rc, reply = self.call("get_torq_sensor_payload_identify_result")
+        return rc, (as_double(member(reply, "mass")), doubles(member(reply, "centroid"), 3))
 
     def set_collision_level(self, level: int) -> int:
         return self.call("set_clsn_sensitivity", sensitivityVal=level)[0]

@@ -9,6 +9,7 @@ import pytest
 from jaka_driver.protocol import commands as c
 from jaka_driver.protocol import programs as programs
 from jaka_driver.protocol import servo_filters as filters
+from jaka_driver.protocol import torque_sensor as t
 from jaka_driver.protocol.errors import (CommandRejected, InvalidArgument, JakaProtocolError,
                                          ProtocolError)
 from jaka_driver.protocol.fields import COMMANDS, Cmd, CoordMap, Field, JogMode
@@ -47,6 +48,25 @@ ALL_REQUESTS = [
     programs.modify_user_defined_variable(5, 2.5, "abc"),
     filters.servo_filter_joint_nlf(1, 2, 3), filters.servo_filter_joint_mmf(20, 0.2, 0.4, 0.2),
     filters.servo_filter_carte_nlf(100, 500, 5000, 1, 2, 3), filters.servo_speed_foresight(15, 0.03),
+    # the torque sensor and force control (test_protocol_torque_sensor_speaks_jakas_sdk.py)
+    t.set_torsenosr_brand(10), t.get_torsenosr_brand(), t.set_torque_sensor_mode(True),
+    t.zero_end_sensor(), t.set_tool_payload(0.5, [0, 0, 30]), t.get_tool_payload(),
+    t.set_torque_sensor_comm(0, "192.168.2.100", 8080), t.get_torque_sensor_comm(),
+    t.set_torque_sensor_filter(10.0), t.get_torque_sensor_filter(),
+    t.set_torque_sensor_soft_limit([50, 50, 50, 5, 5, 5]), t.get_torque_sensor_soft_limit(),
+    t.get_torque_sensor_data(2), t.start_torq_sensor_payload_identify(Q),
+    t.get_torq_sensor_identify_staus(), t.get_torq_sensor_payload_identify_result(),
+    t.set_admit_ctrl_config(2, True, 20, -10, False, 0.25), t.get_admit_ctrl_config(),
+    t.set_tool_drive_config(0, True, 30, 0.5), t.get_tool_drive_config(),
+    t.enable_admittance_ctrl(True), t.disable_force_control(), t.set_compliant_type(True, 1),
+    t.get_compliant_type(), t.set_vel_compliant_ctrl(1, [0.5, 0.25, 0, 0]),
+    t.set_compliance_condition([0, 0, 30, 0, 0, 0]), t.set_ft_ctrl_frame(0),
+    t.get_ft_ctrl_frame(), t.get_tool_drive_stat(), t.set_tool_drive_frame(1),
+    t.get_tool_drive_frame(), t.set_fusion_drive_sensitivity_level(3),
+    t.get_fusion_drive_sensitivity_level(), t.set_motion_limit_warning_range(2),
+    t.get_motion_limit_warning_range(), t.set_compliant_speed_limit(100, 30),
+    t.get_compliant_speed_limit(), t.set_torque_ref_point(1), t.get_torque_ref_point(),
+    t.set_end_sensor_sensitivity_threshold([10] * 6), t.get_end_sensor_sensitivity_threshold(),
 ]
 
 

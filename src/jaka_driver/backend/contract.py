@@ -25,6 +25,7 @@ import numpy as np
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from .clock import WallClock
+from .force import Force, NoForceSensor
 from .programs import Programs
 from .robot_state import RobotState
 from .twin import Twin
@@ -51,6 +52,10 @@ class Backend(ABC):
     #: twin runs the driver's program engine, whose steps go through the executor the driver
     #: binds (:meth:`Programs.bind`). Ask for it; never ask which backend this is.
     programs: Optional[Programs] = None
+
+    #: The flange force/torque sensor and force control on it (:class:`~.force.Force`), never
+    #: None: an arm without a sensor refuses every force request and says why.
+    force: Force = NoForceSensor("no force/torque sensor: this backend drives none")
 
     def __init__(self, model: RobotModel):
         self.model = model

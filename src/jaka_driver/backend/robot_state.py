@@ -4,9 +4,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import IntEnum
 from types import MappingProxyType
-from typing import Mapping, Tuple
+from typing import Mapping, Optional, Tuple
 
 import numpy as np
+
+from .force import ForceReading
 
 
 class MotionState(IntEnum):
@@ -42,7 +44,9 @@ class RobotState:
     Units: joints rad, rad/s, N·m. ``tcp_pose`` is the 4x4 pose (metres) of the active tool
     expressed in the active user frame. ``stamp`` is wall-clock time (``time.time()``, s) of
     the sample (sim time, s since the twin started, when the twin owns time) — the node stamps its messages with it, so it is when the physics (or the
-    controller's status packet) produced the data, not when it was published.
+    controller's status packet) produced the data, not when it was published. ``force``: the
+    flange force/torque sensor's readings of the same instant (:mod:`.force`), None without a
+    sensor or while it is off.
     """
 
     stamp: float
@@ -68,6 +72,7 @@ class RobotState:
     program_state: int = 0
     #: every IO point as it came in this sample (:data:`IoValues`)
     io: IoValues = field(default_factory=lambda: NO_IO)
+    force: Optional[ForceReading] = None
 
     @property
     def in_error(self) -> bool:

@@ -5,7 +5,8 @@ Who needs it asks the backend for it, never which backend it is: the node offers
 ``~sim/`` (faults, simulated inputs, the snapshot) when it is there, the emulator builds a
 controller on it. A request a twin cannot serve is a refused :class:`Result`, as on the contract.
 
-Its parts: the world acting on the arm (an e-stop pressed, a protective stop, an input driven);
+Its parts: the world acting on the arm (an e-stop pressed, a protective stop, an input driven,
+a hand pushing the tool);
 the camera; what a controller built on the twin reads and drives (the setpoint it commands, the
 servo target and its ``stepNum`` ramp, its IO). Commands on the twin's own time (reset, pause,
 step) belong here too.
@@ -54,6 +55,13 @@ class Twin(ABC):
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
         """Drive input ``index`` (from 0) of ``signal`` on ``io_type`` as the outside world
         would (the address already checked against the model)."""
+
+    @abstractmethod
+    def push_tool(self, wrench: np.ndarray, duration: float) -> Result:
+        """Push the tool with ``wrench`` (Fx Fy Fz N, Mx My Mz N·m along the base's axes, the
+        force at the flange centre) for ``duration`` s of the twin's time, as an operator's
+        hand would (0 s: let go now); the drives resist it, a force/torque sensor feels it,
+        tool drive and admittance follow it."""
 
     # ---- the twin's own time and state (test suites) -----------------------------------------
     @abstractmethod

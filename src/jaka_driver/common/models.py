@@ -23,6 +23,8 @@ from typing import Mapping
 import numpy as np
 import yaml
 
+from .sensor_spec import ForceSensorSpec, sensor_spec
+
 log = logging.getLogger(__name__)
 
 #: Every model the driver serves, by family: Zu, C, Pro, S, A, MiniCobo (docs/models.md).
@@ -79,7 +81,8 @@ class RobotModel:
     ``io_sizes`` maps ``(signal, type, path)`` → channel count, where signal is ``"digital"`` or
     ``"analog"``, type 0 cabinet / 1 tool / 2 extension, path 0 input / 1 output. ``chain``:
     the URDF's joints from ``base_link`` to ``flange`` (:class:`Placement`); ``structure`` one
-    of :data:`STRUCTURES`; ``home`` JAKA's pose ``pose_1`` (rad), where the twin starts.
+    of :data:`STRUCTURES`; ``home`` JAKA's pose ``pose_1`` (rad), where the twin starts;
+    ``force_sensor`` the flange force/torque sensor (:mod:`.sensor_spec`).
     """
 
     name: str
@@ -103,6 +106,8 @@ class RobotModel:
     home: np.ndarray = None  # rad
     arm_mass_kg: float = 0.0
     reach_mm: float = 0.0
+    #: the flange force/torque sensor of the configuration (mounted or not): ``force_sensor``
+    force_sensor: ForceSensorSpec = None
 
     @property
     def default_joint_accel(self) -> float:
@@ -238,6 +243,7 @@ def load_model(name: str) -> RobotModel:
         home=_frozen(np.radians(cfg["home_deg"]), what=where),
         arm_mass_kg=float(cfg["arm_mass_kg"]),
         reach_mm=float(cfg["reach_mm"]),
+        force_sensor=sensor_spec(cfg.get("force_sensor"), where),
     )
 
 

@@ -29,9 +29,11 @@ backend's methods of each subject pass the request on: motion — moves, traject
 stop — (:class:`~.moves.MoveCommands`: when a move has ended, :mod:`.move_watch`), servo mode,
 servo targets and the velocity jog (:class:`~.servo_commands.ServoCommands`), and the arm's
 settings — frames, payload, drag, collision, IO, errors, the speed ratio
-(:class:`~.arm_settings.ArmSettings`); a fourth is the controller's own programs, offered as
-the facet ``backend.programs`` (:class:`~.programs.ControllerPrograms`), whose state every
-sample carries.
+(:class:`~.arm_settings.ArmSettings`); the controller's own programs are offered as the facet
+``backend.programs`` (:class:`~.programs.ControllerPrograms`), whose state every sample carries.
+When the arm carries a force/torque sensor (``force_sensor``), another part is ``backend.force``
+(:class:`~.force.ControllerForce`: the sensor and force control, their readings from every
+packet's ``torqsensor``).
 
 ``pause_motion`` / ``resume_motion`` stay -9: they serve a program step the driver's engine
 runs, and on a controller the controller runs its programs itself (``pause_program``). Whether
@@ -56,6 +58,7 @@ import threading
 import numpy as np
 
 from ..backend import Backend
+from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
@@ -66,6 +69,7 @@ from .arm_identity import ArmIdentity
 from .arm_settings import ArmSettings
 from .commander import Commander, answers
 from .connection import ControllerLink
+from .force import ControllerForce
 from .frames_by_id import ControllerFrames
 from .moves import MoveCommands
 from .programs import ControllerPrograms
@@ -84,6 +88,8 @@ class ControllerBackend(Backend):
     power-on and enable. ``trajectory_step_num`` decimates trajectory streams (set-points every
     ``trajectory_step_num`` × 8 ms). ``kinematics`` says which chain is right when the
     controller's parameters are another arm's (:data:`.arm_identity.KINEMATICS_CHOICES`).
+    ``force_sensor``: the arm carries the flange force/torque sensor of the model's
+    configuration (True), not (False), or as configured (None; off on every model).
     """
 
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
@@ -91,7 +97,7 @@ class ControllerBackend(Backend):
                  data_port: int = 10004, connect_timeout: float = 1.0,
                  call_timeout: float = 1.0, stall_timeout: float = 0.5,
                  power_timeout: float = 15.0, trajectory_step_num: int = 1,
-                 kinematics: str = "auto"):
+                 kinematics: str = "auto", force_sensor: bool | None = None):
         super().__init__(model)
         self.host = host
         self.view = StatusView()
@@ -116,6 +122,16 @@ class ControllerBackend(Backend):
                                   trajectory_step_num)
         #: the controller's own programs (``backend.programs``)
         self.programs = ControllerPrograms(self.send)
+        sensor = model.force_sensor.mounted_as(force_sensor)
+        self._force_part = None
+        if sensor.mounted:
+            self._force_part = ControllerForce(sensor, model, self.send, self.link, self.view,
+                                               self.motion, self.identity, kinematics_now)
+            self.view.force_reading = self._force_part.reading
+            self.force = self._force_part
+        else:
+            self.force = NoForceSensor("no force/torque sensor configured for this "
+                                       f"controller's arm ({HOW_TO_MOUNT})")
         self._brought_up = threading.Event()
 
     # ---- life cycle -------------------------------------------------------------------
@@ -169,6 +185,7 @@ class ControllerBackend(Backend):
                      "servo_filter": self.servo.describe_filter()})
         if not self.link.connected:
             info["link"] = self.link.down_message()
+        info["force sensor"] = "none configured" if self._force_part is None else "flange"
         info.update(self.identity.describe())
         info.update(self.frames_by_id.describe())
         latest = self.view.latest
@@ -204,6 +221,8 @@ class ControllerBackend(Backend):
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
             self.programs.refresh()
+            if self._force_part is not None:
+                self._force_part.read_all()
             if first:
                 self._bring_up()
         finally:

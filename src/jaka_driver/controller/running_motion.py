@@ -3,8 +3,10 @@ loop has one motion source.
 
 The slot holds one :class:`Run` — a move the controller accepted (:class:`MoveRun`, ended by
 its :class:`~.move_watch.MoveWatch`), a trajectory streamed as ``servo_j``
-(:class:`TrajectoryRun`), a continuous jog (:class:`JogRun`) or a velocity jog streamed as
-``servo_j`` (:class:`TwistRun`) — and each answers the same three questions: is it busy, end it
+(:class:`TrajectoryRun`), a continuous jog (:class:`JogRun`), a velocity jog streamed as
+``servo_j`` (:class:`TwistRun`), force control that drives the arm (:class:`ForceControlRun`:
+admittance, constant force, tool drive) or a payload identification
+(:class:`IdentificationRun`) — and each answers the same three questions: is it busy, end it
 now telling its waiter why (:meth:`Run.abort`), and what does a status packet tell it. A new run
 takes the slot only if the one there is not busy, or is a jog (:func:`keeps_out`: the
 controller ends a jog itself on a fault, and the driver's own watchdog decides when a jog is
@@ -19,6 +21,7 @@ from __future__ import annotations
 import threading
 from typing import Callable, Optional, Type, TypeVar
 
+from ..backend.completion import Completion
 from ..common.results import Code, CommandRefused, Result
 from ..protocol.status_stream import StatusPacket
 from .move_watch import MoveWatch
@@ -116,6 +119,73 @@ class TwistRun(_StreamRun):
         self.streamer.halt(result)
 
 
+def _halted(status: StatusPacket) -> Optional[str]:
+    """Why the controller has stopped whatever drove the arm, from a packet (None: it has
+    not)."""
+    if status.emergency_stop:
+        return "emergency stop"
+    if status.protective_stop:
+        return f"protective stop ({status.errmsg})" if status.errmsg else "protective stop"
+    if not status.enabled:
+        return "the robot was disabled"
+    return None
+
+
+class ForceControlRun(Run):
+    """Force control that drives the arm — ``mode`` a :class:`~jaka_driver.backend.force.
+    ForceMode` value — from its confirmed start until it is ended: disabled, or halted by the
+    controller (a protective stop, e.g. the sensor's soft limit, an e-stop, disable: a packet
+    shows it). ``abort`` (stop_move, shutdown) ends it and calls ``on_abort`` to switch the
+    controller's force control off too."""
+
+    def __init__(self, mode: str, on_abort: Callable[[], None]):
+        self.mode = mode
+        self.label = mode.replace("_", " ")
+        self._on_abort = on_abort
+        self._ended = False
+
+    @property
+    def busy(self) -> bool:
+        return not self._ended
+
+    def end(self) -> None:
+        """Ended by its own request (disable), or never started (the start was refused)."""
+        self._ended = True
+
+    def abort(self, result: Result) -> None:
+        if not self._ended:
+            self._ended = True
+            self._on_abort()
+
+    def on_status(self, status: StatusPacket, received: float) -> None:
+        if not self._ended and _halted(status) is not None:
+            self._ended = True
+
+
+class IdentificationRun(Run):
+    """A payload identification the controller runs (``start_torq_sensor_payload_identify``),
+    until its ``completion`` is finished: by the poller reading the controller's status and
+    result (:mod:`.force`), a halt a packet shows, or an abort."""
+
+    label = "payload identification"
+
+    def __init__(self, completion: Completion):
+        self.completion = completion
+
+    @property
+    def busy(self) -> bool:
+        return not self.completion.done
+
+    def abort(self, result: Result) -> None:
+        self.completion.finish(Result(result.code, f"{self.label}: {result.message}"))
+
+    def on_status(self, status: StatusPacket, received: float) -> None:
+        why = _halted(status)
+        if why is not None and not self.completion.done:
+            self.completion.finish(Result.failure(Code.MOTION_STOPPED,
+                                                  f"{self.label} stopped: {why}"))
+
+
 #: Why a busy run keeps the slot from the new one (None: the new one takes it)
 Refusal = Callable[[Run], Optional[str]]
 
@@ -191,5 +261,8 @@ def keeps_out(what: str) -> Refusal:
             return None
         if isinstance(run, TrajectoryRun):
             return f"{what} refused: a trajectory runs"
+        if isinstance(run, ForceControlRun):
+            return (f"{what} refused: force control holds the arm ({run.label}; "
+                    "disable_force_control first)")
         return f"{what} refused: {run.label} is still running (stop_move first)"
     return refusal

@@ -20,6 +20,9 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
   relays, the fieldbus slaves), as it came;
 * the program's state: not in the stream on record; the backend's programs facet's, read with
   ``get_program_state`` (:mod:`.programs`);
+* ``force``: the force/torque sensor's readings of the same packet (``torqsensor``), made by
+  :attr:`StatusView.force_reading` (the backend's force part when the arm carries a sensor:
+  :func:`sensor_reading`), None otherwise;
 * while the link is down the sample says so: ``connected`` False, not powered, not enabled, not
   moving (so ``motion_state`` reads Error and power 0), joints as last seen, stamped now.
 """
@@ -32,6 +35,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
+from ..backend.force import ForceReading, SensorPayload, gravity_wrench
 from ..backend.robot_state import IoValues, RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
@@ -76,6 +80,26 @@ def packet_io(status: StatusPacket) -> IoValues:
     return MappingProxyType(io)
 
 
+def sensor_reading(status: StatusPacket,
+                   flange_rotation: Callable[[], np.ndarray]) -> Optional[ForceReading]:
+    """The packet's ``torqsensor`` as a :class:`ForceReading` (N, N·m, sensor frame): its
+    ``actTorque``, ``torque`` and ``realTorque`` are ``actual``, ``general`` and ``real``, as
+    JAKA's SDK reads them. None without the field, or while the sensor is off (``status`` 0).
+    A packet without the third vector (the recorded Zu 5s sends two) gets ``real`` computed as
+    the twin computes it: ``actual`` less the weight of the sensor's tool payload the same
+    packet states, at the flange's orientation ``flange_rotation()`` (3x3, flange → base:
+    gravity along the base's −z) — so ``~wrench_compensated`` means the same on every
+    controller. A packet without ``actual`` has no reading."""
+    ts = status.torque_sensor
+    if ts is None or ts.status == 0 or not np.all(np.isfinite(ts.actual)):
+        return None
+    real = ts.real
+    if not np.all(np.isfinite(real)):
+        payload = SensorPayload(ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0)
+        real = ts.actual - gravity_wrench(payload, flange_rotation())
+    return ForceReading(ts.actual, ts.general, real, ts.status, ts.errcode)
+
+
 class StatusView:
     """The one copy of the controller's latest status packet, and the :class:`RobotState` made
     from it on request.
@@ -97,6 +121,9 @@ class StatusView:
         self._tcp = np.eye(4)
         self._serial = 0
         self._cache: Optional[tuple[tuple, RobotState]] = None
+        #: the sensor's readings in a packet, with the joints (rad) the view read from it
+        self.force_reading: Callable[[StatusPacket, np.ndarray],
+                                     Optional[ForceReading]] = lambda status, q: None
 
     def reset(self) -> None:
         """A new connection: the next packet starts a new finite difference."""
@@ -173,7 +200,7 @@ class StatusView:
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
             else f"torque sensor error {status.sensor_errcode}", program_state=program_state,
-            io=packet_io(status))
+            io=packet_io(status), force=self.force_reading(status, q))
         with self._lock:
             self._cache = (key, st)
         return st

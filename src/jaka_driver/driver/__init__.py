@@ -10,6 +10,9 @@
 * :mod:`.program_steps` — the driver as the executor of a program's steps;
 * :mod:`.checks` — field checks (-2 naming field, value and limit) and a move's planned
   duration;
+* :mod:`.force_requests` — the force/torque sensor and force control, offered as
+  ``driver.force`` (:class:`~.force_requests.ForceRequests`); their field checks
+  :mod:`.force_checks`;
 * :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
 
 How requests are read where JAKA's document and JAKA's driver code differ (servo increments,

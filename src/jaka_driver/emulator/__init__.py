@@ -9,11 +9,12 @@ without hardware. No ROS needed.
   subscribers.
 * :mod:`.handlers` — dispatch by ``cmdName``; :data:`EMULATOR_COMMANDS` (fault injection). The
   handlers by subject: :mod:`.arm_commands`, :mod:`.setting_commands`, :mod:`.io_commands`,
-  :mod:`.program_commands`, :mod:`.sensor_commands`; :mod:`.wire_fields` reads request fields,
+  :mod:`.program_commands`, :mod:`.sensor_commands`, :mod:`.force_commands` (an arm with the
+  sensor, ``--force-sensor``); :mod:`.wire_fields` reads request fields,
   :mod:`.replies` writes replies (and holds :class:`~.replies.Rejected`, a refusal).
 * :mod:`.twin_controller` — a controller's rules on the twin, SI units; :mod:`.motion_queue` —
   its motion queue and the thread that starts each move;
-  :mod:`.torque_sensor` — the torque sensor's stored settings.
+  :mod:`.torque_sensor` — the torque sensor's stored settings and the packet's ``torqsensor``.
 * :mod:`.status_packet` — the status packet's fields.
 * :mod:`.process` — :class:`EmulatorProcess`, the emulator as a subprocess (tests), waiting
   for the line :mod:`.ready_line` describes.

@@ -1,6 +1,6 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
-[--dh-from MODEL] [--calibration FILE|SEED] [--programs DIR]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--dh-from MODEL] [--calibration FILE|SEED] [--scene FILE] [--programs DIR] [--force-sensor]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -60,6 +60,11 @@ def _parser() -> argparse.ArgumentParser:
                              "(the twin's format, NAME.jdp; a client loads NAME or NAME.jks); "
                              "default this package's config/programs")
     parser.add_argument("--scene", default=None, help="workcell obstacles file for the twin")
+    parser.add_argument("--force-sensor", action="store_true",
+                        help="the arm carries a flange force/torque sensor: the twin's, "
+                             "answering JAKA's torque-sensor and force-control commands and "
+                             "filling the status packet's torqsensor (default: no sensor, as "
+                             "most arms ship)")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
     parser.add_argument("--log-level", default="INFO")
@@ -82,7 +87,8 @@ def main(argv=None) -> int:
         emulator = Emulator(model, args.host, args.command_port, args.status_port,
                             data_port=args.data_port, profile=args.profile, period=args.period,
                             start=args.start, scene=args.scene, io_loopback=args.io_loopback,
-                            programs=args.programs or "default")
+                            programs=args.programs or "default",
+                            force_sensor=args.force_sensor)
         emulator.start()
     except ValueError as exc:
         print(f"jaka_emulator: {exc}", file=sys.stderr)
@@ -91,7 +97,8 @@ def main(argv=None) -> int:
         print(f"jaka_emulator: cannot serve on {args.host}: {exc}", file=sys.stderr)
         return 1
     print(ready_line(args.model, emulator.host, emulator.command_port, emulator.status_port,
-                     emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, started "
+                     emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, "
+                     f"{'a force/torque sensor, ' if args.force_sensor else ''}started "
                      f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms"),
           flush=True)
     try:

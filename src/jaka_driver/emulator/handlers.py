@@ -10,7 +10,8 @@ controller was recorded answering — never an exception, never a silent close.
 
 The handlers, by subject: :mod:`.arm_commands` (power, motion, servo, kinematics, drag),
 :mod:`.setting_commands` (identity, frames, payload, speed, filters), :mod:`.io_commands`,
-:mod:`.program_commands`, :mod:`.sensor_commands` (the torque sensor's settings), and here the
+:mod:`.program_commands`, :mod:`.sensor_commands` (the torque sensor's settings; on an arm
+with the sensor, :mod:`.force_commands` answers from the twin's sensor), and here the
 emulator-only commands (a real controller answers them "unknown command"; they all start with
 ``emulator_`` — see :data:`EMULATOR_COMMANDS`).
 """
@@ -22,6 +23,7 @@ from typing import Any, Callable, Dict, Mapping, Optional, Tuple
 
 from ..protocol.fields import Cmd, Field
 from .arm_commands import ArmCommands
+from .force_commands import ForceCommands
 from .framing import Malformed
 from .io_commands import IoCommands
 from .program_commands import ProgramCommands
@@ -60,6 +62,9 @@ class CommandHandlers:
             **IoCommands(controller).table(),
             **ProgramCommands(controller).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
+            # an arm with the sensor answers what it makes a difference to from the twin's
+            **(ForceCommands(controller).table() if controller.backend.force.absent is None
+               else {}),
             Cmd.QUIT: lambda r: Answer(then="close"),
             "emulator_emergency_stop": lambda r: self._note(self.c.emergency_stop(
                 flag(r, "pressed"))),

@@ -15,7 +15,9 @@ Filled from the twin where the twin has the quantity:
 * top-level ``instVel`` = joint speeds (deg/s: the wire's joint unit; the unit of a real
   controller's ``instVel`` is not on record);
 * ``curr_tcp_trans_vel`` = the TCP's speed (mm/s);
-* ``torqsensor`` = the torque sensor's settings (:mod:`.torque_sensor`) with no sensor running;
+* ``torqsensor`` = the torque sensor's settings (:mod:`.torque_sensor`): with no sensor, none
+  running (the recorded two-vector layout); on an arm with the sensor (``--force-sensor``), the
+  twin's sensor payload and the sample's actual, general and real wrench;
 * the IO arrays of every type (cabinet, tool, ``extio`` for the extension module, ``relay_io``,
   ``mb_slave_*``, ``pn_dev_*``, ``eip_adpt_*``), as set.
 
@@ -141,7 +143,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.ERRCODE: f"{errcode:#x}",
         S.ERRMSG: st.error_message if errcode else "",
         S.MONITOR_DATA: _monitor_data(st.powered, st.joint_effort, st.joint_velocity),
-        S.TORQSENSOR: controller.sensor.monitor(),
+        S.TORQSENSOR: controller.torqsensor(st),
         S.RAPIDRATE: float(controller.rapid_rate),
         S.ENABLED: bool(st.enabled),
         S.POWERED_ON: int(st.powered),

@@ -1,7 +1,9 @@
-"""The end torque sensor's settings as the emulated controller keeps them: it has no sensor (the
-twin's arm carries none), but a controller keeps a sensor's configuration whether one is
-connected or not, and JAKA's SDK reads a setting back after it sets it
-(:mod:`.sensor_commands` answers the commands; docs/protocol.md, "Torque sensor").
+"""The end torque sensor's settings as the emulated controller keeps them, and the status
+packet's ``torqsensor``. A controller keeps a sensor's configuration whether one is connected
+or not, and JAKA's SDK reads a setting back after it sets it (:mod:`.sensor_commands` answers
+the commands; docs/protocol.md, "Torque sensor"). An arm that carries the sensor
+(``--force-sensor``) answers what the sensor makes a difference to from the twin's sensor
+(:mod:`.force_commands`); the rest stays stored here.
 
 Units as on the wire: mass kg, centroid mm, forces N, torques N·m; the rest as the client sends
 them (their units are the SDK's, which it passes unconverted).
@@ -10,7 +12,11 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass, field
-from typing import Dict, List
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ..backend.force import ForceReading
 
 AXES = 6   # Fx, Fy, Fz, Mx, My, Mz: one row per axis in the admittance and tool-drive tables
 SOFT_LIMIT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
@@ -50,14 +56,35 @@ class TorqueSensorSettings:
     ref_point: int = 0                  # torque reference point
     threshold_percent: List[float] = field(default_factory=lambda: [0.0] * AXES)
 
-    def monitor(self) -> list:
-        """The status packet's ``torqsensor`` in the recorded layout
+    def monitor(self, sensor: Optional[tuple] = None) -> list:
+        """The status packet's ``torqsensor``. Without a sensor, the recorded layout
         ``[[commType, [ip, port], [mass, [x, y, z]]], [status, errcode, [6], [6]]]``: status 0
-        and errcode 0 (no sensor running), zero forces. Whole millimetres go out as integers,
-        as the recorded packet writes the centroid."""
+        and errcode 0 (no sensor running), zero forces, the stored payload. With one,
+        ``sensor`` = (payload mass kg, centroid mm, the sample's :class:`ForceReading` or None
+        while it is off): its payload, and ``[status, errcode, actual, general, real]`` — all
+        three vectors, as JAKA's SDK reads them (:func:`sensor_monitor`). Whole millimetres go
+        out as integers, as the recorded packet writes the centroid."""
         with self.lock:
-            centroid = [int(c) if float(c).is_integer() else float(c)
-                        for c in self.payload_centroid]
-            return [[self.comm_type, [self.ip_addr, self.port],
-                     [float(self.payload_mass), centroid]],
-                    [0, 0, [0.0] * AXES, [0.0] * AXES]]
+            mass, centroid = (self.payload_mass, self.payload_centroid) if sensor is None \
+                else sensor[:2]
+            config = [self.comm_type, [self.ip_addr, self.port],
+                      [float(mass), [int(c) if float(c).is_integer() else float(c)
+                                     for c in centroid]]]
+        if sensor is None:
+            return [config, [0, 0, [0.0] * AXES, [0.0] * AXES]]
+        return [config, sensor_monitor(sensor[2])]
+
+
+def sensor_monitor(reading: Optional[ForceReading]) -> list:
+    """``torqsensor[1]`` of an arm with a sensor, ``[status, errcode, actual[6], general[6],
+    real[6]]`` (N, N·m), from the sample's ``reading`` (None: the sensor is off, status 0 and
+    zeros). Values are rounded to 0.1 mN and 0.1 mN·m, far below a sensor's noise, to keep the
+    packet and get_data within a client's 8192-byte read."""
+    if reading is None:
+        return [0, 0, [0.0] * AXES, [0.0] * AXES, [0.0] * AXES]
+    return [int(reading.status), int(reading.errcode)] + [
+        _rounded(w) for w in (reading.actual, reading.general, reading.real)]
+
+
+def _rounded(values: Sequence[float]) -> list:
+    return [round(float(v), 4) for v in np.asarray(values, float)]

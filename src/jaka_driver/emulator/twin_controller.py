@@ -467,6 +467,16 @@ class TwinController:
         :meth:`check_io`)."""
         return self.backend.get_io(signal, path, io_type, index).value
 
+    def torqsensor(self, st: RobotState) -> list:
+        """The status packet's ``torqsensor`` for the sample ``st``: the stored settings, and,
+        when the arm carries a sensor (the backend's ``force``), the twin's sensor payload and
+        the sample's three readings (:meth:`.torque_sensor.TorqueSensorSettings.monitor`)."""
+        force = self.backend.force
+        if force.absent is not None:
+            return self.sensor.monitor()
+        payload = force.settings().tool_payload
+        return self.sensor.monitor((payload.mass, payload.centroid * 1000.0, st.force))
+
     def tcp_speed(self, st: RobotState) -> float:
         """m/s of the active tool's origin in the sample ``st``."""
         return self.twin.tcp_speed(st)

@@ -8,6 +8,8 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.fields` — every name on the wire, and the command table with confidence levels.
 * :mod:`.commands` — request encoders (driver units in, wire dicts out).
 * :mod:`.replies` — reply decoding and typed accessors (re-exported by :mod:`.commands`).
+* :mod:`.torque_sensor` — the torque sensor and force control: requests as JAKA's SDK sends
+  them, its replies, and the status packet's ``torqsensor``.
 * :mod:`.wire` — the JSON layouts (compact requests, spaced controller output) and decoding.
 * :mod:`.status_stream` — status packets (port-10000 stream, port-10004 zlib reply) and
   :class:`StatusPacket`.
@@ -26,7 +28,7 @@ Typical use::
         reply = client.call(commands.get_joint_pos())
         q = commands.reply_joint_pos(reply)          # rad
 """
-from . import commands, fields, replies, units
+from . import commands, fields, replies, torque_sensor, units
 from .command_client import CommandClient
 from .commands import encode
 from .errors import (CommandRejected, ConnectFailed, ConnectionLost, InvalidArgument,
@@ -40,7 +42,7 @@ from .status_stream import (StatusPacket, StatusStreamDecoder, decode_data_reply
 from .tcp_server import TcpServer
 
 __all__ = [
-    "commands", "fields", "replies", "units",
+    "commands", "fields", "replies", "torque_sensor", "units",
     "CommandClient", "StatusReceiver", "StatusPoller",
     "Reply", "encode", "parse_reply",
     "JakaProtocolError", "ProtocolError", "ConnectFailed", "ConnectionLost", "TimeoutError",

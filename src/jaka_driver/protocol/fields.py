@@ -144,6 +144,47 @@ class Field:
     POS_MID = "pos_mid"                   # [6] mm / deg RPY
     CIRCLE_CNT = "circle_cnt"             # a double: extra turns
     CIRCLE_MODE = "circle_mode"           # an int 0–3: the attitude rule
+    # the torque sensor and force control (JAKA's SDK 2.1.14, its spellings kept)
+    SENSOR_BRAND = "sensor_brand"
+    SENSOR_MODE = "sensor_mode"               # 1 on, 0 off
+    AXIS = "axis"                             # 0..5: x y z rx ry rz
+    OPT = "opt"                               # 0/1: the axis is enabled
+    FT_USER = "ftUser"
+    FT_CONSTANT = "ftConstant"
+    FT_NORMAL_TRACK = "ftNnormalTrack"        # (sic, two n)
+    FT_REBOUND = "ftReboundFK"
+    ADMIT_CONFIG = "admitConfig"              # get: 6 rows [opt, ft_user, ft_rebound,
+    # ft_constant, ft_normal_track]
+    IDENTIFY_STATUS = "identify_status"       # 0 done, 1 running, 2 error
+    REBOUND = "rebound"
+    RIGIDITY = "rigidity"
+    FORCE_CTRL_CONFIG = "force_ctrl_config"   # get_tool_drive_config: 6 rows [opt, rigidity,
+    # rebound]
+    SENSOR_COMPENSATION = "sensor_compensation"
+    COMPLIANCE_TYPE = "compliance_type"       # 0 none, 1 constant force, 2 velocity
+    COMM_TYPE = "type"                        # set/get_torque_sensor_comm; also the reading
+    # type of get_torque_sensor_data (0 actual, 1 general, 2 real)
+    IP_ADDR = "ip_addr"
+    PORT = "port"
+    SENSOR_FILTER = "torqueSensorFilter"
+    SENSOR_SOFT_LIMIT = "torqueSensorSoftLimit"   # {Fx, Fy, Fz, Mx, My, Mz}
+    COMPLIANT_CTRL = "compliant_ctrl"         # [vc_level, rate1, rate2, rate3, rate4]
+    COMPLIANT_CONDITION = "compliant_condition"   # [6]
+    FT_FRAME = "ftFrame"                      # 0 tool, 1 world
+    SENSOR_DATA_STATUS = "status"
+    SENSOR_ERRCODE = "errcode"
+    SENSOR_DATA = "data"                      # [6] N, N·m
+    DRIVE_STAT = "drive_stat"
+    TOOL_DRAG_FRAME = "toolDragFrame"         # 0 tool, 1 world
+    SENSITIVITY_LEVEL_FUSION = "sensitivity_level"
+    RANGE_LEVEL = "range_level"
+    SPEED_LIMIT = "speed_limit"
+    ANGULAR_SPEED_LIMIT = "angular_speed_limit"
+    REF_POINT = "ref_point"
+    THRESHOLD_PERCENT = "threshold_percent"   # [6]
+
+#: The keys of ``torqueSensorSoftLimit``, in the order of a wrench.
+SOFT_LIMIT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 #: The ``get_version`` identity keys JAKA's SDK reads at login, all strings.
 IDENTITY_FIELDS = (Field.VERSION, Field.CONTROLLER_ID, Field.CONTROLLER_GUARANTEE,
@@ -225,6 +266,47 @@ class Cmd:
     MOVC = "movc"                         # circular move
     SET_TOOL_PAYLOAD = "set_tool_payload"   # the torque sensor's tool payload
     GET_TOOL_PAYLOAD = "get_tool_payload"
+    # the torque sensor and force control, as JAKA's SDK spells them (sic: "torsenosr",
+    # "staus", "stat")
+    SET_TORSENOSR_BRAND = "set_torsenosr_brand"
+    GET_TORSENOSR_BRAND = "get_torsenosr_brand"
+    SET_TORQUE_SENSOR_MODE = "set_torque_sensor_mode"
+    SET_ADMIT_CTRL_CONFIG = "set_admit_ctrl_config"
+    GET_ADMIT_CTRL_CONFIG = "get_admit_ctrl_config"
+    START_TORQ_SENSOR_PAYLOAD_IDENTIFY = "start_torq_sensor_payload_identify"
+    GET_TORQ_SENSOR_IDENTIFY_STAUS = "get_torq_sensor_identify_staus"
+    GET_TORQ_SENSOR_PAYLOAD_IDENTIFY_RESULT = "get_torq_sensor_payload_identify_result"
+    ENABLE_ADMITTANCE_CTRL = "enable_admittance_ctrl"
+    DISABLE_FORCE_CONTROL = "disable_force_control"
+    ZERO_END_SENSOR = "zero_end_sensor"
+    SET_TOOL_DRIVE_CONFIG = "set_tool_drive_config"
+    GET_TOOL_DRIVE_CONFIG = "get_tool_drive_config"
+    SET_COMPLIANT_TYPE = "set_compliant_type"
+    GET_COMPLIANT_TYPE = "get_compliant_type"
+    SET_TORQUE_SENSOR_COMM = "set_torque_sensor_comm"
+    GET_TORQUE_SENSOR_COMM = "get_torque_sensor_comm"
+    SET_TORQUE_SENSOR_FILTER = "set_torque_sensor_filter"
+    GET_TORQUE_SENSOR_FILTER = "get_torque_sensor_filter"
+    SET_TORQUE_SENSOR_SOFT_LIMIT = "set_torque_sensor_soft_limit"
+    GET_TORQUE_SENSOR_SOFT_LIMIT = "get_torque_sensor_soft_limit"
+    SET_VEL_COMPLIANT_CTRL = "set_vel_compliant_ctrl"
+    SET_COMPLIANCE_CONDITION = "set_compliance_condition"
+    SET_FT_CTRL_FRAME = "set_ft_ctrl_frame"
+    GET_FT_CTRL_FRAME = "get_ft_ctrl_frame"
+    GET_TORQUE_SENSOR_DATA = "get_torque_sensor_data"
+    GET_TOOL_DRIVE_STAT = "get_tool_drive_stat"
+    SET_TOOL_DRIVE_FRAME = "set_tool_drive_frame"
+    GET_TOOL_DRIVE_FRAME = "get_tool_drive_frame"
+    SET_FUSION_DRIVE_SENSITIVITY_LEVEL = "set_fusion_drive_sensitivity_level"
+    GET_FUSION_DRIVE_SENSITIVITY_LEVEL = "get_fusion_drive_sensitivity_level"
+    SET_MOTION_LIMIT_WARNING_RANGE = "set_motion_limit_warning_range"
+    GET_MOTION_LIMIT_WARNING_RANGE = "get_motion_limit_warning_range"
+    SET_COMPLIANT_SPEED_LIMIT = "set_compliant_speed_limit"
+    GET_COMPLIANT_SPEED_LIMIT = "get_compliant_speed_limit"
+    SET_TORQUE_REF_POINT = "set_torque_ref_point"
+    GET_TORQUE_REF_POINT = "get_torque_ref_point"
+    SET_END_SENSOR_SENSITIVITY_THRESHOLD = "set_end_sensor_sensitivity_threshold"
+    GET_END_SENSOR_SENSITIVITY_THRESHOLD = "get_end_sensor_sensitivity_threshold"
     DATA_REQUEST = "data_request"         # port 10004 only
 
 
@@ -410,6 +492,64 @@ _SPECS = (
     CommandSpec(Cmd.GET_VERSION, reply=IDENTITY_FIELDS,
                 note="every identity key a string; older controllers send only version"),
     CommandSpec(Cmd.QUIT, note="the controller closes this connection"),
+    # the torque sensor and force control: requests as JAKA's SDK 2.1.14 sends them, replies
+    # as it reads them (SDK); how a controller acts on them is not on record
+    CommandSpec(Cmd.SET_TOOL_PAYLOAD, request=(F.CENTROID, F.MASS),
+                note="the torque sensor's tool payload; the SDK polls get_tool_payload"),
+    CommandSpec(Cmd.GET_TOOL_PAYLOAD, reply=(F.MASS, F.CENTROID)),
+    CommandSpec(Cmd.SET_TORSENOSR_BRAND, request=(F.SENSOR_BRAND,), note='(sic) "torsenosr"'),
+    CommandSpec(Cmd.GET_TORSENOSR_BRAND, reply=(F.SENSOR_BRAND,)),
+    CommandSpec(Cmd.SET_TORQUE_SENSOR_MODE, request=(F.SENSOR_MODE,),
+                note="no get: the sensor's state is the status packet's torqsensor"),
+    CommandSpec(Cmd.SET_ADMIT_CTRL_CONFIG, request=(F.AXIS, F.FT_CONSTANT, F.FT_NORMAL_TRACK,
+                                                   F.FT_REBOUND, F.FT_USER, F.OPT),
+                note='"ftNnormalTrack" (sic)'),
+    CommandSpec(Cmd.GET_ADMIT_CTRL_CONFIG, reply=(F.ADMIT_CONFIG,),
+                note="6 rows, row = axis: [opt, ft_user, ft_rebound, ft_constant, "
+                "ft_normal_track]"),
+    CommandSpec(Cmd.START_TORQ_SENSOR_PAYLOAD_IDENTIFY, request=(F.JOINT_POSITION,),
+                note="the end pose, deg"),
+    CommandSpec(Cmd.GET_TORQ_SENSOR_IDENTIFY_STAUS, reply=(F.IDENTIFY_STATUS,),
+                note='(sic) "staus"; 0 done, 1 running, 2 error'),
+    CommandSpec(Cmd.GET_TORQ_SENSOR_PAYLOAD_IDENTIFY_RESULT, reply=(F.MASS, F.CENTROID)),
+    CommandSpec(Cmd.ENABLE_ADMITTANCE_CTRL, request=(F.ENABLE_FLAG,),
+                note="enable_tool_drive sends this same command"),
+    CommandSpec(Cmd.DISABLE_FORCE_CONTROL), CommandSpec(Cmd.ZERO_END_SENSOR),
+    CommandSpec(Cmd.SET_TOOL_DRIVE_CONFIG, request=(F.AXIS, F.OPT, F.REBOUND, F.RIGIDITY)),
+    CommandSpec(Cmd.GET_TOOL_DRIVE_CONFIG, reply=(F.FORCE_CTRL_CONFIG,),
+                note="6 rows, row = axis: [opt, rigidity, rebound]"),
+    CommandSpec(Cmd.SET_COMPLIANT_TYPE, request=(F.COMPLIANCE_TYPE, F.SENSOR_COMPENSATION)),
+    CommandSpec(Cmd.GET_COMPLIANT_TYPE, reply=(F.SENSOR_COMPENSATION, F.COMPLIANCE_TYPE)),
+    CommandSpec(Cmd.SET_TORQUE_SENSOR_COMM, request=(F.IP_ADDR, F.PORT, F.COMM_TYPE)),
+    CommandSpec(Cmd.GET_TORQUE_SENSOR_COMM, reply=(F.COMM_TYPE, F.IP_ADDR, F.PORT),
+                note="type 1: the SDK reads neither ip_addr nor port (nor errorCode)"),
+    CommandSpec(Cmd.SET_TORQUE_SENSOR_FILTER, request=(F.SENSOR_FILTER,)),
+    CommandSpec(Cmd.GET_TORQUE_SENSOR_FILTER, reply=(F.SENSOR_FILTER,)),
+    CommandSpec(Cmd.SET_TORQUE_SENSOR_SOFT_LIMIT, request=(F.SENSOR_SOFT_LIMIT,),
+                note="an object {Fx, Fy, Fz, Mx, My, Mz}"),
+    CommandSpec(Cmd.GET_TORQUE_SENSOR_SOFT_LIMIT, reply=(F.SENSOR_SOFT_LIMIT,)),
+    CommandSpec(Cmd.SET_VEL_COMPLIANT_CTRL, request=(F.COMPLIANT_CTRL,),
+                note="[vc_level, rate1, rate2, rate3, rate4]"),
+    CommandSpec(Cmd.SET_COMPLIANCE_CONDITION, request=(F.COMPLIANT_CONDITION,)),
+    CommandSpec(Cmd.SET_FT_CTRL_FRAME, request=(F.FT_FRAME,)),
+    CommandSpec(Cmd.GET_FT_CTRL_FRAME, reply=(F.FT_FRAME,)),
+    CommandSpec(Cmd.GET_TORQUE_SENSOR_DATA, request=(F.COMM_TYPE,),
+                reply=(F.SENSOR_DATA_STATUS, F.SENSOR_ERRCODE, F.SENSOR_DATA),
+                note="type 0 actual, 1 general, 2 real"),
+    CommandSpec(Cmd.GET_TOOL_DRIVE_STAT, reply=(F.ENABLE_FLAG, F.DRIVE_STAT),
+                note='(sic) "stat"'),
+    CommandSpec(Cmd.SET_TOOL_DRIVE_FRAME, request=(F.TOOL_DRAG_FRAME,)),
+    CommandSpec(Cmd.GET_TOOL_DRIVE_FRAME, reply=(F.TOOL_DRAG_FRAME,)),
+    CommandSpec(Cmd.SET_FUSION_DRIVE_SENSITIVITY_LEVEL, request=(F.SENSITIVITY_LEVEL_FUSION,)),
+    CommandSpec(Cmd.GET_FUSION_DRIVE_SENSITIVITY_LEVEL, reply=(F.SENSITIVITY_LEVEL_FUSION,)),
+    CommandSpec(Cmd.SET_MOTION_LIMIT_WARNING_RANGE, request=(F.RANGE_LEVEL,)),
+    CommandSpec(Cmd.GET_MOTION_LIMIT_WARNING_RANGE, reply=(F.RANGE_LEVEL,)),
+    CommandSpec(Cmd.SET_COMPLIANT_SPEED_LIMIT, request=(F.ANGULAR_SPEED_LIMIT, F.SPEED_LIMIT)),
+    CommandSpec(Cmd.GET_COMPLIANT_SPEED_LIMIT, reply=(F.SPEED_LIMIT, F.ANGULAR_SPEED_LIMIT)),
+    CommandSpec(Cmd.SET_TORQUE_REF_POINT, request=(F.REF_POINT,)),
+    CommandSpec(Cmd.GET_TORQUE_REF_POINT, reply=(F.REF_POINT,)),
+    CommandSpec(Cmd.SET_END_SENSOR_SENSITIVITY_THRESHOLD, request=(F.THRESHOLD_PERCENT,)),
+    CommandSpec(Cmd.GET_END_SENSOR_SENSITIVITY_THRESHOLD, reply=(F.THRESHOLD_PERCENT,)),
 )
 del F
 

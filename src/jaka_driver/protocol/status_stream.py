@@ -13,13 +13,14 @@ import re
 import zlib
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Dict, List, Mapping, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
 from . import units
 from .errors import MalformedInput, ProtocolError
 from .fields import FIELDBUS_SLAVES, IO_ARRAYS, StatusField as S
+from .torque_sensor import TorqueSensorStatus, parse_torqsensor
 from .wire import HeadDecoder, as_flag, clean_text, encode_json_spaced
 
 #: Every packet starts with these bytes (``len`` first; a space may follow the colon).
@@ -267,6 +268,9 @@ class StatusPacket:
     errmsg: str = ""
     sensor_errcode: int = 0
     """the torque sensor's error code, ``torqsensor[1][1]`` (0 = none or no sensor)"""
+    torque_sensor: Optional[TorqueSensorStatus] = None
+    """``torqsensor`` whole: its settings, status and the three wrenches (.torque_sensor);
+    None when the packet has none"""
     rapidrate: float = 1.0
     current_tool_id: int = 0
     current_user_id: int = 0
@@ -454,4 +458,10 @@ def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     take("motion_line", S.MOTION_LINE, _integer, optional=True)
     take("homed", S.HOMED, lambda raw: tuple(_integer(v) for v in _numbers(raw)), optional=True)
     take("sensor_errcode", S.TORQSENSOR, _sensor_errcode, optional=True)
+    if S.TORQSENSOR in packet and S.TORQSENSOR not in malformed:
+        try:
+            values["torque_sensor"] = parse_torqsensor(packet[S.TORQSENSOR])
+        except _UNREADABLE:
+            missing.append(S.TORQSENSOR)
+            malformed.append(S.TORQSENSOR)
     return StatusPacket(**values, missing=tuple(missing), malformed=tuple(malformed))

@@ -24,6 +24,7 @@ It also reads the loosely typed values the controller sends (flags as bools, num
 from __future__ import annotations
 
 import json
+import math
 import re
 from typing import Any, NamedTuple, Optional, Tuple
 
@@ -46,11 +47,43 @@ def _plain(value: Any) -> Any:
     raise TypeError(f"{type(value).__name__} is not JSON serialisable")
 
 
+class Fixed(float):
+    """A number JAKA's SDK writes with a fixed count of decimals — ``"mass":1.50``,
+    ``"ftReboundFK":0.250`` (docs/protocol.md, "Framing and layout") —: the value rounded to
+    ``places`` decimals, which :func:`encode_json` writes with exactly that many when it is a
+    top-level field of a request. Anywhere else it is the plain float it equals."""
+
+    places: int
+
+    def __new__(cls, value: float, places: int) -> "Fixed":
+        if not math.isfinite(value):
+            raise ValueError(f"{value!r} is not a finite number")
+        number = super().__new__(cls, f"{value:.{places}f}")
+        number.places = places
+        return number
+
+    @property
+    def text(self) -> str:
+        return f"{float(self):.{self.places}f}"
+
+
+# A Fixed field goes through json.dumps as this marked string, then loses its quotes.
+_FIXED_MARK = "\x00"
+_FIXED_TEXT = re.compile(r'"\\u0000(-?[0-9]+\.[0-9]+)"')
+
+
 def encode_json(obj: Any) -> bytes:
     """Compact JSON, the layout of requests (``{"cmdName":"power_on"}``), UTF-8, non-ASCII kept
-    as is. NaN and infinity are refused: they are not JSON."""
-    return json.dumps(obj, separators=(",", ":"), ensure_ascii=False, allow_nan=False,
-                      default=_plain).encode("utf-8")
+    as is, a :class:`Fixed` field with its decimals. NaN and infinity are refused: they are not
+    JSON."""
+    fixed = isinstance(obj, dict) and any(type(v) is Fixed for v in obj.values())
+    if fixed:
+        obj = {k: _FIXED_MARK + v.text if type(v) is Fixed else v for k, v in obj.items()}
+    text = json.dumps(obj, separators=(",", ":"), ensure_ascii=False, allow_nan=False,
+                      default=_plain)
+    if fixed:
+        text = _FIXED_TEXT.sub(r"\1", text)
+    return text.encode("utf-8")
 
 
 def encode_json_spaced(obj: Any) -> bytes:

@@ -23,6 +23,9 @@ Parameters (private, ``~name``):
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
                      this package's config/programs)
+  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
+                     (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
+                     twin's is mounted, a controller's arm is said to carry one
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
                      increments, jog speed from mvacc, tool_position a PoseStamped in mm,
@@ -59,6 +62,7 @@ from . import sim_time
 from .circular_move import advertise_circular_move
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
+from .force_services import advertise_force
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
 from .services import advertise, advertise_faults
@@ -81,15 +85,32 @@ def make_backend(kind: str, model_name: str, params: dict):
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
-                          programs=params.get("programs") or None)
+                          programs=params.get("programs") or None,
+                          force_sensor=force_sensor_param(params.get("force_sensor", "")))
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
                                  status_port=params["status_port"],
                                  status_source=params["status_source"],
                                  data_port=params["data_port"],
-                                 kinematics=params["kinematics"])
+                                 kinematics=params["kinematics"],
+                                 force_sensor=force_sensor_param(params.get("force_sensor", "")))
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
+
+
+def force_sensor_param(value) -> bool | None:
+    """``~force_sensor``: True / False — the arm carries a sensor or not (the twin's is
+    mounted; a controller's force requests are sent); "" (or "model") as the model's
+    configuration says."""
+    text = str(value).strip().lower()
+    if text in ("", "model"):
+        return None
+    if text in ("true", "1", "yes"):
+        return True
+    if text in ("false", "0", "no"):
+        return False
+    raise ValueError(f"~force_sensor is {value!r}; expected true, false or \"\" (the model's "
+                     "configuration)")
 
 
 NODE_NAME = "jaka_driver"
@@ -135,6 +156,7 @@ def _params() -> dict:
         "servo_increment": bool(rospy.get_param("~servo_increment", False)),
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
+        "force_sensor": rospy.get_param("~force_sensor", ""),
     }
 
 
@@ -210,6 +232,7 @@ def main() -> int:
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
+    advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

@@ -75,6 +75,9 @@ class StatePublisher:
         if self._clock.simulated:             # every sample, whatever ~rate says
             self._sim_clock = rospy.Publisher("/clock", Clock, queue_size=100)
             self._clock.add_consumer()
+        #: per-sample publishers of other modules (the wrench topics), called after the state
+        #: topics with the same sample, in this thread
+        self.also_publish: list = []
         self._count = 0
         self._window = (self._clock.now(), 0)
         self._rate = 0.0
@@ -95,6 +98,8 @@ class StatePublisher:
         self._states.publish(msgs.robot)
         self._joint_states.publish(msgs.joints)
         self._io.offer(st)
+        for publish in self.also_publish:
+            publish(st)
         self._count += 1
 
     def measured_rate(self) -> float:

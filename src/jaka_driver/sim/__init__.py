@@ -1,7 +1,7 @@
 """The ``sim`` backend: the MuJoCo twin of the arm.
 
-Its face is :class:`SimBackend` — the backend contract, and ``backend.twin`` (:class:`SimTwin`:
-what only a twin can do). The rest is how it works inside:
+Its face is :class:`SimBackend` — the backend contract, ``backend.twin`` (:class:`SimTwin`:
+what only a twin can do) and ``backend.force``. The rest is how it works inside:
 
 * :mod:`.twin_model` — the MuJoCo model from the URDF, with floor, workcell and payload;
 * :mod:`.physics` — :class:`~.physics.PhysicsLoop`, the real-time loop and its samples, and
@@ -13,7 +13,11 @@ what only a twin can do). The rest is how it works inside:
   servo targets, a stop); :mod:`.jog_steps` — a jog's step on a joint or in Cartesian space;
 * :mod:`.collisions` — contact force → protective stop; :mod:`.overload` — torque limits and
   following error → brakes; :mod:`.io_board` — the twin's IO;
-* :mod:`.snapshot` — offscreen pictures (also ``scripts/snapshot``).
+* :mod:`.snapshot` — offscreen pictures (also ``scripts/snapshot``);
+* the flange force/torque sensor and force control (``backend.force``): :mod:`.ft_sensor` (the
+  sensor in the model and its readings), :mod:`.force` (:class:`~.force.SimForce`, the facet),
+  :mod:`.force_control` (admittance, constant force, tool drive), :mod:`.payload_identification`,
+  :mod:`.tool_push` (a hand on the tool).
 """
 from .backend import SimBackend
 from .twin import SimTwin

@@ -113,6 +113,15 @@ class ArmFlags:
         self._physics.engage_brakes().abort(stopped(message))
         self.servo_mode = False
 
+    def force_stopped(self, message: str) -> None:
+        """The force/torque sensor's soft limit or the compliance condition exceeded (physics
+        thread): a protective stop where the arm is, held by its drives (no brakes: the arm is
+        sound, it pressed too hard), as a controller's force stop."""
+        self.protective_stop = True
+        self.error_message = message
+        self._physics.hold_here().abort(stopped(message))
+        self.servo_mode = False
+
     def clear(self) -> list[str]:
         """clear_error: the collision, protective stop and error cleared; returns the names of
         those that stood."""

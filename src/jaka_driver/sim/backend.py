@@ -5,11 +5,12 @@ physics thread feeds them to the servo drives every 8 ms, and the state reported
 MuJoCo computed. Kinematics (FK for the TCP, IK for linear moves, jogs and servo_p) is
 Pinocchio on the same URDF.
 
-Its face is the contract and ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
-what the emulator reads and drives); everything else is private. The motion that runs now has
-one owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted,
-stopped there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults
-use too.
+Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
+what the emulator reads and drives) and ``force`` (:class:`.force.SimForce` when the arm
+carries a force/torque sensor); everything else is private. The motion that runs now has one
+owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted, stopped
+there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults and the
+force sensor's stops use too.
 """
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ import numpy as np
 from ..backend import Backend
 from ..backend.clock import make_clock
 from ..backend.completion import Completion
+from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
@@ -39,14 +41,17 @@ from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .arm_flags import ArmFlags
 from .collisions import CollisionMonitor
+from .force import SimForce
+from .ft_sensor import TOOL_BODY
 from .io_board import IoBoard
 from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, servo_target,
                       stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
 from .servo import JointServo
+from .tool_push import ToolPush
 from .twin import SimTwin
-from .twin_model import Payload, build_twin_model
+from .twin_model import FLANGE_BODY, Payload, build_twin_model
 
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
 
@@ -54,12 +59,13 @@ STOP_TIME = 0.15              # s, a stop from full speed takes at most this lon
 class SimBackend(Backend):
     """The MuJoCo twin of ``model`` (see the module); ``scene`` a workcell file, ``q0`` the
     start joints (rad; default the model's home), ``io_loopback`` wires each output to the
-    input of the same index."""
+    input of the same index, ``force_sensor`` mounts (True) or removes (False) the flange
+    force/torque sensor of the model's configuration (None: as configured)."""
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0,
-                 programs: Optional[str] = None):
+                 programs: Optional[str] = None, force_sensor: Optional[bool] = None):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
         ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
@@ -67,7 +73,8 @@ class SimBackend(Backend):
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.programs = FolderPrograms(programs)
         self._kin = Kinematics(model)
-        self._mj_model = build_twin_model(model, scene)
+        sensor = model.force_sensor.mounted_as(force_sensor)
+        self._mj_model = build_twin_model(model, scene, force_sensor=sensor)
         # JAKA's pose_1, unless told otherwise
         q_start = model.home.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self._mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE,
@@ -76,16 +83,27 @@ class SimBackend(Backend):
                                    clock=self.clock if sim_time else None)
         self._flags = ArmFlags(self._physics)
         self._lock = self._flags.lock       # the flags, and the motion a mode allows, together
-        self._payload = Payload(self._mj_model)
+        tool_body = TOOL_BODY if sensor.mounted else FLANGE_BODY
+        self._payload = Payload(self._mj_model, tool_body)
+        self._push = ToolPush(self._mj_model, tool_body)
         self._collisions = CollisionMonitor(self._mj_model, self._flags.collided)
         self._overload = FollowingErrorMonitor(servo, model.joint_names, self._flags.overloaded)
-        self._physics.on_cycle += [self._collisions.check, self._overload.check]
+        self._physics.on_cycle += [self._collisions.check, self._overload.check,
+                                   self._push.apply]
+        if sensor.mounted:
+            self.force = SimForce(sensor, model, self.clock, self._physics, self._flags,
+                                  self._kin, self.frames, self._velocity_jog)
+            self._physics.on_cycle.append(self.force.check)
+            self._physics.force_reading = lambda: self.force.readings.latest
+        else:
+            self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
         self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
-                            self._collisions, self._kin, self.frames, self._reset, scene=scene)
+                            self._collisions, self._push, self._kin, self.frames, self._reset,
+                            scene=scene)
 
     def _defaults(self) -> None:
         """The controller's state of a fresh twin: powered, enabled, no error (the flags'),
@@ -106,7 +124,10 @@ class SimBackend(Backend):
             with self._physics.lock:
                 self._physics.servo.released = False
                 self._payload.reset()           # first: the reset's forward pass uses the model
+                if isinstance(self.force, SimForce):
+                    self.force.reset()          # before the reset's sample: no reading yet
                 self._physics.reset(q).abort(stopped("stopped: the twin was reset"))
+                self._push.start(self._physics.d, np.zeros(6), 0)
             self._overload.rearm()
             self._io.reset()
             self._defaults()
@@ -123,7 +144,8 @@ class SimBackend(Backend):
         info = {"backend": "sim", **super().describe()}
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
                     timestep_s=self._mj_model.opt.timestep,
-                    servo_filter=self._servo_filter.describe())
+                    servo_filter=self._servo_filter.describe(),
+                    force_sensor="none" if self.force.absent else "flange")
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")
@@ -156,7 +178,8 @@ class SimBackend(Backend):
             drag_mode=flags.drag_mode, emergency_stop=flags.emergency_stop,
             protective_stop=flags.protective_stop, collision=flags.collision,
             moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
-            program_state=int(self.programs.status().state), io=self._io.values())
+            program_state=int(self.programs.status().state), io=self._io.values(),
+            force=sample.force)
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
@@ -192,8 +215,8 @@ class SimBackend(Backend):
                             accel=self.model.max_acceleration)
         with self._lock:
             if self._physics.motion.active:
-                return Result.failure(Code.BUSY, f"{label} refused: the arm is still moving "
-                                      "(stopping)")
+                return Result.failure(Code.BUSY, f"{label} refused: "
+                                      f"{self._physics.motion.busy_reason}")
             if trajectory.duration == 0:
                 completion.finish(Result.success(f"{label}: already in position"))
             else:

@@ -17,6 +17,8 @@ from typing import Callable, Optional
 import mujoco
 import numpy as np
 
+from .ft_sensor import TOOL_BODY
+
 LEVEL_FORCE_N = {1: 25.0, 2: 50.0, 3: 75.0, 4: 100.0}
 ARM_BODIES = [f"link_{i}" for i in range(1, 7)]
 GEOM_TYPES = {"box": mujoco.mjtGeom.mjGEOM_BOX, "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
@@ -87,7 +89,9 @@ class CollisionMonitor:
         self._on_collision = on_collision
         self.level = 2
         self.armed = True
-        arm = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name) for name in ARM_BODIES}
+        # the arm's links, and the tool side of a force/torque sensor when there is one
+        arm = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
+               for name in ARM_BODIES + [TOOL_BODY]}
         self._arm_geoms = np.array([m.geom_bodyid[g] in arm for g in range(m.ngeom)])
         self._force = np.zeros(6)
 

@@ -31,6 +31,10 @@ class Motion:
     completion: Optional[Completion] = None
     active = True
     moving = True
+    #: why a command that needs the arm still is refused while this source runs
+    busy_reason = "the arm is still moving (stopping)"
+    #: share of its own speed a move runs at (velocity compliance slows it: sim/force.py)
+    pace = 1.0
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas) -> np.ndarray:
         raise NotImplementedError
@@ -113,10 +117,11 @@ class TrajectoryRun(Motion):
                     f"{self.trajectory.duration:.3f} s), final error {error:.1e} rad"))
         with self._lock:
             to, step = self._rate_to, self._rate_step
-        # the mean of the cycle's start and end rates: the path time the cycle covers
+        # the mean of the cycle's start and end rates: the path time the cycle covers, at the
+        # pace velocity compliance sets (1 without it)
         start = self.rate
         self.rate = min(to, start + step) if to > start else max(to, start - step)
-        self.t += 0.5 * (start + self.rate) * self.cycle
+        self.t += 0.5 * (start + self.rate) * self.cycle * self.pace
         if elapsed < self.trajectory.duration:
             self.moving = self.rate > 0.0
         q, _ = self.trajectory.sample(self.t)

@@ -42,14 +42,16 @@ _NO_TORQUE.flags.writeable = False
 
 class Sample(NamedTuple):
     """Measured joints at ``stamp`` (s: wall-clock time, or sim time when the twin owns
-    time): rad, rad/s, N·m. A named tuple: one is made every cycle, and a tuple is made in a
-    third of a frozen dataclass's time."""
+    time): rad, rad/s, N·m; the force/torque sensor's reading of the cycle (None: no sensor,
+    or off). A named tuple: one is made every cycle, and a tuple is made in a third of a
+    frozen dataclass's time."""
 
     stamp: float
     q: np.ndarray
     qd: np.ndarray
     tau: np.ndarray
     moving: bool
+    force: object = None
 
 
 class PhysicsLoop:
@@ -78,6 +80,9 @@ class PhysicsLoop:
         self._thread: Optional[threading.Thread] = None
         # Checks at each cycle's end, before the next setpoint is chosen (contacts, overload).
         self.on_cycle: list[Callable[[mujoco.MjData], None]] = []
+        #: the force/torque sensor's latest reading, recorded with each sample (a twin with a
+        #: sensor sets it: sim/force.py)
+        self.force_reading: Callable[[], object] = lambda: None
         #: None: paced to the wall clock, samples stamped in wall time; a
         #: :class:`jaka_driver.backend.clock.SimClock`: the twin owns time, samples stamped in it
         self.clock = clock
@@ -281,5 +286,5 @@ class PhysicsLoop:
 
     def _record(self) -> None:
         self._sample = Sample(self.wall0 + self.d.time, self._q.copy(), self._qd.copy(),
-                              self._tau.copy(), self._motion.moving)
+                              self._tau.copy(), self._motion.moving, self.force_reading())
         self._history.append(self._sample)

@@ -15,6 +15,7 @@ import numpy as np
 from ..backend.clock import SimClock, WallClock
 from ..backend.robot_state import RobotState
 from ..backend.twin import Camera, IoSnapshot, Twin
+from ..common.constants import SERVO_CYCLE
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..kinematics import Kinematics
@@ -23,6 +24,7 @@ from .collisions import CollisionMonitor
 from .io_board import IoBoard
 from .motions import servo_target
 from .physics import PhysicsLoop
+from .tool_push import ToolPush
 
 #: s of wall time allowed per stepped cycle before step answers that they did not run
 STEP_TIMEOUT_PER_CYCLE = 0.05
@@ -33,12 +35,12 @@ Frames = Callable[[], tuple]
 
 class SimTwin(Twin):
     """What only the MuJoCo twin can do (the module says how): on ``model`` in ``scene`` (a
-    workcell file, for the camera), its ``clock``, ``physics`` loop, ``flags``, ``io`` board and
-    ``collisions`` monitor; ``kinematics`` at the active ``frames()``; ``reset(q)`` the
-    backend's fresh start at joints ``q`` (rad)."""
+    workcell file, for the camera), its ``clock``, ``physics`` loop, ``flags``, ``io`` board,
+    ``collisions`` monitor and the hand that ``push``es the tool; ``kinematics`` at the active
+    ``frames()``; ``reset(q)`` the backend's fresh start at joints ``q`` (rad)."""
 
     def __init__(self, model: RobotModel, clock: SimClock | WallClock, physics: PhysicsLoop,
-                 flags: ArmFlags, io: IoBoard, collisions: CollisionMonitor,
+                 flags: ArmFlags, io: IoBoard, collisions: CollisionMonitor, push: ToolPush,
                  kinematics: Kinematics, frames: Frames,
                  reset: Callable[[np.ndarray], None], *, scene: Optional[str] = None):
         self._model = model
@@ -47,6 +49,7 @@ class SimTwin(Twin):
         self._flags = flags
         self._io = io
         self._collisions = collisions
+        self._push = push
         self._kin = kinematics
         self._frames = frames
         self._reset = reset
@@ -68,6 +71,17 @@ class SimTwin(Twin):
     def set_input(self, signal: str, io_type: int, index: int, value: float) -> Result:
         self._io.write_input(signal, io_type, index, value)
         return Result.success(f"{signal} input {index} of type {io_type} = {value:g}")
+
+    def push_tool(self, wrench: np.ndarray, duration: float) -> Result:
+        cycles = max(0, round(float(duration) / SERVO_CYCLE))
+        w = np.asarray(wrench, float)
+        with self._physics.lock:
+            self._push.start(self._physics.d, w, cycles)
+        if cycles == 0:
+            return Result.success("the tool is let go")
+        return Result.success(f"pushing the tool with F ({w[0]:.1f}, {w[1]:.1f}, {w[2]:.1f}) N, "
+                              f"M ({w[3]:.2f}, {w[4]:.2f}, {w[5]:.2f}) N·m (base axes) for "
+                              f"{cycles * SERVO_CYCLE:.3f} s")
 
     # ---- the twin's own time and state ---------------------------------------------------------
     def reset(self, q: Optional[np.ndarray] = None) -> Result:

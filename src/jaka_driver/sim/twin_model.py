@@ -1,9 +1,11 @@
 """The twin's MuJoCo model, built from the same URDF as Pinocchio and rviz.
 
 MuJoCo imports the URDF directly; what the URDF cannot say is added here: the time step,
-joint damping and rotor inertia (armature), the floor and workcell, and the payload (mass
-folded into link_6, the flange body), and the joint drives (:mod:`servo`: MuJoCo actuators
-with gravity compensation and the URDF's torque limits).
+joint damping and rotor inertia (armature), the floor and workcell, a flange force/torque
+sensor when the arm carries one (:mod:`ft_sensor`), the payload (mass folded into link_6, the
+flange body — or into the sensor's tool side, ``ft_tool``, so the sensor feels it), and the
+joint drives (:mod:`servo`: MuJoCo actuators with gravity compensation and the URDF's torque
+limits).
 """
 from __future__ import annotations
 
@@ -16,7 +18,9 @@ import mujoco
 import numpy as np
 
 from ..common.models import RobotModel
+from ..common.sensor_spec import ForceSensorSpec
 from .collisions import ARM_BODIES, add_environment
+from .ft_sensor import TOOL_BODY, add_sensor
 from .servo import add_drives
 
 TIMESTEP = 0.001          # s; 1 kHz physics under an 8 ms controller cycle
@@ -26,9 +30,10 @@ FLANGE_BODY = "link_6"
 
 
 def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
-                     visual: bool = False) -> mujoco.MjModel:
+                     visual: bool = False,
+                     force_sensor: Optional[ForceSensorSpec] = None) -> mujoco.MjModel:
     """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
-    (see :mod:`collisions`).
+    (see :mod:`collisions`), and ``force_sensor`` on the flange when it is mounted.
 
     ``visual=True`` keeps the URDF's ``<visual>`` shapes as well (geom group 1, no contacts) for
     pictures (:mod:`snapshot`); the physics twin leaves it off, it only needs collision shapes.
@@ -37,7 +42,11 @@ def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
     spec = mujoco.MjSpec.from_string(xml)
     spec.compiler.discardvisual = not visual
     add_environment(spec, scene)
-    add_drives(spec, model.joint_names, model.max_effort, ARM_BODIES)
+    bodies = list(ARM_BODIES)
+    if force_sensor is not None and force_sensor.mounted:
+        add_sensor(spec, force_sensor)
+        bodies.append(TOOL_BODY)
+    add_drives(spec, model.joint_names, model.max_effort, bodies)
     m = spec.compile()
     if m.nv != 6:
         raise ValueError(f"{model.urdf_path} compiles to {m.nv} degrees of freedom, expected 6")
@@ -51,17 +60,18 @@ def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
 
 
 class Payload:
-    """Folds a point-mass payload into the flange body and restores it.
+    """Folds a point-mass payload into ``body`` (the flange body, or the sensor's tool side:
+    both have the flange's frame) and restores it.
 
-    The flange body's own mass properties are kept so that setting a new payload replaces the
-    old one instead of adding to it.
+    The body's own mass properties are kept so that setting a new payload replaces the old one
+    instead of adding to it.
     """
 
-    def __init__(self, m: mujoco.MjModel):
+    def __init__(self, m: mujoco.MjModel, body: str = FLANGE_BODY):
         self._m = m
-        self._body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, FLANGE_BODY)
+        self._body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, body)
         if self._body < 0:
-            raise ValueError(f"the twin has no body {FLANGE_BODY!r}")
+            raise ValueError(f"the twin has no body {body!r}")
         self._mass = float(m.body_mass[self._body])
         self._com = m.body_ipos[self._body].copy()
         rot = np.zeros(9)
@@ -79,7 +89,7 @@ class Payload:
         """``mass`` kg at ``centroid`` (m, flange frame = link_6 frame in our URDFs)."""
         m, b = self._m, self._body
         total = self._mass + mass
-        com = (self._mass * self._com + mass * centroid) / total
+        com = (self._mass * self._com + mass * centroid) / total if total > 0 else self._com
         inertia = self._inertia + self._mass * _shift(self._com - com)
         inertia = inertia + mass * _shift(centroid - com)
         principal, axes = np.linalg.eigh(inertia)
