@@ -263,6 +263,23 @@ class Services:
             proxy.close()
 
 
+def delivers_to_us(driver, leaf: str) -> bool:
+    """True once the node ``driver`` has this test process among the subscribers of its topic
+    ``leaf`` (its own bus info, ``rosnode info``'s source). A subscriber counts its connection
+    when the node's header has reached it; the node adds it to its publisher a moment later,
+    and a message published in between goes to no one."""
+    import rosgraph
+    import rospy
+    me = rospy.get_name()
+    topic = driver.name(leaf)
+    try:
+        api = rosgraph.Master(me).lookupNode(driver.prefix)
+        _, _, info = xmlrpc.client.ServerProxy(api).getBusInfo(me)
+    except (OSError, rosgraph.MasterError, xmlrpc.client.Error):
+        return False
+    return any(c[4] == topic and c[1] == me and c[2] == "o" for c in info)
+
+
 class Recorder:
     """Subscribes to a topic and keeps (receipt time, message) pairs."""
 
