@@ -20,7 +20,7 @@ from jaka_driver.emulator import Emulator
 from jaka_driver.emulator.profiles import PROFILES
 from jaka_driver.motion.profiles import SyncJointProfile
 from jaka_driver.motion.trajectory import JointTrajectory
-from support.emulated_arm import CATCH_UP, planned_moves
+from support.emulated_arm import CATCH_UP, LINK_TIMEOUTS, planned_moves
 from support.move_helpers import run_move
 
 HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
@@ -28,7 +28,8 @@ HOME = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0])
 
 @pytest.fixture(scope="module")
 def backend(emu):
-    b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+    b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                          **LINK_TIMEOUTS)
     b.start()
     yield b
     b.shutdown()
@@ -59,7 +60,8 @@ def test_state_follows_the_status_stream(emu, backend):
 def test_start_powers_on_and_enables_like_jakas_driver(emu):
     emu.controller.set_power(False)
     assert not emu.backend.state().powered
-    fresh = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+    fresh = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                              **LINK_TIMEOUTS)
     try:
         fresh.start()
         st = fresh.state()
@@ -349,7 +351,8 @@ def test_the_backend_reads_what_it_needs_from_each_profiles_packet(profile):
     TCP, joint torques, joint speeds (``instVel``, or from the joints where a packet has none),
     power, the frames in use, IO; a cabinet without an extension module refuses its IO."""
     with Emulator("zu5", command_port=0, status_port=0, profile=profile) as emu:
-        b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port)
+        b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                              **LINK_TIMEOUTS)
         b.start()
         try:
             assert wait_until(lambda: abs(emu.backend.state().joint_effort[1]) > 1.0, 5.0)

@@ -12,6 +12,7 @@ import logging
 import numpy as np
 import pytest
 
+from support.emulated_arm import LINK_TIMEOUTS
 from support.move_helpers import run_move
 
 from jaka_driver.common.models import load_model
@@ -31,7 +32,8 @@ RNG = np.random.default_rng(25)
 
 
 def started(emu, **kwargs) -> ControllerBackend:
-    backend = ControllerBackend(ZU5, "127.0.0.1", emu.command_port, emu.status_port, **kwargs)
+    backend = ControllerBackend(ZU5, "127.0.0.1", emu.command_port, emu.status_port,
+                                **{**LINK_TIMEOUTS, **kwargs})
     backend.start()
     assert backend.state().enabled
     return backend

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from support.ros_harness import Recorder, RosMaster, Services, start_driver
+from support.ros_harness import (Recorder, RosMaster, Services, delivers_to_us, start_driver,
+                                 wait_until)
 
 
 @pytest.fixture(scope="session")
@@ -53,7 +54,11 @@ def states(sim_driver, rospy_node):
 
 
 def _recording(driver, topic: str, msg_class):
-    """A module's recorder of one of the driver's topics, closed after the module."""
+    """A module's recorder of one of the driver's topics, closed after the module; it gets
+    every message from the fixture's end on (the node has it among its subscribers: a paused
+    twin publishes nothing until stepped, so a sample sent before would never come again)."""
     recorder = Recorder(driver.name(topic), msg_class)
+    assert wait_until(lambda: delivers_to_us(driver, topic), 30.0), \
+        f"{driver.name(topic)}: the node has not connected this test process in 30 s"
     yield recorder
     recorder.close()

@@ -17,6 +17,8 @@ from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import Move
 from std_srvs.srv import SetBool
 
+from support.emulated_arm import LINK_TIMEOUTS
+
 from jaka_driver.emulator.process import EmulatorProcess
 from jaka_driver.emulator.profiles import profile_named
 
@@ -39,10 +41,12 @@ def sim_driver(request, rospy_node, emulator):
     integration module on the emulator)."""
     # servo_timeout 0.5 s (0.1 by default): the joint stream below comes from this process at
     # 125 Hz, and on a loaded machine its messages can pause past 0.1 s; the stream then counts
-    # as stopped and the next target is checked against the lagging arm, not the last target
+    # as stopped and the next target is checked against the lagging arm, not the last target.
+    # stall_timeout: the emulator's status pushes can pause on a busy machine past the 0.5 s
+    # that count as a lost link to a real controller (support.emulated_arm.LINK_TIMEOUTS)
     return start_driver(request, backend="controller", model="zu5", ip="127.0.0.1",
                         command_port=emulator.command_port, status_port=emulator.status_port,
-                        servo_timeout=0.5)
+                        servo_timeout=0.5, stall_timeout=LINK_TIMEOUTS["stall_timeout"])
 
 
 def test_joint_move_through_ros_reaches_the_target(call, joints):

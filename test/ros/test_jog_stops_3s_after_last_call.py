@@ -1,16 +1,20 @@
 """jog through ROS on the zu5 twin: every direction in every coordinate system moves the right
 way; the jog stops 3.0 ± 0.1 s after the last call, is kept alive by calling again, and stops
-at a joint limit. Timing is what these tests check, so the twin owns time (sim_time, as fast
-as it can step): a busy machine cannot change what they see."""
+at a joint limit. Timing is what these tests check, so the twin owns time (sim_time) and stands
+still unless the test steps it: each test resets the arm to rest where it starts, jogs, and
+steps the sim time it reads. A busy machine cannot change what they see, and no sample piles
+up while a test waits (running free at real_time_factor 0, the twin ran ahead of the test's
+subscriber by as much as its socket buffers held, seconds to minutes of sim time, and a jog
+showed up that late: "the arm did not start moving" after 30 s of wall time)."""
 
 import numpy as np
 import pytest
 from std_srvs.srv import Empty
 
-from support.ros_harness import (START, go_home, position, sample_at,
-                                 start_sim_time_driver, stamp, wait_until)
+from support.ros_harness import (START, pause_twin, reset_twin, sample_at,
+                                 start_sim_time_driver, stamp, step_twin, step_twin_to,
+                                 wait_until)
 from jaka_msgs.srv import Move
-from jaka_driver_msgs.srv import PauseTwin, StepTwin
 
 pytestmark = pytest.mark.ros
 
@@ -20,108 +24,64 @@ def sim_driver(request, rospy_node):
     return start_sim_time_driver(request)
 
 
-@pytest.fixture(autouse=True)
-def at_start(call):
-    go_home(call)
+@pytest.fixture(scope="module", autouse=True)
+def paused(sim_driver, call):
+    """The module's twin stands still between the steps its tests make."""
+    pause_twin(call)
+    yield
+    pause_twin(call, False)
+
 
 def jog(call, coord, index, speed):
     return call("jog", Move, coord_mode=coord, index=index, mvvelo=speed)
 
 
-REST_S = 0.1       # sim s of samples at rest that make "at rest"
+def is_moving(m) -> bool:
+    return np.max(np.abs(m.velocity)) > 1e-3
 
 
-def moving(recorder):
-    msg = recorder.latest()
-    return msg is not None and np.max(np.abs(msg.velocity)) > 1e-3
-
-
-def rest_at(recorder, q, timeout: float = 30.0):
-    """The latest sample, once it and every sample of the ``REST_S`` before it show the arm at
-    rest at ``q`` (rad), *after* every moving sample received so far. The test's subscriber
-    may lag the twin (on a busy machine by more than a second of sim time at real_time_factor
-    0), so "the latest sample at rest at START" alone could be one from before the last jog;
-    this one cannot. And one sample alone is not rest: a move that ends settles, its speed
-    dipping under 1e-3 rad/s for a cycle and rising over it again (2e-3 rad/s), and that rise
-    would pass for the next jog's start."""
-    q = np.asarray(q)
-
-    def still(m) -> bool:
-        return (np.max(np.abs(m.velocity)) < 1e-3
-                and np.max(np.abs(np.array(m.position) - q)) < 2e-3)
-
-    def found():
-        with recorder._lock:
-            samples = [m for _, m in recorder.samples]
-        if not samples:
-            return None
-        last_motion = max((stamp(m) for m in samples if np.max(np.abs(m.velocity)) > 1e-3),
-                          default=-np.inf)
-        m = samples[-1]
-        window = [x for x in samples if stamp(x) >= stamp(m) - REST_S]
-        return m if (stamp(m) - REST_S > last_motion and len(window) >= REST_S / 0.008
-                     and all(still(x) for x in window)) else None
-
-    msg = wait_until(found, timeout)
-    if not msg:
-        with recorder._lock:
-            samples = [m for _, m in recorder.samples]
-        m = samples[-1]
-        moving_stamps = [stamp(x) for x in samples if np.max(np.abs(x.velocity)) > 1e-3]
-        raise AssertionError(f"the arm did not come to rest at {q}: latest {stamp(m):.3f} s, "
-                             f"|v| {np.max(np.abs(m.velocity)):.2e}, |q - target| "
-                             f"{np.max(np.abs(np.array(m.position) - q)):.2e}, last motion "
-                             f"{moving_stamps[-1] if moving_stamps else None}")
-    return msg
-
-
-def first_moving(recorder, after: float, timeout: float = 30.0):
-    """The first sample stamped after ``after`` (sim s) in which the arm moves, waiting for it."""
-    def find():
-        with recorder._lock:
-            return next((m for _, m in recorder.samples
-                         if stamp(m) > after and np.max(np.abs(m.velocity)) > 1e-3), None)
-
-    msg = wait_until(find, timeout, 0.005)
-    assert msg is not None, "the arm did not start moving"
+def first_moving(recorder, after: float, until: float):
+    """The first sample stamped in (``after``, ``until``] (sim s) in which the arm moves; the
+    twin has been stepped to ``until``."""
+    sample_at(recorder, until)                  # every sample up to it has been received
+    with recorder._lock:
+        msg = next((m for _, m in recorder.samples
+                    if after < stamp(m) <= until + 1e-6 and is_moving(m)), None)
+    assert msg is not None, f"the arm did not start moving in ({after:.3f}, {until:.3f}] s"
     return msg
 
 
 def moving_span(recorder, t0: float, t1: float):
-    """(first, last) stamp in [t0, t1] at which the arm moved (sim time, s)."""
-    moved = [stamp(m) for _, m in recorder.samples
-             if t0 <= stamp(m) <= t1 and np.max(np.abs(m.velocity)) > 1e-3]
+    """(first, last) stamp in [t0, t1] at which the arm moved (sim time, s); the twin has been
+    stepped to ``t1``."""
+    sample_at(recorder, t1)
+    with recorder._lock:
+        moved = [stamp(m) for _, m in recorder.samples if t0 <= stamp(m) <= t1 and is_moving(m)]
     assert moved, "the arm did not move"
     return moved[0], moved[-1]
 
 
 def test_jog_stops_3_s_after_the_last_call(call, joints):
-    t0 = stamp(rest_at(joints, START))
+    t0 = reset_twin(call, START)
     assert jog(call, 0, 0, 0.2).ret == 1
-    end = stamp(sample_at(joints, stamp(first_moving(joints, t0)) + 4.0))
+    first = stamp(first_moving(joints, t0, step_twin(call, 5)))
+    end = step_twin_to(call, first + 4.0)
     first, last = moving_span(joints, t0, end)
     # the stop begins 3.0 s after the call; the ramp down at 0.2 rad/s takes ~0.02 s
     assert 2.9 <= last - first <= 3.15, (first, last)
 
 
 def test_calling_again_keeps_the_jog_alive(call, joints):
-    t0 = stamp(rest_at(joints, START))
-    # Calls 0.504 s of the twin's time apart, exactly: the twin paused, stepped 63 cycles
-    # between two calls. (Paced by the test's subscriber instead, the calls drifted apart by however
-    # far a busy machine let the subscriber fall behind the twin, past the 3 s watchdog.)
-    assert call("sim/pause", PauseTwin, pause=True).ret == 1
-    try:
-        for _ in range(9):
-            assert jog(call, 0, 1, 0.1).ret == 1
-            stepped = call("sim/step", StepTwin, cycles=63)
-            assert stepped.ret == 1, stepped.message
-    finally:
-        assert call("sim/pause", PauseTwin, pause=False).ret == 1
-    last_call = sample_at(joints, stepped.sim_time)
-    assert np.max(np.abs(last_call.velocity)) > 1e-3, \
-        "jog stopped although it was called every 0.5 s"
+    t0 = reset_twin(call, START)
+    # Calls 0.504 s of the twin's time apart, exactly: 63 cycles stepped between two calls.
+    for _ in range(9):
+        assert jog(call, 0, 1, 0.1).ret == 1
+        stepped = step_twin(call, 63)
+    last_call = sample_at(joints, stepped)
+    assert is_moving(last_call), "jog stopped although it was called every 0.5 s"
     # the last call came ≥ 4 s after the motion began; its 3 s run out after 6.9 s
-    end = stamp(sample_at(joints, stamp(first_moving(joints, t0)) + 8.5))
+    first = stamp(first_moving(joints, t0, stepped))
+    end = step_twin_to(call, first + 8.5)
     first, last = moving_span(joints, t0, end)
     assert last - first >= 4.0 + 2.9, (first, last)
 
@@ -131,17 +91,16 @@ def test_every_direction_moves_the_right_way(call, joints, tcp, coord):
     from jaka_driver.common.transforms import rotvec_to_matrix
     for index in range(12):
         axis, sign = index // 2, (-1 if index % 2 else 1)
-        # where the arm rests before the jog, joints and TCP of one sample; 0.4 s of sim
-        # time after the jog's first moving sample, where it has got to
-        rest = rest_at(joints, START)
-        q0, p0 = np.array(rest.position), sample_at(tcp, stamp(rest))
+        # the arm at rest at START, joints and TCP of one sample; 0.4 s of sim time after the
+        # jog's first moving sample, where it has got to
+        t0 = reset_twin(call, START)
+        q0, p0 = np.array(sample_at(joints, t0).position), sample_at(tcp, t0)
         speed = 0.2 if (coord == 0 or axis >= 3) else 50.0
         reply = jog(call, coord, index, speed)
         assert reply.ret == 1, reply.message
-        t1 = stamp(first_moving(joints, stamp(rest))) + 0.4
-        q1 = np.array(sample_at(joints, t1).position)
+        t1 = stamp(first_moving(joints, t0, step_twin(call, 5))) + 0.4
+        q1 = np.array(sample_at(joints, step_twin_to(call, t1)).position)
         p1 = sample_at(tcp, t1)
-        go_home(call)                                   # stops the jog, back to START
         if coord == 0:
             dq = q1 - q0
             assert sign * dq[axis] > 0.03, (index, dq)
@@ -168,10 +127,10 @@ def test_jog_comes_to_rest_at_a_joint_limit(call, joints):
     start = list(START)
     start[2] = 2.9
     start[1] = 0.5
-    assert call("joint_move", Move, pose=start, mvvelo=2.0, mvacc=8.0).ret == 1
-    t0 = stamp(rest_at(joints, start))
+    t0 = reset_twin(call, start)
     assert jog(call, 0, 4, 0.5).ret == 1
-    msg = sample_at(joints, stamp(first_moving(joints, t0)) + 1.0)
+    t1 = stamp(first_moving(joints, t0, step_twin(call, 5))) + 1.0
+    msg = sample_at(joints, step_twin_to(call, t1))
     q = np.array(msg.position)
     assert 3.0 <= q[2] <= 3.05 + 1e-3, q[2]
     assert np.max(np.abs(msg.velocity)) < 1e-3, "still moving 1 s after the jog began"

@@ -16,6 +16,15 @@ from jaka_driver.controller import ControllerBackend
 from jaka_driver.driver import RobotDriver
 from jaka_driver.emulator import Emulator
 
+#: The link timeouts (s) of a test's controller backend on the emulator (ControllerBackend's
+#: ``call_timeout`` and ``stall_timeout``; the node's ``~stall_timeout``). The emulator shares
+#: the busy two-core machine with the driver and the test, and its threads can pause past the
+#: driver's timeouts for a real controller (1 s for a reply, 0.5 s without a status packet),
+#: which would count the link as lost in a test that is not about the link; the emulator itself
+#: waits as long (5 s, emulator.status_push.STALL_LIMIT) before it drops a reader that does not
+#: read. The tests of the link itself (test_controller_reconnects) keep the driver's own.
+LINK_TIMEOUTS = dict(call_timeout=5.0, stall_timeout=5.0)
+
 #: The emulator's twin paces its 8 ms cycles to the wall clock and, after a stall, catches up
 #: at most this long (s: STALL_CYCLES cycles, jaka_driver.sim.physics) faster than real time,
 #: so a move can end on the wall clock that much before its plan's duration has passed.
@@ -50,7 +59,7 @@ def driver_on_emulator(model: str = "zu5", *, programs: str | None = "default",
     RobotDriver); the driver is shut down and the emulator stopped on leaving."""
     with emulator(model, programs=programs, force_sensor=force_sensor, scene=scene) as emu:
         backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
-                                    force_sensor=force_sensor)
+                                    force_sensor=force_sensor, **LINK_TIMEOUTS)
         driver = RobotDriver(backend, **driver_args)
         driver.start()
         try:

@@ -263,6 +263,23 @@ class Services:
             proxy.close()
 
 
+def delivers_to_us(driver, leaf: str) -> bool:
+    """True once the node ``driver`` has this test process among the subscribers of its topic
+    ``leaf`` (its own bus info, ``rosnode info``'s source). A subscriber counts its connection
+    when the node's header has reached it; the node adds it to its publisher a moment later,
+    and a message published in between goes to no one."""
+    import rosgraph
+    import rospy
+    me = rospy.get_name()
+    topic = driver.name(leaf)
+    try:
+        api = rosgraph.Master(me).lookupNode(driver.prefix)
+        _, _, info = xmlrpc.client.ServerProxy(api).getBusInfo(me)
+    except (OSError, rosgraph.MasterError, xmlrpc.client.Error):
+        return False
+    return any(c[4] == topic and c[1] == me and c[2] == "o" for c in info)
+
+
 class Recorder:
     """Subscribes to a topic and keeps (receipt time, message) pairs."""
 
@@ -300,6 +317,8 @@ class Recorder:
 
 #: JAKA's "pose_1": upper arm up, forearm forward, flange down — the twin's start pose (rad)
 START = [0.0, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2, 0.0]
+#: s, the twin's (and a JAKA controller's) cycle
+CYCLE = 0.008
 
 
 
@@ -386,6 +405,40 @@ def start_sim_time_driver(request, real_time_factor=0, **params):
     request.addfinalizer(forget_sim_time)
     return start_driver(request, backend="sim", model="zu5", sim_time="true",
                         real_time_factor=real_time_factor, **params)
+
+
+def pause_twin(call, pause: bool = True) -> None:
+    """Stop (``pause``) or run on the twin's simulated time (``~sim/pause``)."""
+    from jaka_driver_msgs.srv import PauseTwin
+    reply = call("sim/pause", PauseTwin, pause=pause)
+    assert reply.ret == 1, reply.message
+
+
+def step_twin(call, cycles: int) -> float:
+    """Run the paused twin ``cycles`` 8 ms cycles (``~sim/step``); the sim time (s) after them.
+    Every sample of those cycles is published (the twin waits for its publisher), and a
+    subscriber has at most those to catch up on: none piles up while the twin stands still."""
+    from jaka_driver_msgs.srv import StepTwin
+    reply = call("sim/step", StepTwin, cycles=int(cycles))
+    assert reply.ret == 1, reply.message
+    return reply.sim_time
+
+
+def step_twin_to(call, t: float) -> float:
+    """Step the paused twin until its sim time is at least ``t`` (s); the sim time after."""
+    now = step_twin(call, 1)
+    cycles = int(np.ceil((t - now) / CYCLE - 1e-6))
+    return step_twin(call, cycles) if cycles > 0 else now
+
+
+def reset_twin(call, joints) -> float:
+    """The paused twin at a fresh start at rest at ``joints`` (rad, ``~sim/reset``: no motion,
+    no jog, no servo stream), then one cycle stepped: its sim time (s), the stamp of the first
+    sample of the arm at rest there, is returned."""
+    from jaka_driver_msgs.srv import ResetTwin
+    reply = call("sim/reset", ResetTwin, joints=list(joints))
+    assert reply.ret == 1, reply.message
+    return step_twin(call, 1)
 
 
 def stamp(msg) -> float:

@@ -9,7 +9,11 @@ without depending on how the threads happen to be scheduled:
   latest sample, read the time) depends on how far the cycle had got;
 * a request (``hold``) that arrives while a cycle is being stepped starts after it;
 * a request that arrives while the pacer waits for the wall clock stops the cycle from
-  starting.
+  starting;
+* a paused clock's steps stop for a request (or a watchdog acting) as running time does; only
+  the thread that asked for the steps lets them run while it waits for them. (Steps that ran
+  through every hold let a jog's watchdog stop the arm as many cycles late as its thread
+  waited for the CPU: 25 on a busy machine.)
 """
 import threading
 import time
@@ -77,3 +81,32 @@ def test_a_request_during_the_pacers_wait_stops_the_cycle():
         assert not started.wait(1.0), "the cycle started while a request held time"
     assert started.wait(2.0)
     quit_.set()
+
+
+def test_a_request_stops_a_paused_clocks_steps_but_the_step_request_does_not():
+    clock, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event()
+    clock.pause()
+    holding, release, started = threading.Event(), threading.Event(), threading.Event()
+    stepped = []
+
+    def request():
+        with clock.hold(react=False):
+            holding.set()
+            release.wait(10.0)
+
+    def step_request():                      # as the node's ~sim/step: a request itself
+        with clock.hold():
+            stepped.append(clock.step(2, 10.0))
+
+    _in_thread(request)
+    assert holding.wait(2.0)
+    step = _in_thread(step_request)
+    _in_thread(lambda: clock.wait_for_cycle(quit_) and started.set())
+    assert not started.wait(IN_CYCLE_S), "a step ran while a request held time"
+    release.set()
+    assert started.wait(2.0), "the step request's own hold stopped its steps"
+    clock.tick()
+    assert clock.wait_for_cycle(quit_)
+    clock.tick()
+    step.join(2.0)
+    assert stepped == [True] and clock.cycles == 2

@@ -30,7 +30,9 @@ them for determinism; docs/twin.md "Simulated time" tells users):
   target per /clock tick or per state sample is in step with the twin at any speed.
 - **Paused, it steps only when told.** :meth:`SimClock.pause` stops the cycles whatever
   else would let them run; :meth:`SimClock.step` lets exactly N more run, then stands still
-  again; :meth:`SimClock.unpause` lets time run on.
+  again; :meth:`SimClock.unpause` lets time run on. The steps keep every other rule: a
+  request, or a watchdog acting, stops them as it stops running time (the thread that asked
+  for the steps lets them run while it waits, as a waiter does).
 - **A reader is not outrun.** With a consumer registered (the node's state publisher), the
   twin runs at most ``MAX_LAG`` cycles ahead of what it has published.
 
@@ -215,23 +217,26 @@ class SimClock:
 
     def step(self, cycles: int, timeout: float) -> bool:
         """While paused: let ``cycles`` cycles run and wait (at most ``timeout`` s of wall
-        time) until they have; True if they have."""
+        time) until they have; True if they have. A caller that holds time (the step request)
+        lets the steps run while it waits, as :meth:`wait` does; every other hold stops them."""
+        tid = threading.get_ident()
         with self._cond:
             target = self.cycles + cycles
             self._step_budget += cycles
+            self._waiting[tid] = _Waiter(target, None)
             self._cond.notify_all()
-            return self._cond.wait_for(lambda: self.cycles >= target, timeout)
+            try:
+                return self._cond.wait_for(lambda: self.cycles >= target, timeout)
+            finally:
+                del self._waiting[tid]
+                if tid in self._holds:
+                    self._holds[tid][1] = time.monotonic()
 
     def _blocked(self, wall: float) -> Optional[float]:
         """None if the next cycle may start now, else the wall time to look again."""
         again = wall + WALL_SLICE
         if self._paused and self._step_budget <= 0:
             return again
-        if self._paused:
-            # stepping: only the consumer (the samples of the steps are published) may hold
-            if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
-                return again
-            return None
         for tid, (depth, since) in self._holds.items():
             waiter = self._waiting.get(tid)
             if depth > 0 and (waiter is None or waiter.woken):

@@ -94,7 +94,8 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  status_source=params["status_source"],
                                  data_port=params["data_port"],
                                  kinematics=params["kinematics"],
-                                 force_sensor=force_sensor_param(params.get("force_sensor", "")))
+                                 force_sensor=force_sensor_param(params.get("force_sensor", "")),
+                                 stall_timeout=params["stall_timeout"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -146,6 +147,7 @@ def _params() -> dict:
         "status_port": int(rospy.get_param("~status_port", 10000)),
         "status_source": str(rospy.get_param("~status_source", "stream")),
         "data_port": int(rospy.get_param("~data_port", 10004)),
+        "stall_timeout": float(rospy.get_param("~stall_timeout", 0.5)),
         "kinematics": str(rospy.get_param("~kinematics", "auto")).lower(),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
@@ -190,6 +192,9 @@ def main() -> int:
         if p["rate"] != DEFAULT_RATE_HZ:
             rospy.logwarn(f"~rate {p['rate']:g} Hz is ignored in sim time: the twin publishes "
                           "one sample per 8 ms cycle, every cycle (a deterministic stream)")
+    if not 0 < p["stall_timeout"] < float("inf"):
+        rospy.logfatal(f"~stall_timeout {p['stall_timeout']} s; expected a time > 0 s")
+        return 2
     if not p["real_time_factor"] >= 0:
         rospy.logfatal(f"~real_time_factor {p['real_time_factor']} is negative; expected ≥ 0 "
                        "(0 = as fast as possible)")

@@ -29,15 +29,29 @@
 
 namespace {
 
+// s: the twin's cycle, and the gap after which it skips its stamps ahead (STALL_CYCLES = 25
+// cycles of jaka_driver.common.constants: on a busy machine the twin, held that long, goes on
+// from the wall clock's time instead of bursting through the cycles it missed)
+const double CYCLE = 0.008;
+const double STALL_GAP = 25 * CYCLE;
+
 std::mutex lock;
 std::vector<double> joints;        // latest joint_position, rad
+double last_stamp = -1;            // s, the latest joint_position's header stamp
 int joint_messages = 0;
+double cycles = 0;                 // twin cycles between the stamps counted (skips left out)
 int state_messages = 0;
 int servo_state = -1;              // latest robot_states.servo_state
 
 void on_joints(const sensor_msgs::JointState::ConstPtr& msg) {
   std::lock_guard<std::mutex> guard(lock);
   joints.assign(msg->position.begin(), msg->position.end());
+  const double stamp = msg->header.stamp.toSec();
+  if (last_stamp >= 0) {
+    const double gap = stamp - last_stamp;
+    cycles += gap > STALL_GAP ? 1 : gap / CYCLE;
+  }
+  last_stamp = stamp;
   ++joint_messages;
 }
 
@@ -50,6 +64,24 @@ void on_state(const jaka_msgs::RobotMsg::ConstPtr& msg) {
 std::vector<double> current_joints() {
   std::lock_guard<std::mutex> guard(lock);
   return joints;
+}
+
+[[noreturn]] void fail(const std::string& what);
+
+// The joints of the first joint_position sample stamped now or later: where the arm is once
+// a blocking call has answered. The latest message received can be older: on a busy machine
+// the spinner runs behind, and the arm was still moving in the samples it has not read yet.
+std::vector<double> joints_now() {
+  const double now = ros::Time::now().toSec();
+  const ros::WallTime t0 = ros::WallTime::now();
+  while (true) {
+    {
+      std::lock_guard<std::mutex> guard(lock);
+      if (last_stamp >= now) return joints;
+    }
+    if ((ros::WallTime::now() - t0).toSec() > 10) fail("no joint_position stamped now in 10 s");
+    ros::WallDuration(0.005).sleep();
+  }
 }
 
 [[noreturn]] void fail(const std::string& what) {
@@ -96,8 +128,7 @@ void services(ros::NodeHandle& nh) {
   joint_move.request.mvvelo = 1.0;
   joint_move.request.mvacc = 2.0;
   call_ok(nh, "joint_move", joint_move);
-  ros::Duration(0.2).sleep();
-  print("joint_move_arrived", current_joints());
+  print("joint_move_arrived", joints_now());
 
   jaka_msgs::GetFK fk;
   fk.request.joint.assign(pose.begin(), pose.end());
@@ -112,8 +143,7 @@ void services(ros::NodeHandle& nh) {
   linear_move.request.mvvelo = 100;
   linear_move.request.mvacc = 500;
   call_ok(nh, "linear_move", linear_move);
-  ros::Duration(0.2).sleep();
-  std::vector<double> after_line = current_joints();
+  std::vector<double> after_line = joints_now();
   jaka_msgs::GetFK fk_after;
   fk_after.request.joint.assign(after_line.begin(), after_line.end());
   call(nh, "get_fk", fk_after);
@@ -150,7 +180,7 @@ void services(ros::NodeHandle& nh) {
     print("servo_state_in_servo_mode", {double(servo_state)});
   }
   // joint_6 +0.05 rad in 50 absolute targets, one per 8 ms cycle
-  std::vector<double> start = current_joints();
+  std::vector<double> start = joints_now();
   print("servo_j_start", start);
   jaka_msgs::ServoMove servo;
   ros::Rate cycle(125);
@@ -161,7 +191,7 @@ void services(ros::NodeHandle& nh) {
     cycle.sleep();
   }
   ros::Duration(0.3).sleep();
-  print("servo_j_end", current_joints());
+  print("servo_j_end", joints_now());
   enable.request.enable = false;
   call_ok(nh, "servo_move_enable", enable);
 }
@@ -172,13 +202,13 @@ void increments(ros::NodeHandle& nh) {
   enable.request.enable = true;
   call_ok(nh, "servo_move_enable", enable);
   ros::Duration(1.0).sleep();
-  print("increments_start", current_joints());
+  print("increments_start", joints_now());
   jaka_msgs::ServoMove servo;
   const float step[6] = {0.001, 0, 0, 0, 0, 0.001};
   servo.request.pose.assign(step, step + 6);
   for (int i = 0; i < 200; ++i) call_ok(nh, "servo_j", servo);
   ros::Duration(1.0).sleep();
-  print("increments_end", current_joints());
+  print("increments_end", joints_now());
   enable.request.enable = false;
   call_ok(nh, "servo_move_enable", enable);
 }
@@ -202,19 +232,26 @@ int main(int argc, char** argv) {
     if ((ros::WallTime::now() - t0).toSec() > 10) fail("no joint_position within 10 s");
     ros::WallDuration(0.01).sleep();
   }
-  const ros::WallTime start = ros::WallTime::now();
   int joints0, states0;
+  double cycles0;
   {
     std::lock_guard<std::mutex> guard(lock);
     joints0 = joint_messages;
     states0 = state_messages;
+    cycles0 = cycles;
   }
   if (mode == "services") services(nh);
   else if (mode == "increments") increments(nh);
   else fail("unknown mode " + mode);
-  const double seconds = (ros::WallTime::now() - start).toSec();
+  ros::Duration(0.2).sleep();      // what was published by the last call has arrived
   std::lock_guard<std::mutex> guard(lock);
-  print("topic_rates_hz", {(joint_messages - joints0) / seconds, (state_messages - states0) / seconds});
+  // The session's rates in the arm's time, messages per second of its samples' stamps (the
+  // twin's 8 ms cycles), not of this client's clock: on a busy machine the spinner runs late
+  // and in bursts, which says nothing of what the node published. robot_states has no stamp:
+  // it goes out with each joint_position, so its rate is joint_position's times their ratio.
+  const int joint_count = joint_messages - joints0, state_count = state_messages - states0;
+  const double joint_hz = joint_count / ((cycles - cycles0) * CYCLE);
+  print("topic_rates_hz", {joint_hz, joint_hz * state_count / joint_count});
   std::printf("OK\n");
   return 0;
 }
