@@ -35,6 +35,8 @@ def _skew(v: np.ndarray) -> np.ndarray:
 def rotvec_to_matrix(rotvec) -> np.ndarray:
     """Rotation vector(s) (rad, ``(..., 3)``) → rotation matrix (``(..., 3, 3)``), Rodrigues."""
     v = np.asarray(rotvec, dtype=float)
+    if v.shape == (3,):
+        return np.array(_one_rotation(*v.tolist()))
     theta2 = np.einsum("...i,...i->...", v, v)
     theta = np.sqrt(theta2)
     small = theta < _SMALL
@@ -44,6 +46,21 @@ def rotvec_to_matrix(rotvec) -> np.ndarray:
     b = np.where(small, 0.5 - theta2 / 24.0, (1.0 - np.cos(safe)) / (safe * safe))
     K = _skew(v)
     return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
+
+
+def _one_rotation(x: float, y: float, z: float) -> tuple:
+    """:func:`rotvec_to_matrix` of one vector in plain floats (the same series and Rodrigues'
+    formula), ~10× faster than the stacked numpy path for a velocity jog's step every cycle.
+    K² of the skew matrix K of v is v vᵀ − θ² I."""
+    theta2 = x * x + y * y + z * z
+    if theta2 < _SMALL * _SMALL:
+        a, b = 1.0 - theta2 / 6.0, 0.5 - theta2 / 24.0
+    else:
+        theta = math.sqrt(theta2)
+        a, b = math.sin(theta) / theta, (1.0 - math.cos(theta)) / (theta * theta)
+    return ((1.0 + b * (x * x - theta2), b * x * y - a * z, b * x * z + a * y),
+            (b * x * y + a * z, 1.0 + b * (y * y - theta2), b * y * z - a * x),
+            (b * x * z - a * y, b * y * z + a * x, 1.0 + b * (z * z - theta2)))
 
 
 def matrix_to_quat(R) -> np.ndarray:
