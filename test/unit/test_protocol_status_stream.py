@@ -207,3 +207,23 @@ def test_parse_status_refuses_a_non_object():
     from jaka_driver.protocol import ProtocolError
     with pytest.raises(ProtocolError):
         parse_status([1, 2])
+
+
+def test_an_io_array_read_again_is_read_as_it_is_now():
+    """The IO arrays are remembered from the last packet (they rarely change): a packet whose
+    array equals the last one's reads the same floats, one with a changed value reads it, and
+    one equal by value but holding a bool or a NaN is still malformed."""
+    first = parse_status({**FULL, "din": [0, 1, 0], "mb_slave_din": [1, 1]})
+    again = parse_status({**FULL, "din": [0, 1, 0], "mb_slave_din": [1, 1]})
+    assert again.din == first.din == (0.0, 1.0, 0.0)
+    assert again.fieldbus["mb_slave_din"] == (1.0, 1.0)
+    assert all(type(v) is float for v in again.din)
+    changed = parse_status({**FULL, "din": [0, 1, 1], "mb_slave_din": [1, 0]})
+    assert changed.din == (0.0, 1.0, 1.0) and changed.fieldbus["mb_slave_din"] == (1.0, 0.0)
+    as_bools = parse_status({**FULL, "din": [0, True, 1], "mb_slave_din": [True, False]})
+    assert {"din", "mb_slave_din"} <= set(as_bools.malformed)
+    assert as_bools.din == () and "mb_slave_din" not in as_bools.fieldbus
+    parse_status({**FULL, "din": [0.5, 1.0]})
+    with_nan = parse_status({**FULL, "din": [0.5, math.nan]})
+    assert "din" in with_nan.malformed
+    assert parse_status({**FULL, "din": [0.5, 1.0]}).din == (0.5, 1.0)

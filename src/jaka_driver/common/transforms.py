@@ -141,6 +141,15 @@ def matrix_to_rotvec(R) -> np.ndarray:
     return v * scale[..., None]
 
 
+def _one_rpy(rx: float, ry: float, rz: float) -> tuple:
+    """:func:`rpy_to_matrix` of one set of angles in plain floats (the same products)."""
+    cx, sx, cy, sy = math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry)
+    cz, sz = math.cos(rz), math.sin(rz)
+    return ((cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx),
+            (sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx),
+            (-sy, cy * sx, cy * cx))
+
+
 def rpy_to_matrix(rx, ry, rz) -> np.ndarray:
     """JAKA/ROS RPY angles (rad) → ``Rz(rz) · Ry(ry) · Rx(rx)``."""
     rx, ry, rz = (np.asarray(a, dtype=float) for a in (rx, ry, rz))
@@ -191,6 +200,12 @@ def pose_to_matrix(pose6, *, rotation: str = "rotvec", length_scale: float = 1.0
     p = np.asarray(pose6, dtype=float)
     if p.shape[-1] != 6:
         raise ValueError(f"a pose has 6 values, got shape {p.shape}")
+    if p.shape == (6,) and rotation == "rpy":
+        # one pose in plain floats (a controller's status packet, 125 times a second)
+        x, y, z, rx, ry, rz = p.tolist()
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = _one_rpy(rx, ry, rz)
+        return np.array(((r00, r01, r02, x * length_scale), (r10, r11, r12, y * length_scale),
+                         (r20, r21, r22, z * length_scale), (0.0, 0.0, 0.0, 1.0)))
     T = np.zeros(p.shape[:-1] + (4, 4))
     T[..., :3, :3] = _rotation_from(p[..., 3:], rotation)
     T[..., :3, 3] = p[..., :3] * length_scale
