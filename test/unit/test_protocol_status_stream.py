@@ -227,3 +227,19 @@ def test_an_io_array_read_again_is_read_as_it_is_now():
     with_nan = parse_status({**FULL, "din": [0.5, math.nan]})
     assert "din" in with_nan.malformed
     assert parse_status({**FULL, "din": [0.5, 1.0]}).din == (0.5, 1.0)
+
+
+@given(st.lists(packets, min_size=1, max_size=6))
+@settings(max_examples=60, deadline=None)
+def test_a_stream_encoder_writes_what_encode_status_writes(stream):
+    """The emulator's encoder keeps the encoding of a value it is handed again (the same
+    object); packet after packet its bytes are encode_status's, whether a value is new, the
+    same object again, or an equal new one."""
+    from jaka_driver.protocol.status_stream import StatusEncoder
+    encoder = StatusEncoder()
+    kept = {"din": [0, 1] * 8, "funcdi": [[-1, -1]] * 3}
+    for fields in stream:
+        fields = {**fields, **kept, "joints": [0.1, 0.2, float(len(fields))]}
+        assert encoder.encode(fields) == encode_status(fields)
+        kept = {"din": kept["din"] if len(fields) % 2 else list(kept["din"]) + [1],
+                "funcdi": kept["funcdi"]}

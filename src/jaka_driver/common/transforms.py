@@ -167,6 +167,8 @@ def matrix_to_rpy(R) -> np.ndarray:
     At gimbal lock (ry = ±π/2) only rz ∓ rx is defined; rx is then set to 0.
     """
     R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):
+        return np.array(_one_matrix_rpy(R.tolist()))
     cy = np.hypot(R[..., 0, 0], R[..., 1, 0])
     ry = np.arctan2(-R[..., 2, 0], cy)
     lock = cy < 1e-9
@@ -181,6 +183,21 @@ def matrix_to_rpy(R) -> np.ndarray:
     m21 = sy * (cz * R[..., 0, 1] + sz * R[..., 1, 1]) + cyy * R[..., 2, 1]
     rx = np.where(lock, 0.0, np.arctan2(m21, m11))
     return np.stack([rx, ry, rz], -1)
+
+
+def _one_matrix_rpy(r: list) -> tuple[float, float, float]:
+    """:func:`matrix_to_rpy` of one matrix (nested lists) in plain floats: the same steps,
+    ~10× faster than the stacked numpy path for the two poses every emulator packet carries."""
+    (r00, r01, _), (r10, r11, _), (r20, r21, _) = r
+    cy = math.hypot(r00, r10)
+    ry = math.atan2(-r20, cy)
+    if cy < 1e-9:
+        return 0.0, ry, math.atan2(-r01, r11)
+    rz = math.atan2(r10, r00)
+    sz, cz, sy, cyy = math.sin(rz), math.cos(rz), math.sin(ry), math.cos(ry)
+    m11 = -sz * r01 + cz * r11
+    m21 = sy * (cz * r01 + sz * r11) + cyy * r21
+    return math.atan2(m21, m11), ry, rz
 
 
 def _rotation_from(r3: np.ndarray, rotation: str) -> np.ndarray:

@@ -195,6 +195,21 @@ class Kinematics:
             J[:3] += np.cross(w.T, r).T
         return J
 
+    def tcp_linear_speed(self, q, qd, tool=None) -> float:
+        """The speed (m/s) of the TCP at the joints ``q`` (rad) moving at ``qd`` (rad/s):
+        ``|J_linear · qd|`` of :meth:`jacobian`, from Pinocchio's frame velocity in one pass
+        (the flange's velocity + ω × the flange → TCP offset). ``tool`` as in :meth:`tcp_pose`."""
+        m, d, f = self._pin, self._data(), self._flange_id
+        pin.forwardKinematics(m, d, self._check_q(q), np.asarray(qd, dtype=float))
+        flange = pin.updateFramePlacement(m, d, f)
+        twist = pin.getFrameVelocity(m, d, f, pin.LOCAL_WORLD_ALIGNED)
+        vx, vy, vz = twist.linear.tolist()
+        if tool is not None:
+            rx, ry, rz = (flange.rotation @ _as_pose(tool, "tool")[:3, 3]).tolist()
+            wx, wy, wz = twist.angular.tolist()
+            vx, vy, vz = vx + wy * rz - wz * ry, vy + wz * rx - wx * rz, vz + wx * ry - wy * rx
+        return math.sqrt(vx * vx + vy * vy + vz * vz)
+
     def tcp_pose_and_sigma(self, q, tool=None) -> tuple[np.ndarray, float]:
         """(:meth:`tcp_pose` with ``tool``, the smallest singular value of :meth:`jacobian`
         with ``tool``) at the joints ``q`` (rad): what a velocity jog looks at each cycle, in
