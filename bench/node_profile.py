@@ -21,13 +21,15 @@ sampled; ``--threads``: each sample names its thread) and prints:
   at all is the share of time the lock was held), and the same split by thread.
 
 Windows (``--windows``, comma-separated): ``idle`` (the twin, nothing asked), ``servo`` (servo_j
-at 125 Hz through the service), ``twist`` (a teleop's ``~twist_command`` at 125 Hz),
+at 125 Hz through the service), ``rtt`` (back-to-back servo_j calls with their round trips),
+``twist`` (a teleop's ``~twist_command`` at 125 Hz),
 ``twist-starts`` (bench.stream_inputs' bursts from rest: per start, the first twist →
 first moving sample and the floor of that start), ``ctl-idle``, ``ctl-servo``, ``ctl-rtt``
 (the controller backend through the emulator: nothing asked, the servo_j stream, back-to-back
 servo_j calls with their round trips).
 
-``--node`` runs another checkout's ``scripts/jaka_driver_node`` (and that checkout's emulator);
+``--spy-emulator`` samples the emulator instead of the node on the controller windows (its
+share of a round trip). ``--node`` runs another checkout's ``scripts/jaka_driver_node`` (and that checkout's emulator);
 ``--against`` profiles a second checkout in the same run, each window on one node and then on
 the other (``--rounds`` times, the order swapped each round), so that before and after a
 change share the machine's minute. Not part of ``make bench``: py-spy needs ptrace rights on
@@ -59,7 +61,7 @@ RATE_HZ = 125.0
 SAMPLE_RATE = 250           # py-spy samples per second
 ROOT = Path(__file__).resolve().parents[1]
 PROBE_SITE = Path(__file__).resolve().parent / "probe_site"
-SIM_WINDOWS = ("idle", "servo", "twist", "twist-starts", "loaded")
+SIM_WINDOWS = ("idle", "servo", "rtt", "twist", "twist-starts", "loaded")
 CONTROLLER_WINDOWS = ("ctl-idle", "ctl-servo", "ctl-rtt", "ctl-loaded")
 
 
@@ -321,6 +323,7 @@ def run_window(window: str, driver, calls, seconds: float) -> str:
     work = {"servo": lambda: stream_servo(driver, calls, stop),
             "ctl-servo": lambda: stream_servo(driver, calls, stop),
             "ctl-rtt": lambda: stream_servo(driver, calls, stop, rtt, paced=False),
+            "rtt": lambda: stream_servo(driver, calls, stop, rtt, paced=False),
             "twist": lambda: stream_twists(driver, stop)}.get(window)
     worker = threading.Thread(target=work) if work else None
     if worker:
@@ -440,6 +443,8 @@ def main(argv=None) -> int:
     parser.add_argument("--against", help="a second checkout (its root) profiled in turn")
     parser.add_argument("--rounds", type=int, default=1)
     parser.add_argument("--top", type=int, default=12)
+    parser.add_argument("--spy-emulator", action="store_true",
+                        help="on the controller windows, sample the emulator instead of the node")
     parser.add_argument("--sched", action="store_true",
                         help="perf sched record each window: scheduling delay per thread")
     args = parser.parse_args(argv)
@@ -465,7 +470,11 @@ def main(argv=None) -> int:
                     with node_session(checkout, backend, gc_file) as (driver, calls, extra):
                         probe = GcProbe(gc_file)
                         for window in chosen:
-                            with profiled(driver.proc.pid, probe, extra, args.sched) as got:
+                            spied, others = driver.proc.pid, extra
+                            if args.spy_emulator and "emulator" in extra:
+                                spied, others = extra["emulator"], {"node": driver.proc.pid}
+                                probe = None
+                            with profiled(spied, probe, others, args.sched) as got:
                                 measured = run_window(window, driver, calls, args.seconds)
                             report(label, window, got, measured, args.top)
                             sys.stdout.flush()
