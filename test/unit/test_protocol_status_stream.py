@@ -207,3 +207,39 @@ def test_parse_status_refuses_a_non_object():
     from jaka_driver.protocol import ProtocolError
     with pytest.raises(ProtocolError):
         parse_status([1, 2])
+
+
+def test_an_io_array_read_again_is_read_as_it_is_now():
+    """The IO arrays are remembered from the last packet (they rarely change): a packet whose
+    array equals the last one's reads the same floats, one with a changed value reads it, and
+    one equal by value but holding a bool or a NaN is still malformed."""
+    first = parse_status({**FULL, "din": [0, 1, 0], "mb_slave_din": [1, 1]})
+    again = parse_status({**FULL, "din": [0, 1, 0], "mb_slave_din": [1, 1]})
+    assert again.din == first.din == (0.0, 1.0, 0.0)
+    assert again.fieldbus["mb_slave_din"] == (1.0, 1.0)
+    assert all(type(v) is float for v in again.din)
+    changed = parse_status({**FULL, "din": [0, 1, 1], "mb_slave_din": [1, 0]})
+    assert changed.din == (0.0, 1.0, 1.0) and changed.fieldbus["mb_slave_din"] == (1.0, 0.0)
+    as_bools = parse_status({**FULL, "din": [0, True, 1], "mb_slave_din": [True, False]})
+    assert {"din", "mb_slave_din"} <= set(as_bools.malformed)
+    assert as_bools.din == () and "mb_slave_din" not in as_bools.fieldbus
+    parse_status({**FULL, "din": [0.5, 1.0]})
+    with_nan = parse_status({**FULL, "din": [0.5, math.nan]})
+    assert "din" in with_nan.malformed
+    assert parse_status({**FULL, "din": [0.5, 1.0]}).din == (0.5, 1.0)
+
+
+@given(st.lists(packets, min_size=1, max_size=6))
+@settings(max_examples=60, deadline=None)
+def test_a_stream_encoder_writes_what_encode_status_writes(stream):
+    """The emulator's encoder keeps the encoding of a value it is handed again (the same
+    object); packet after packet its bytes are encode_status's, whether a value is new, the
+    same object again, or an equal new one."""
+    from jaka_driver.protocol.status_stream import StatusEncoder
+    encoder = StatusEncoder()
+    kept = {"din": [0, 1] * 8, "funcdi": [[-1, -1]] * 3}
+    for fields in stream:
+        fields = {**fields, **kept, "joints": [0.1, 0.2, float(len(fields))]}
+        assert encoder.encode(fields) == encode_status(fields)
+        kept = {"din": kept["din"] if len(fields) % 2 else list(kept["din"]) + [1],
+                "funcdi": kept["funcdi"]}

@@ -35,6 +35,8 @@ def _skew(v: np.ndarray) -> np.ndarray:
 def rotvec_to_matrix(rotvec) -> np.ndarray:
     """Rotation vector(s) (rad, ``(..., 3)``) → rotation matrix (``(..., 3, 3)``), Rodrigues."""
     v = np.asarray(rotvec, dtype=float)
+    if v.shape == (3,):
+        return np.array(_one_rotation(*v.tolist()))
     theta2 = np.einsum("...i,...i->...", v, v)
     theta = np.sqrt(theta2)
     small = theta < _SMALL
@@ -44,6 +46,21 @@ def rotvec_to_matrix(rotvec) -> np.ndarray:
     b = np.where(small, 0.5 - theta2 / 24.0, (1.0 - np.cos(safe)) / (safe * safe))
     K = _skew(v)
     return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
+
+
+def _one_rotation(x: float, y: float, z: float) -> tuple:
+    """:func:`rotvec_to_matrix` of one vector in plain floats (the same series and Rodrigues'
+    formula), ~10× faster than the stacked numpy path for a velocity jog's step every cycle.
+    K² of the skew matrix K of v is v vᵀ − θ² I."""
+    theta2 = x * x + y * y + z * z
+    if theta2 < _SMALL * _SMALL:
+        a, b = 1.0 - theta2 / 6.0, 0.5 - theta2 / 24.0
+    else:
+        theta = math.sqrt(theta2)
+        a, b = math.sin(theta) / theta, (1.0 - math.cos(theta)) / (theta * theta)
+    return ((1.0 + b * (x * x - theta2), b * x * y - a * z, b * x * z + a * y),
+            (b * x * y + a * z, 1.0 + b * (y * y - theta2), b * y * z - a * x),
+            (b * x * z - a * y, b * y * z + a * x, 1.0 + b * (z * z - theta2)))
 
 
 def matrix_to_quat(R) -> np.ndarray:
@@ -124,6 +141,15 @@ def matrix_to_rotvec(R) -> np.ndarray:
     return v * scale[..., None]
 
 
+def _one_rpy(rx: float, ry: float, rz: float) -> tuple:
+    """:func:`rpy_to_matrix` of one set of angles in plain floats (the same products)."""
+    cx, sx, cy, sy = math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry)
+    cz, sz = math.cos(rz), math.sin(rz)
+    return ((cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx),
+            (sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx),
+            (-sy, cy * sx, cy * cx))
+
+
 def rpy_to_matrix(rx, ry, rz) -> np.ndarray:
     """JAKA/ROS RPY angles (rad) → ``Rz(rz) · Ry(ry) · Rx(rx)``."""
     rx, ry, rz = (np.asarray(a, dtype=float) for a in (rx, ry, rz))
@@ -141,6 +167,8 @@ def matrix_to_rpy(R) -> np.ndarray:
     At gimbal lock (ry = ±π/2) only rz ∓ rx is defined; rx is then set to 0.
     """
     R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):
+        return np.array(_one_matrix_rpy(R.tolist()))
     cy = np.hypot(R[..., 0, 0], R[..., 1, 0])
     ry = np.arctan2(-R[..., 2, 0], cy)
     lock = cy < 1e-9
@@ -155,6 +183,21 @@ def matrix_to_rpy(R) -> np.ndarray:
     m21 = sy * (cz * R[..., 0, 1] + sz * R[..., 1, 1]) + cyy * R[..., 2, 1]
     rx = np.where(lock, 0.0, np.arctan2(m21, m11))
     return np.stack([rx, ry, rz], -1)
+
+
+def _one_matrix_rpy(r: list) -> tuple[float, float, float]:
+    """:func:`matrix_to_rpy` of one matrix (nested lists) in plain floats: the same steps,
+    ~10× faster than the stacked numpy path for the two poses every emulator packet carries."""
+    (r00, r01, _), (r10, r11, _), (r20, r21, _) = r
+    cy = math.hypot(r00, r10)
+    ry = math.atan2(-r20, cy)
+    if cy < 1e-9:
+        return 0.0, ry, math.atan2(-r01, r11)
+    rz = math.atan2(r10, r00)
+    sz, cz, sy, cyy = math.sin(rz), math.cos(rz), math.sin(ry), math.cos(ry)
+    m11 = -sz * r01 + cz * r11
+    m21 = sy * (cz * r01 + sz * r11) + cyy * r21
+    return math.atan2(m21, m11), ry, rz
 
 
 def _rotation_from(r3: np.ndarray, rotation: str) -> np.ndarray:
@@ -174,6 +217,12 @@ def pose_to_matrix(pose6, *, rotation: str = "rotvec", length_scale: float = 1.0
     p = np.asarray(pose6, dtype=float)
     if p.shape[-1] != 6:
         raise ValueError(f"a pose has 6 values, got shape {p.shape}")
+    if p.shape == (6,) and rotation == "rpy":
+        # one pose in plain floats (a controller's status packet, 125 times a second)
+        x, y, z, rx, ry, rz = p.tolist()
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = _one_rpy(rx, ry, rz)
+        return np.array(((r00, r01, r02, x * length_scale), (r10, r11, r12, y * length_scale),
+                         (r20, r21, r22, z * length_scale), (0.0, 0.0, 0.0, 1.0)))
     T = np.zeros(p.shape[:-1] + (4, 4))
     T[..., :3, :3] = _rotation_from(p[..., 3:], rotation)
     T[..., :3, 3] = p[..., :3] * length_scale

@@ -204,11 +204,12 @@ class ControllerBackend(Backend):
 
     # ---- link hooks -------------------------------------------------------------------------
     def _on_status(self, status, received: float) -> None:
-        self.view.feed(status, received)
+        self.view.store(status, received)
         if status.emergency_stop or status.protective_stop or not status.enabled:
             self.motion.servo_mode = False   # the controller leaves servo mode on any of these
         self.frames_by_id.on_active(status.current_tool_id, status.current_user_id)
         self.motion.on_status(status, received)
+        self.view.announce()       # last: the status thread blocks on its socket right after
 
     def _on_up(self, first: bool) -> None:
         """At every connection (supervisor thread): servo mode, identity, kinematic parameters

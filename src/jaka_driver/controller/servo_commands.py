@@ -23,6 +23,7 @@ import numpy as np
 from ..common.constants import MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy
+from ..motion import velocity_jog
 from ..motion.servo_filters import FilterType, ServoFilterSpec
 from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands, servo_filters
@@ -82,20 +83,10 @@ class ServoCommands(RequestPart):
         return streamer.jog.progress()
 
     def _velocity_jog(self, in_tool: bool, ratio: float) -> VelocityJog:
-        kin, m = self.kinematics(), self.model    # the arm's own chain, as the line check's
-        tool, _ = self.settings.frames()
-
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool)
-            return solution.q if solution.success else None
-
-        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
-                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
-                           upper=m.upper, max_velocity=m.max_velocity,
-                           max_acceleration=m.max_acceleration,
-                           linear_accel=m.max_tcp_accel * ratio ** 2,
-                           angular_accel=MAX_TOOL_ROTATION_ACCEL * ratio ** 2,
-                           in_tool=in_tool, cycle=SERVO_CYCLE)
+        tool, _ = self.settings.frames()     # on the arm's own chain, as the line check's
+        return velocity_jog.on_arm(self.kinematics(), self.model, tool, in_tool=in_tool,
+                                   ratio=ratio, cycle=SERVO_CYCLE,
+                                   angular_accel=MAX_TOOL_ROTATION_ACCEL)
 
     def _leave_twist(self) -> None:
         """End of a velocity jog that entered servo mode itself (its thread)."""

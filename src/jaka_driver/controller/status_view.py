@@ -28,6 +28,7 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
 """
 from __future__ import annotations
 
+import math
 import threading
 import time
 from types import MappingProxyType
@@ -42,6 +43,13 @@ from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
 from ..protocol.status_stream import StatusPacket
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
+
+
+def _finite(values: np.ndarray) -> bool:
+    """No NaN or infinity among ``values`` (a packet's six): one sum in plain floats, cheaper
+    than numpy's isfinite and all for six numbers (a sum of finite values that overflows
+    counts as not finite: no joint or pose is near 1e308)."""
+    return math.isfinite(sum(values.tolist()))
 
 
 def is_collision(status: StatusPacket) -> bool:
@@ -132,22 +140,39 @@ class StatusView:
             self._velocity = np.zeros(6)
 
     def feed(self, status: StatusPacket, received: float) -> None:
+        """A packet received at ``received`` (s, ``time.time()``): :meth:`store`, then
+        :meth:`announce`."""
+        self.store(status, received)
+        self.announce()
+
+    def announce(self) -> None:
+        """Wake whoever waits for a packet (:meth:`wait_for_packet`, :meth:`wait_until`).
+        Separate from :meth:`store` so that the status thread wakes them last, right before
+        it blocks on its socket again: a waiter woken earlier finds the interpreter lock still
+        held and sleeps once more (two more thread switches per packet on a busy machine)."""
+        with self._arrived:
+            self._arrived.notify_all()
+
+    def store(self, status: StatusPacket, received: float) -> None:
+        """Keep ``status`` as the latest packet (its waiters are not woken: :meth:`announce`)."""
         q = status.joint_position
+        reported = _finite(status.joint_velocity)     # instVel, else the difference
+        tcp = pose_mm_rpy_to_matrix(status.tcp_pose) if _finite(status.tcp_pose) else None
         with self._lock:
-            if np.all(np.isfinite(q)):
+            if _finite(q):
                 self._q = q
                 if self._ref is None:
                     self._ref = (received, q)
                 elif received - self._ref[0] >= MIN_DT:
-                    self._velocity = (q - self._ref[1]) / (received - self._ref[0])
+                    if not reported:
+                        self._velocity = (q - self._ref[1]) / (received - self._ref[0])
                     self._ref = (received, q)
-            if np.all(np.isfinite(status.joint_velocity)):
+            if reported:
                 self._velocity = status.joint_velocity
-            if np.all(np.isfinite(status.tcp_pose)):
-                self._tcp = pose_mm_rpy_to_matrix(status.tcp_pose)
+            if tcp is not None:
+                self._tcp = tcp
             self._status, self._received = status, received
             self._serial += 1
-            self._arrived.notify_all()
 
     @property
     def latest(self) -> Optional[StatusPacket]:

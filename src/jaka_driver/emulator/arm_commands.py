@@ -162,7 +162,7 @@ class ArmCommands:
     def _get_motion_state(self, _req) -> Answer:
         c = self.c
         return Answer({Field.MOTION_LINE: c.motion_line, Field.ERR_ADD_LINE: 0,
-                       Field.QUEUE: c.queued, Field.ACTIVE_QUEUE: c.queued + int(c.moving),
+                       Field.QUEUE: c.queued, Field.ACTIVE_QUEUE: c.queue.active,
                        Field.QUEUE_FULL: 0, Field.INPOS: bool(c.inpos)})
 
     def _wait_complete(self, _req) -> Answer:

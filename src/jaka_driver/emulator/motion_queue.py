@@ -72,16 +72,23 @@ class MotionQueue:
             self._queue.clear()
 
     @property
+    def active(self) -> int:
+        """Moves not done: the running one (or the one being started) and those queued."""
+        pending = self._pending
+        running = self._starting or (pending is not None and not pending.done)
+        return len(self._queue) + int(running)
+
+    @property
     def queued(self) -> int:
-        """Moves waiting behind the running one."""
-        return len(self._queue)
+        """Moves waiting behind the running one. A move acknowledged while the queue was idle
+        is the running one from its acknowledgement on, whether or not this queue's thread has
+        taken it yet: a client asking at once sees the same counts as a moment later."""
+        return max(self.active - 1, 0)
 
     @property
     def moving(self) -> bool:
         """A queued move waits, is being started, or runs."""
-        pending = self._pending
-        return (self._starting or bool(self._queue)
-                or (pending is not None and not pending.done))
+        return self.active > 0
 
     def _run(self) -> None:
         while not self._quit.is_set():

@@ -31,7 +31,7 @@ from typing import Callable, Dict, Optional
 
 from ..common.constants import SERVO_CYCLE
 from ..protocol.fields import DATA_REQUEST_MAX_BYTES, ERROR_CODE_FAILED, Cmd, Field
-from ..protocol.status_stream import encode_data_reply, encode_status
+from ..protocol.status_stream import StatusEncoder, encode_data_reply
 from ..protocol.tcp_server import TcpServer
 from .framing import RequestSplitter
 from .handlers import CommandHandlers
@@ -197,10 +197,11 @@ class EmulatorServer:
     # ---- status stream ------------------------------------------------------------------------
     def _broadcast(self) -> None:
         deadline = time.monotonic()
+        encoder = StatusEncoder()       # the unchanged arrays are encoded once
         while not self._quit.is_set():
             if len(self.subscribers):
                 try:
-                    self.subscribers.push(encode_status(self.status_source()))
+                    self.subscribers.push(encoder.encode(self.status_source()))
                 except Exception:  # noqa: BLE001 - the stream must survive a bad sample
                     log.exception("emulator: building the status packet failed")
             deadline += self.period

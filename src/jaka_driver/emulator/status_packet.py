@@ -81,6 +81,32 @@ def zeros_of(key: str) -> Any:
     return _IDLE[key]()
 
 
+#: the idle values as the status packets carry them: one object each, the same every packet
+#: (a packet's values are only ever encoded, never changed), so an encoder that remembers
+#: what it encoded last (protocol.StatusEncoder) encodes them once
+_IDLE_VALUES = {key: make() for key, make in _IDLE.items()}
+
+
+class _IoLists:
+    """The IO arrays of a packet as lists, made again only when the board changed: a sample's
+    IO is one read-only object until the next write (``RobotState.io``), so the same object
+    means the same lists — the same list objects, which the encoder then encodes once."""
+
+    def __init__(self):
+        self._last: Tuple[Any, Dict[str, list]] = (None, {})
+
+    def of(self, io, keys: Dict[str, Tuple[str, int, int]]) -> Dict[str, list]:
+        last_io, lists = self._last
+        if io is not last_io:
+            lists = {name: _io_list(io.get(key), key) for name, key in keys.items()}
+            self._last = (io, lists)
+        return lists
+
+
+_IO_LISTS = _IoLists()
+_FIELDBUS_LISTS = _IoLists()
+
+
 def wire_pose(pose: np.ndarray) -> list:
     """4x4 pose (m) → wire ``[x, y, z mm, rx, ry, rz deg]``."""
     return units.pose_to_wire(matrix_to_pose_mm_rpy(pose))
@@ -117,6 +143,17 @@ def _monitor_data(powered: bool, torque: np.ndarray, speed: np.ndarray) -> list:
     return [0, 0, 0.0, power, power / voltage if voltage else 0.0, rows]
 
 
+_HOMED: Dict[int, list] = {}
+
+
+def _homed(count: int) -> list:
+    """``homed`` of ``count`` joints: one list per count, the same every packet."""
+    homed = _HOMED.get(count)
+    if homed is None:
+        homed = _HOMED[count] = [1] * count
+    return homed
+
+
 def status_fields(controller: TwinController) -> Dict[str, Any]:
     """One packet's fields, in a real packet's key order (without ``len``:
     :func:`~jaka_driver.protocol.encode_status` puts it first)."""
@@ -134,7 +171,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         task_state = TaskState.POWER_ON
     else:
         task_state = TaskState.ENABLED
-    io = controller.io_values()
+    io = st.io          # the board as it stands (the same object until a write)
     tcp_speed = controller.tcp_speed(st)
     program = controller.programs.status()
     fields: Dict[str, Any] = {
@@ -165,16 +202,15 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.POSITION: wire_pose(controller.commanded_tcp()),
         "curr_tcp_trans_vel": float(tcp_speed * 1000.0),
     }
-    for name, key in IO_KEYS.items():
-        fields[name] = _io_list(io.get(key), key)
+    for name, values in _IO_LISTS.of(io, IO_KEYS).items():
+        fields[name] = values
         if name == S.TIO_AIN:
-            fields["tio_key"] = zeros_of("tio_key")
-            fields["tio_rs_signals"] = zeros_of("tio_rs_signals")
-    fields[S.HOMED] = [1] * controller.profile.homed_count
+            fields["tio_key"] = _IDLE_VALUES["tio_key"]
+            fields["tio_rs_signals"] = _IDLE_VALUES["tio_rs_signals"]
+    fields[S.HOMED] = _homed(controller.profile.homed_count)
     for key in ("drag_near_limit", "funcdi", "point_key", "netState"):
-        fields[key] = zeros_of(key)
-    for name, key in FIELDBUS_KEYS.items():
-        fields[name] = _io_list(io.get(key), key)
+        fields[key] = _IDLE_VALUES[key]
+    fields.update(_FIELDBUS_LISTS.of(io, FIELDBUS_KEYS))
     fields[S.MOTION_LINE] = int(controller.motion_line)
     fields[S.ERR_ADD_LINE] = 0
     fields[S.EXECUTING_LINE] = int(controller.motion_line)

@@ -260,6 +260,44 @@ static void jacobian6(double R[6][9], double p[6][3], const double R6[9], const 
     }
 }
 
+/* Smallest singular value of the 6x6 matrix A (row-major; destroyed): one-sided Jacobi
+ * (Hestenes) rotates pairs of columns until every pair is orthogonal to rounding; the singular
+ * values are then the columns' lengths. Accurate to rounding relative to the largest, as
+ * LAPACK's SVD, which the Python path (numpy.linalg.svd) uses. */
+static double smallest_singular_value(double A[36]) {
+    for (int sweep = 0; sweep < 40; sweep++) {
+        int rotated = 0;
+        for (int i = 0; i < 5; i++)
+            for (int j = i + 1; j < 6; j++) {
+                double a = 0.0, b = 0.0, g = 0.0;
+                for (int r = 0; r < 6; r++) {
+                    double x = A[6 * r + i], y = A[6 * r + j];
+                    a += x * x;
+                    b += y * y;
+                    g += x * y;
+                }
+                if (fabs(g) <= 1e-15 * sqrt(a * b)) continue;
+                rotated = 1;
+                double zeta = (b - a) / (2.0 * g);
+                double t = (zeta >= 0.0 ? 1.0 : -1.0) / (fabs(zeta) + sqrt(1.0 + zeta * zeta));
+                double cs = 1.0 / sqrt(1.0 + t * t), sn = cs * t;
+                for (int r = 0; r < 6; r++) {
+                    double x = A[6 * r + i], y = A[6 * r + j];
+                    A[6 * r + i] = cs * x - sn * y;
+                    A[6 * r + j] = sn * x + cs * y;
+                }
+            }
+        if (!rotated) break;
+    }
+    double least = INFINITY;
+    for (int k = 0; k < 6; k++) {
+        double s = 0.0;
+        for (int r = 0; r < 6; r++) s += A[6 * r + k] * A[6 * r + k];
+        if (s < least) least = s;
+    }
+    return sqrt(least);
+}
+
 /* Newton steps from q (as numeric.NumericIk.polish): T the joint-6 goal, at most max_steps,
  * until the TCP error is within tolerance and the last step settled the joints. On success
  * returns the number of steps (>= 1), q updated and err = (position m, rotation rad); else 0. */
@@ -407,4 +445,49 @@ int jk_local_seeded(const jk_chain *c, const double *T, const double *seed, doub
     out[6] = err[0];
     out[7] = err[1];
     return steps + settle;
+}
+
+/* The TCP at the joints q (rad), as a velocity jog measures it each cycle: its pose (pose: 4x4
+ * row-major, m, base frame; = Kinematics.tcp_pose) and the smallest singular value of its
+ * Jacobian (rows: the TCP point's velocity, m/s, and the angular velocity, rad/s, per rad/s of
+ * each joint, base-frame axes; = Kinematics.jacobian, whose rows a rotation would not change
+ * the singular values of). tool: the TCP in the model's joint-6 frame (4x4 row-major; the
+ * flange frame when the flange placement is identity) or NULL for that frame. out: the pose
+ * (16) then sigma (1). Returns 1, or 0 (nothing written) when a joint is not finite. */
+int jk_tcp_sigma(const jk_chain *c, const double *q, const double *tool, double *out) {
+    double R[6][9], p[6][3], R6[9], p6[3], Rt[9], pt[3], J[36];
+    for (int k = 0; k < 6; k++)
+        if (!sane(q[k])) return 0;
+    forward(c, q, R, p, R6, p6);
+    if (tool) {
+        for (int r = 0; r < 3; r++) {
+            pt[r] = p6[r] + R6[3 * r] * tool[3] + R6[3 * r + 1] * tool[7]
+                    + R6[3 * r + 2] * tool[11];
+            for (int k = 0; k < 3; k++)
+                Rt[3 * r + k] = R6[3 * r] * tool[k] + R6[3 * r + 1] * tool[4 + k]
+                                + R6[3 * r + 2] * tool[8 + k];
+        }
+    } else {
+        memcpy(Rt, R6, sizeof Rt);
+        memcpy(pt, p6, sizeof pt);
+    }
+    double *pose = out;
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++) pose[4 * r + k] = Rt[3 * r + k];
+        pose[4 * r + 3] = pt[r];
+    }
+    pose[12] = pose[13] = pose[14] = 0.0;
+    pose[15] = 1.0;
+    for (int k = 0; k < 6; k++) {       /* column k: z_k x (tcp - p_k); z_k */
+        double z[3] = {R[k][2], R[k][5], R[k][8]};
+        double d[3] = {pt[0] - p[k][0], pt[1] - p[k][1], pt[2] - p[k][2]};
+        J[k] = z[1] * d[2] - z[2] * d[1];
+        J[6 + k] = z[2] * d[0] - z[0] * d[2];
+        J[12 + k] = z[0] * d[1] - z[1] * d[0];
+        J[18 + k] = z[0];
+        J[24 + k] = z[1];
+        J[30 + k] = z[2];
+    }
+    out[16] = smallest_singular_value(J);
+    return 1;
 }

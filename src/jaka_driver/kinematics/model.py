@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import threading
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -195,6 +195,51 @@ class Kinematics:
             J[:3] += np.cross(w.T, r).T
         return J
 
+    def tcp_linear_speed(self, q, qd, tool=None) -> float:
+        """The speed (m/s) of the TCP at the joints ``q`` (rad) moving at ``qd`` (rad/s):
+        ``|J_linear · qd|`` of :meth:`jacobian`, from Pinocchio's frame velocity in one pass
+        (the flange's velocity + ω × the flange → TCP offset). ``tool`` as in :meth:`tcp_pose`."""
+        m, d, f = self._pin, self._data(), self._flange_id
+        pin.forwardKinematics(m, d, self._check_q(q), np.asarray(qd, dtype=float))
+        flange = pin.updateFramePlacement(m, d, f)
+        twist = pin.getFrameVelocity(m, d, f, pin.LOCAL_WORLD_ALIGNED)
+        vx, vy, vz = twist.linear.tolist()
+        if tool is not None:
+            rx, ry, rz = (flange.rotation @ _as_pose(tool, "tool")[:3, 3]).tolist()
+            wx, wy, wz = twist.angular.tolist()
+            vx, vy, vz = vx + wy * rz - wz * ry, vy + wz * rx - wx * rz, vz + wx * ry - wy * rx
+        return math.sqrt(vx * vx + vy * vy + vz * vz)
+
+    def tcp_pose_and_sigma(self, q, tool=None) -> tuple[np.ndarray, float]:
+        """(:meth:`tcp_pose` with ``tool``, the smallest singular value of :meth:`jacobian`
+        with ``tool``) at the joints ``q`` (rad): what a velocity jog looks at each cycle, in
+        one pass over the chain — one C call when the compiled library is built (the same
+        numbers to rounding), else one Pinocchio pass and an SVD. ``tool`` as in
+        :meth:`tcp_pose` (4x4, m; None = the flange)."""
+        return self.tcp_measure(tool)(q)
+
+    def tcp_measure(self, tool=None) -> Callable[[np.ndarray], tuple[np.ndarray, float]]:
+        """:meth:`tcp_pose_and_sigma` for one ``tool``, taken (checked, laid out for C) once."""
+        X = None if tool is None else np.ascontiguousarray(_as_pose(tool, "tool"), dtype=float)
+        compiled = self._native if self._F_is_identity else None
+
+        def measure(q) -> tuple[np.ndarray, float]:
+            if compiled is not None:
+                got = compiled.tcp_sigma(q, X)
+                if got is not None:
+                    return got
+            m, d, f = self._pin, self._data(), self._flange_id
+            pin.computeJointJacobians(m, d, self._check_q(q))   # also the joint placements
+            flange = pin.updateFramePlacement(m, d, f)
+            J = pin.getFrameJacobian(m, d, f, pin.LOCAL_WORLD_ALIGNED)
+            T = flange.homogeneous
+            if X is not None:
+                J = J.copy()
+                J[:3] += np.cross(J[3:].T, flange.rotation @ X[:3, 3]).T
+                T = T @ X
+            return T, float(np.linalg.svd(J, compute_uv=False)[-1])
+        return measure
+
     # ------------------------------------------------------------------ inverse kinematics
     def ik(self, target, seed=None, tool=None, user=None, *, pos_tol: float = 1e-6,
            rot_tol: float = 1e-6, max_iter: int = 100, restarts: int = 8) -> IkResult:
@@ -234,6 +279,44 @@ class Kinematics:
                 return IkResult(True, *fast, "ok")
         return self._ik_python(goal_T, ref, tcp_offset, pos_tol, rot_tol, max_iter, restarts,
                                seed is not None, local_tried)
+
+    def seeded_ik(self, tool=None) -> Callable[[np.ndarray, np.ndarray], np.ndarray | None]:
+        """``solve(target, seed)``: ``ik(target, seed=seed, tool=tool).q``, or None where that
+        fails, for one ``tool`` (4x4, m; None = the flange) taken once — its inverse is not
+        recomputed on every request, as a velocity jog asks one every 8 ms cycle. The same
+        steps as :meth:`ik`, so the same solution."""
+        if tool is None or not self._F_is_identity:
+            def solve_any(target, seed):
+                result = self.ik(target, seed=seed, tool=tool)
+                return result.q if result.success else None
+            return solve_any
+        X = _as_pose(tool, "tool").copy()
+        X_inv = _inv(X)
+        offset = None if not X[:3, 3].any() else tuple(X[:3, 3].tolist())
+        if np.array_equal(X, _I4) and self._native is not None and not self._local_first:
+            def solve_at_flange(target, seed):
+                # target @ I⁻¹ is target, and the library's flange entry clamps the seed as
+                # _seed_ref does: ik's compiled solve in one call
+                fast = self._native.solve_seeded(target, seed, 1e-6, 1e-6)
+                if fast is not None:
+                    return fast[0]
+                goal_T = _as_pose(target, "target") @ X_inv
+                result = self._ik_python(goal_T, self._seed_ref(seed), offset, 1e-6, 1e-6, 100,
+                                         8, True)
+                return result.q if result.success else None
+            return solve_at_flange
+
+        def solve(target, seed):
+            goal_T = _as_pose(target, "target") @ X_inv
+            ref = self._seed_ref(seed)
+            compiled = self._native
+            if compiled is not None and not self._local_first:
+                fast = compiled.solve(goal_T, ref, offset, 1e-6, 1e-6)
+                if fast is not None:
+                    return fast[0]
+            result = self._ik_python(goal_T, ref, offset, 1e-6, 1e-6, 100, 8, True)
+            return result.q if result.success else None
+        return solve
 
     def _ik_python(self, goal_T: np.ndarray, ref: list[float], tcp_offset, pos_tol: float,
                    rot_tol: float, max_iter: int, restarts: int, seeded: bool,

@@ -30,6 +30,7 @@ _Joints = ctypes.c_double * 6
 _Pose = ctypes.c_double * 16
 _Offset = ctypes.c_double * 3
 _Out = ctypes.c_double * 8
+_PoseSigma = ctypes.c_double * 17
 
 
 class _Chain(ctypes.Structure):
@@ -52,10 +53,12 @@ def _open(path: Path) -> Optional[ctypes.CDLL]:
     if not path.is_file():
         return None
     try:
-        lib = ctypes.CDLL(str(path))
+        # PyDLL: the interpreter lock stays held through a call (a few µs): releasing and
+        # taking it back costs more, and lets another thread in mid-cycle
+        lib = ctypes.PyDLL(str(path))
     except OSError:
         return None
-    if lib.jk_chain_size() != ctypes.sizeof(_Chain):
+    if lib.jk_chain_size() != ctypes.sizeof(_Chain) or not hasattr(lib, "jk_tcp_sigma"):
         return None     # built from another version of jaka_ik.c: do not guess its layout
     lib.jk_ik.restype = ctypes.c_int
     lib.jk_ik.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
@@ -67,6 +70,8 @@ def _open(path: Path) -> Optional[ctypes.CDLL]:
     lib.jk_local_seeded.argtypes = [ctypes.c_void_p, _DoubleP, _DoubleP, ctypes.c_double,
                                     ctypes.c_double, ctypes.c_int, ctypes.c_double,
                                     ctypes.c_void_p]
+    lib.jk_tcp_sigma.restype = ctypes.c_int
+    lib.jk_tcp_sigma.argtypes = [ctypes.c_void_p, _DoubleP, ctypes.c_void_p, ctypes.c_void_p]
     return lib
 
 
@@ -117,6 +122,29 @@ class NativeIk:
         if steps <= 0:
             return None
         return np.frombuffer(out, count=6).copy(), out[6], out[7], steps
+
+    def tcp_sigma(self, q: np.ndarray, tool) -> Optional[tuple[np.ndarray, float]]:
+        """(TCP pose 4x4 m, smallest singular value of the TCP's Jacobian) at the joints ``q``
+        (rad, a float64 array of 6), ``tool`` the TCP in the joint-6 frame (a C-ordered float64
+        4x4, or None); None when a joint is not finite. One C call for a velocity jog's
+        per-cycle look at the arm (:meth:`jaka_driver.kinematics.Kinematics.tcp_pose_and_sigma`)."""
+        try:
+            joints = _Joints.from_buffer(q) if _plain(q) and q.shape == (6,) else None
+        except (TypeError, ValueError, BufferError):   # read-only or not C-contiguous
+            joints = None
+        if joints is None:
+            try:
+                a = np.asarray(q, dtype=float)
+            except (TypeError, ValueError):
+                return None      # the caller's Python path refuses it
+            if a.shape != (6,):
+                return None
+            joints = _Joints(*a.tolist())
+        out = _PoseSigma()
+        if not self._lib.jk_tcp_sigma(self._chain_addr, joints,
+                                      None if tool is None else tool.ctypes.data, out):
+            return None
+        return np.frombuffer(out, count=16).reshape(4, 4), out[16]
 
     def solve(self, goal: np.ndarray, ref: Sequence[float], tcp_offset, pos_tol: float,
               rot_tol: float):

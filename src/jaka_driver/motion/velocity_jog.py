@@ -24,6 +24,7 @@ rotation about base axes at the TCP) or in the tool frame, as the Cartesian jog'
 """
 from __future__ import annotations
 
+import math
 from typing import Callable, Optional
 
 import numpy as np
@@ -45,17 +46,21 @@ CONFIGURATION_JUMP = 4.0
 LIMIT_MARGIN = 1e-3
 
 
-def displaced_pose(pose: np.ndarray, delta: np.ndarray, in_tool: bool) -> np.ndarray:
+def displaced_pose(pose: np.ndarray, delta, in_tool: bool) -> np.ndarray:
     """``pose`` (4x4, m) moved by ``delta`` (dx, dy, dz m, rotation vector rad): in the tool
     frame (``in_tool``), or along base axes with the rotation about base axes at the TCP."""
-    step = np.eye(4)
-    step[:3, 3] = delta[:3]
-    step[:3, :3] = rotvec_to_matrix(delta[3:])
+    d = delta.tolist() if isinstance(delta, np.ndarray) else [float(x) for x in delta]
+    rotation = rotvec_to_matrix(d[3:]) if any(d[3:]) else None   # none: the identity
     if in_tool:
+        step = np.eye(4)
+        step[:3, 3] = d[:3]
+        if rotation is not None:
+            step[:3, :3] = rotation
         return pose @ step
     moved = pose.copy()
-    moved[:3, 3] += step[:3, 3]
-    moved[:3, :3] = step[:3, :3] @ pose[:3, :3]
+    moved[:3, 3] += d[:3]
+    if rotation is not None:
+        moved[:3, :3] = rotation @ pose[:3, :3]
     return moved
 
 
@@ -76,12 +81,15 @@ class TwistRamp:
         self.target = np.zeros(6)
 
     def update(self, dt: float) -> np.ndarray:
-        for part, accel in zip((slice(0, 3), slice(3, 6)), self.accel):
-            gap = self.target[part] - self.velocity[part]
-            size = float(np.linalg.norm(gap))
+        # plain floats: six numbers a cycle, where numpy's calls cost more than the arithmetic
+        v, t = self.velocity.tolist(), self.target.tolist()
+        for first, accel in zip((0, 3), self.accel):
+            gap = [t[k] - v[k] for k in range(first, first + 3)]
+            size = math.sqrt(gap[0] * gap[0] + gap[1] * gap[1] + gap[2] * gap[2])
             step = accel * dt
-            self.velocity[part] = self.target[part] if size <= step else \
-                self.velocity[part] + gap * (step / size)
+            for k, g in zip(range(first, first + 3), gap):
+                v[k] = t[k] if size <= step else v[k] + g * (step / size)
+        self.velocity[:] = v
         return self.velocity
 
     @property
@@ -90,23 +98,36 @@ class TwistRamp:
 
 
 class VelocityJog:
-    """One velocity jog's integration (see the module). ``tcp_pose(q)`` and ``ik(pose, seed)``
-    (joints or None) and ``jacobian(q)`` (6x6) are the arm's kinematics with the active tool;
-    ``lower``, ``upper`` (rad), ``max_velocity`` (rad/s), ``max_acceleration`` (rad/s²) its
-    joints; ``linear_accel`` m/s², ``angular_accel`` rad/s² the ramp's; ``cycle`` s."""
+    """One velocity jog's integration (see the module). ``measure(q)`` → (the TCP pose 4x4 m,
+    the smallest singular value of the TCP's Jacobian 6x6, m and rad) and ``ik(pose, seed)``
+    (joints or None) are the arm's kinematics with the active tool (:func:`on_arm` takes them
+    from a :class:`~jaka_driver.kinematics.Kinematics`); ``lower``, ``upper`` (rad),
+    ``max_velocity`` (rad/s), ``max_acceleration`` (rad/s²) its joints; ``linear_accel`` m/s²,
+    ``angular_accel`` rad/s² the ramp's; ``cycle`` s.
 
-    def __init__(self, *, tcp_pose: Callable, ik: Callable, jacobian: Callable, lower, upper,
-                 max_velocity, max_acceleration, linear_accel: float, angular_accel: float,
-                 in_tool: bool, cycle: float):
-        self._tcp, self._ik, self._jacobian = tcp_pose, ik, jacobian
+    Each cycle measures the arm once: the step's end, measured for its singularity check, is
+    the next cycle's start whenever the step is taken whole (only a slowed step measures its
+    own end the next cycle)."""
+
+    def __init__(self, *, measure: Callable, ik: Callable, lower, upper, max_velocity,
+                 max_acceleration, linear_accel: float, angular_accel: float, in_tool: bool,
+                 cycle: float):
+        self._measure, self._ik = measure, ik
         self.lower, self.upper = np.asarray(lower, float), np.asarray(upper, float)
         self.max_step = JOINT_SPEED_SHARE * np.asarray(max_velocity, float) * cycle
         self.max_acceleration = np.asarray(max_acceleration, float)
+        # plain floats for the per-joint checks of each cycle (six of them: Python's own
+        # arithmetic beats numpy's calls there)
+        self._limits = list(zip(self.lower.tolist(), self.upper.tolist(),
+                                self.max_step.tolist(), self.max_acceleration.tolist()))
+        self._jump = (CONFIGURATION_JUMP * self.max_step).tolist()
         self.ramp = TwistRamp(linear_accel, angular_accel)
         self.in_tool = in_tool
         self.cycle = cycle
         #: why the last step was slowed or held (None: it was not)
         self.limited_by: Optional[str] = None
+        #: (joints, pose, σ_min) measured last, at the end of the last step
+        self._measured: Optional[tuple] = None
 
     def progress(self) -> Result:
         """The answer to a twist: success, saying what the jog does now; its ``value`` is why
@@ -132,58 +153,92 @@ class VelocityJog:
         if not velocity.any():
             self.limited_by = None
             return q
-        target = displaced_pose(self._tcp(q), velocity * self.cycle, self.in_tool)
+        qs = q.tolist()
+        pose, sigma = self._at(q, qs)
+        target = displaced_pose(pose, velocity * self.cycle, self.in_tool)
         solution = self._ik(target, q)
         if solution is None:
             return self._held(q, "no IK solution for the next step")
         step = np.asarray(solution, float) - q
-        if np.any(np.abs(step) > CONFIGURATION_JUMP * self.max_step):
+        steps = step.tolist()
+        if any(abs(d) > most for d, most in zip(steps, self._jump)):
             # not a faster motion but another configuration (a joint wrapped by 2π, the wrist
             # flipped): no fraction of that step lies on the path
             return self._held(q, "the next step needs another arm configuration")
-        scale, why = self._scale(q, step)
+        after = q + step
+        scale, why = self._scale(qs, steps, sigma, after)
         if scale <= 0.0:
             return self._held(q, why)
         self.limited_by = why if scale < 1.0 else None
         if scale < 1.0:
             self.ramp.velocity *= scale     # the ramp accelerates again from the slower speed
             return q + scale * step
-        return q + step
+        return after
+
+    def _at(self, q: np.ndarray, qs: list) -> tuple[np.ndarray, float]:
+        """(TCP pose, σ_min) at ``q`` (``qs`` its values): last cycle's measurement of the
+        step's end when ``q`` is that end, else measured now."""
+        measured = self._measured
+        if measured is not None and measured[0] == qs:
+            return measured[1], measured[2]
+        return self._measure(q)
 
     def _held(self, q: np.ndarray, why: str) -> np.ndarray:
         self.ramp.velocity[:] = 0.0
         self.limited_by = why
         return q
 
-    def _scale(self, q: np.ndarray, step: np.ndarray) -> tuple[float, Optional[str]]:
-        """The factor (0–1) for ``step`` from ``q``, and what set it."""
+    def _scale(self, qs: list, steps: list, sigma_now: float,
+               after: np.ndarray) -> tuple[float, Optional[str]]:
+        """The factor (0–1) for the step ``steps`` from ``qs`` (σ_min there ``sigma_now``; rad,
+        as lists) to ``after``, and what set it."""
         scale, why = 1.0, None
-        moving = np.abs(step) > 1e-12
-        if not moving.any():
+        if not any(abs(d) > 1e-12 for d in steps):
             return 1.0, None
-        ratio = np.where(moving, self.max_step / np.maximum(np.abs(step), 1e-12), np.inf)
-        j = int(np.argmin(ratio))
-        if ratio[j] < scale:
-            scale, why = float(ratio[j]), f"joint {j + 1} at its speed limit"
-        # joint limits: brake to rest at the limit
-        left = np.where(step > 0, self.upper - q, q - self.lower) - LIMIT_MARGIN
-        allowed = np.sqrt(2.0 * self.max_acceleration * np.maximum(left, 0.0)) * self.cycle
-        allowed = np.minimum(allowed, np.maximum(left, 0.0))
-        ratio = np.where(moving, allowed / np.maximum(np.abs(step), 1e-12), np.inf)
-        j = int(np.argmin(ratio))
-        if ratio[j] < scale:
-            scale, why = float(ratio[j]), f"joint {j + 1} near its limit"
+        # joint speeds, then joint limits (brake to rest at the limit); the first joint with
+        # the lowest ratio names the reason, as an argmin would
+        speed = brake = math.inf
+        speed_j = brake_j = 0
+        for j, (x, d, (lo, hi, most, accel)) in enumerate(zip(qs, steps, self._limits)):
+            size = abs(d)
+            if not size > 1e-12:
+                continue
+            ratio = most / size
+            if ratio < speed:
+                speed, speed_j = ratio, j
+            left = max((hi - x if d > 0 else x - lo) - LIMIT_MARGIN, 0.0)
+            allowed = min(math.sqrt(2.0 * accel * left) * self.cycle, left)
+            ratio = allowed / size
+            if ratio < brake:
+                brake, brake_j = ratio, j
+        if speed < scale:
+            scale, why = speed, f"joint {speed_j + 1} at its speed limit"
+        if brake < scale:
+            scale, why = brake, f"joint {brake_j + 1} near its limit"
         # singularities: only a step that makes the arm more singular slows
-        now = _smallest_singular_value(self._jacobian(q))
-        after = _smallest_singular_value(self._jacobian(q + step))
-        if after < now:
-            factor = float(np.clip((after - SINGULAR_STOP) / (SINGULAR_SLOW - SINGULAR_STOP),
-                                   0.0, 1.0))
+        pose_after, sigma_after = self._measure(after)
+        self._measured = (after.tolist(), pose_after, sigma_after)
+        if sigma_after < sigma_now:
+            factor = min(max((sigma_after - SINGULAR_STOP) / (SINGULAR_SLOW - SINGULAR_STOP),
+                             0.0), 1.0)
             if factor < scale:
-                scale, why = factor, (f"near a singularity (σ_min {after:.3f}, slowing below "
-                                      f"{SINGULAR_SLOW:g}, stop at {SINGULAR_STOP:g})")
+                scale, why = factor, (f"near a singularity (σ_min {sigma_after:.3f}, slowing "
+                                      f"below {SINGULAR_SLOW:g}, stop at {SINGULAR_STOP:g})")
         return max(scale, 0.0), why
 
 
-def _smallest_singular_value(jacobian: np.ndarray) -> float:
-    return float(np.linalg.svd(jacobian, compute_uv=False)[-1])
+def on_arm(kinematics, model, tool, *, in_tool: bool, ratio: float, cycle: float,
+           angular_accel: float) -> VelocityJog:
+    """A velocity jog of ``model``'s arm through ``kinematics`` (a
+    :class:`~jaka_driver.kinematics.Kinematics`) with the TCP at ``tool`` (4x4, m, in the
+    flange frame), at the speed ratio ``ratio`` (the ramp's accelerations × ratio²: the
+    twin's and a controller's, scaled in time as moves are); ``angular_accel`` rad/s² at
+    ratio 1."""
+    tool = np.array(tool, dtype=float)
+    r2 = ratio ** 2
+    return VelocityJog(measure=kinematics.tcp_measure(tool),
+                       ik=kinematics.seeded_ik(tool), lower=model.lower, upper=model.upper,
+                       max_velocity=model.max_velocity,
+                       max_acceleration=model.max_acceleration,
+                       linear_accel=model.max_tcp_accel * r2,
+                       angular_accel=angular_accel * r2, in_tool=in_tool, cycle=cycle)

@@ -17,7 +17,6 @@ from typing import Any, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
-from . import units
 from .errors import MalformedInput, ProtocolError
 from .fields import FIELDBUS_SLAVES, IO_ARRAYS, StatusField as S
 from .torque_sensor import TorqueSensorStatus, parse_torqsensor
@@ -169,7 +168,11 @@ def encode_status(fields: Mapping[str, Any]) -> bytes:
     accepted."""
     # Serialised once (the packet goes out 125 times a second): the length field is spliced
     # in front, its value the fixed point of len(packet) = rest + digits(len).
-    body = encode_json_spaced({k: v for k, v in fields.items() if k != S.LEN})
+    return _with_len(encode_json_spaced({k: v for k, v in fields.items() if k != S.LEN}))
+
+
+def _with_len(body: bytes) -> bytes:
+    """A packet's JSON object ``body`` (no ``len``) with ``len`` spliced in first."""
     head = b'{"%s": ' % S.LEN.encode()
     tail = b"}" if body == b"{}" else b", " + body[1:]
     rest = len(head) + len(tail)
@@ -177,6 +180,38 @@ def encode_status(fields: Mapping[str, Any]) -> bytes:
     while len(str(rest + digits)) != digits:
         digits += 1
     return head + str(rest + digits).encode() + tail
+
+
+class StatusEncoder:
+    """:func:`encode_status` for a stream of packets from one source: the same bytes, with
+    the encoding of each list or object value kept and used again while the packet carries
+    the very same object (``is``) under the same key — a source that builds its unchanged
+    arrays once (the emulator's IO, ~1100 of a packet's numbers) has them encoded once.
+    A value handed in again must not have been changed in place since. One thread only."""
+
+    def __init__(self):
+        self._kept: Dict[str, Tuple[Any, bytes]] = {}
+        self._keys: Dict[str, bytes] = {}       # '"key": ' of each key seen
+
+    def encode(self, fields: Mapping[str, Any]) -> bytes:
+        if not all(isinstance(key, str) for key in fields):
+            return encode_status(fields)        # JSON writes other keys its own way
+        kept, parts = self._kept, []
+        for key, value in fields.items():
+            if key == S.LEN:
+                continue
+            last = kept.get(key)
+            if last is not None and last[0] is value:
+                parts.append(last[1])
+                continue
+            name = self._keys.get(key)
+            if name is None:
+                name = self._keys[key] = encode_json_spaced(key) + b": "
+            part = name + encode_json_spaced(value)
+            if isinstance(value, (list, dict)):
+                kept[key] = (value, part)
+            parts.append(part)
+        return _with_len(b"{" + b", ".join(parts) + b"}")
 
 
 def encode_data_reply(fields: Mapping[str, Any]) -> bytes:
@@ -339,17 +374,46 @@ def _integer(raw) -> int:
     return int(raw)
 
 
+#: the types a JSON number decodes to (bool is its own type, so it is not among them)
+_NUMBER_TYPES = frozenset((int, float))
+
+
 def _numbers(raw) -> Tuple[float, ...]:
     if not isinstance(raw, list):
         raise TypeError(f"not a list: {type(raw).__name__}")
+    # A packet carries ~1200 numbers 125 times a second: checked and converted in C (map)
+    # when they are all plain numbers, else one by one, which names what is wrong.
+    if _NUMBER_TYPES.issuperset(map(type, raw)):
+        values = tuple(map(float, raw))
+        if all(map(math.isfinite, values)):
+            return values
     return tuple(_number(v) for v in raw)
 
 
-def _six(raw) -> np.ndarray:
+def _six(raw) -> Tuple[float, ...]:
     values = _numbers(raw)
     if len(values) != 6:
         raise ValueError(f"expected 6 numbers, got {len(values)}")
-    return np.asarray(values)
+    return values
+
+
+_RAD = math.pi / 180.0   # units.deg_to_rad's factor (numpy's radians): the same rad to the bit
+
+
+def _wire_joints(raw) -> np.ndarray:
+    """Six joint values in degrees (or deg/s) → a read-only array in rad (rad/s)."""
+    a = np.array(_six(raw))
+    a *= _RAD
+    a.flags.writeable = False
+    return a
+
+
+def _wire_pose(raw) -> np.ndarray:
+    """``[x, y, z mm, rx, ry, rz deg]`` → a read-only ``[x, y, z mm, rx, ry, rz rad]``."""
+    x, y, z, rx, ry, rz = _six(raw)
+    a = np.array((x, y, z, rx * _RAD, ry * _RAD, rz * _RAD))
+    a.flags.writeable = False
+    return a
 
 
 def _joint_torques(raw) -> np.ndarray:
@@ -388,6 +452,73 @@ def _text(raw) -> str:
     return clean_text(raw)
 
 
+class _RepeatedNumbers:
+    """:func:`_numbers` of one packet key that remembers the last list it read: the IO arrays
+    (~1100 of a packet's ~1300 numbers) come again unchanged packet after packet, and a list
+    equal to the last one, of plain numbers again (no bool: ``True == 1``), reads as the same
+    floats. A list read with a malformed value is not remembered."""
+
+    __slots__ = ("last",)
+
+    def __init__(self):
+        self.last: Tuple[Any, Tuple[float, ...]] = (None, ())
+
+    def __call__(self, raw) -> Tuple[float, ...]:
+        last_raw, last_values = self.last
+        if raw == last_raw and _NUMBER_TYPES.issuperset(map(type, raw)):
+            return last_values
+        values = _numbers(raw)
+        self.last = (raw, values)
+        return values
+
+
+def _flag_of(key: str):
+    return lambda raw: as_flag(raw, key)
+
+
+def _homed(raw) -> Tuple[int, ...]:
+    return tuple(_integer(v) for v in _numbers(raw))
+
+
+def _torques(raw) -> np.ndarray:
+    return _frozen_array(_joint_torques(raw))
+
+
+#: (attribute, packet key, reader, optional) in the order parse_status reads them; the
+#: readers are made once, not per packet (125 packets a second)
+_FIELDS = (
+    ("joint_position", S.JOINT_ACTUAL_POSITION, _wire_joints, False),
+    ("joint_command", S.JOINT_POSITION, _wire_joints, False),
+    ("tcp_pose", S.ACTUAL_POSITION, _wire_pose, False),
+    ("joint_velocity", S.INST_VEL, _wire_joints, True),
+    ("joint_torque", S.MONITOR_DATA, _torques, True),
+    *((attr, key, _flag_of(key), False) for attr, key in (
+        ("powered", S.POWERED_ON), ("enabled", S.ENABLED),
+        ("emergency_stop", S.EMERGENCY_STOP), ("protective_stop", S.PROTECTIVE_STOP),
+        ("on_soft_limit", S.ON_SOFT_LIMIT), ("inpos", S.INPOS), ("paused", S.PAUSED),
+        ("drag_status", S.DRAG_STATUS))),
+    *((attr, key, _integer, False) for attr, key in (
+        ("task_state", S.TASK_STATE), ("task_mode", S.TASK_MODE),
+        ("interp_state", S.INTERP_STATE), ("current_tool_id", S.CURRENT_TOOL_ID),
+        ("current_user_id", S.CURRENT_USER_ID))),
+    ("errcode", S.ERRCODE, parse_errcode, False),
+    ("errmsg", S.ERRMSG, _text, False),
+    ("rapidrate", S.RAPIDRATE, _number, False),
+    *((key, key, _RepeatedNumbers(), False) for key in (
+        S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN)),
+    ("relay_io", S.RELAY_IO, _RepeatedNumbers(), True),
+    ("extio", S.EXTIO, _extio, True),
+)
+#: the fieldbus slaves' keys, each with its reader
+_FIELDBUS = tuple((f"{prefix}_{array}", _RepeatedNumbers())
+                  for prefix, _ in FIELDBUS_SLAVES for array in IO_ARRAYS)
+_LAST_FIELDS = (
+    ("motion_line", S.MOTION_LINE, _integer, True),
+    ("homed", S.HOMED, _homed, True),
+    ("sensor_errcode", S.TORQSENSOR, _sensor_errcode, True),
+)
+
+
 def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     """A decoded status packet (or ``get_data`` reply fields) → :class:`StatusPacket`.
 
@@ -400,64 +531,31 @@ def parse_status(packet: Mapping[str, Any]) -> StatusPacket:
     malformed: List[str] = []
     values: Dict[str, Any] = {}
 
-    def take(attr: str, key: str, convert, optional: bool = False) -> None:
-        if key not in packet:
-            if not optional:
+    def take(fields) -> None:
+        for attr, key, convert, optional in fields:
+            if key not in packet:
+                if not optional:
+                    missing.append(key)
+                continue
+            try:
+                values[attr] = convert(packet[key])
+            except _UNREADABLE:
                 missing.append(key)
-            return
-        try:
-            values[attr] = convert(packet[key])
-        except _UNREADABLE:
-            missing.append(key)
-            malformed.append(key)
+                malformed.append(key)
 
-    def joints(raw) -> np.ndarray:
-        return _frozen_array(units.deg_to_rad(_six(raw)))
-
-    def pose(raw) -> np.ndarray:
-        return _frozen_array(units.pose_from_wire(_six(raw)))
-
-    def flag(key):
-        return lambda raw: as_flag(raw, key)
-
-    take("joint_position", S.JOINT_ACTUAL_POSITION, joints)
-    take("joint_command", S.JOINT_POSITION, joints)
-    take("tcp_pose", S.ACTUAL_POSITION, pose)
-    take("joint_velocity", S.INST_VEL, joints, optional=True)
-    take("joint_torque", S.MONITOR_DATA, lambda raw: _frozen_array(_joint_torques(raw)),
-         optional=True)
-    for attr, key in (("powered", S.POWERED_ON), ("enabled", S.ENABLED),
-                      ("emergency_stop", S.EMERGENCY_STOP),
-                      ("protective_stop", S.PROTECTIVE_STOP), ("on_soft_limit", S.ON_SOFT_LIMIT),
-                      ("inpos", S.INPOS), ("paused", S.PAUSED), ("drag_status", S.DRAG_STATUS)):
-        take(attr, key, flag(key))
-    for attr, key in (("task_state", S.TASK_STATE), ("task_mode", S.TASK_MODE),
-                      ("interp_state", S.INTERP_STATE), ("current_tool_id", S.CURRENT_TOOL_ID),
-                      ("current_user_id", S.CURRENT_USER_ID)):
-        take(attr, key, _integer)
-    take("errcode", S.ERRCODE, parse_errcode)
+    take(_FIELDS)
     if S.ERRCODE in malformed:
         values["errcode"] = -1   # unreadable is not "no error": keep the robot in error
-    take("errmsg", S.ERRMSG, _text)
-    take("rapidrate", S.RAPIDRATE, _number)
-    for key in (S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN):
-        take(key, key, _numbers)
-    take("relay_io", S.RELAY_IO, _numbers, optional=True)
-    take("extio", S.EXTIO, _extio, optional=True)
     fieldbus = {}
-    for prefix, _ in FIELDBUS_SLAVES:
-        for array in IO_ARRAYS:
-            key = f"{prefix}_{array}"
-            if key in packet:
-                try:
-                    fieldbus[key] = _numbers(packet[key])
-                except _UNREADABLE:
-                    missing.append(key)
-                    malformed.append(key)
+    for key, convert in _FIELDBUS:
+        if key in packet:
+            try:
+                fieldbus[key] = convert(packet[key])
+            except _UNREADABLE:
+                missing.append(key)
+                malformed.append(key)
     values["fieldbus"] = MappingProxyType(fieldbus)
-    take("motion_line", S.MOTION_LINE, _integer, optional=True)
-    take("homed", S.HOMED, lambda raw: tuple(_integer(v) for v in _numbers(raw)), optional=True)
-    take("sensor_errcode", S.TORQSENSOR, _sensor_errcode, optional=True)
+    take(_LAST_FIELDS)
     if S.TORQSENSOR in packet and S.TORQSENSOR not in malformed:
         try:
             values["torque_sensor"] = parse_torqsensor(packet[S.TORQSENSOR])

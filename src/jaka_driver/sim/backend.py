@@ -30,6 +30,7 @@ from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.transforms import matrix_to_pose_mm
 from ..kinematics import Kinematics
+from ..motion import velocity_jog
 from ..motion.cartesian_path import PlanningError
 from ..motion.circular_path import plan_circular_move
 from ..motion.linear_path import plan_linear_move
@@ -357,20 +358,9 @@ class SimBackend(Backend):
 
     def _velocity_jog(self, in_tool: bool) -> VelocityJog:
         tool, _ = self.frames()
-        kin, r2 = self._kin, self._speed_ratio ** 2
-
-        def ik(pose, seed):
-            solution = kin.ik(pose, seed=seed, tool=tool)
-            return solution.q if solution.success else None
-
-        m = self.model
-        return VelocityJog(tcp_pose=lambda q: kin.tcp_pose(q, tool), ik=ik,
-                           jacobian=lambda q: kin.jacobian(q, tool), lower=m.lower,
-                           upper=m.upper, max_velocity=m.max_velocity,
-                           max_acceleration=m.max_acceleration,
-                           linear_accel=m.max_tcp_accel * r2,
-                           angular_accel=MAX_TOOL_ROTATION_ACCEL * r2, in_tool=in_tool,
-                           cycle=SERVO_CYCLE)
+        return velocity_jog.on_arm(self._kin, self.model, tool, in_tool=in_tool,
+                                   ratio=self._speed_ratio, cycle=SERVO_CYCLE,
+                                   angular_accel=MAX_TOOL_ROTATION_ACCEL)
 
     def set_speed_ratio(self, ratio: float) -> Result:
         with self._lock:

@@ -155,5 +155,4 @@ class SimTwin(Twin):
 
     def tcp_speed(self, state: RobotState) -> float:
         tool, _ = self._frames()
-        jacobian = self._kin.jacobian(state.joint_position, tool)
-        return float(np.linalg.norm(jacobian[:3] @ state.joint_velocity))
+        return self._kin.tcp_linear_speed(state.joint_position, state.joint_velocity, tool)
