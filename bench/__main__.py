@@ -5,7 +5,9 @@ then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (
 idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
 service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
 (:mod:`bench.servo_filters`), simulated time, the force/torque sensor and force control
-(:mod:`bench.force`), and the node on the controller backend through the emulator. Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
+(:mod:`bench.force`), and the node on the controller backend through the emulator; then the
+rows that judge the tails against the floors the same run measured (:mod:`bench.floor_targets`).
+Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
 A group that fails is reported as "not run" with the reason and the others still run; every
 process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
@@ -279,6 +281,9 @@ def main(argv=None) -> int:
         if ros_up and "controller" in chosen:
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                         "report", lambda: _emulator(run, out))
+    if {"sim", "streams", "controller"} & set(chosen):
+        from . import floor_targets
+        run.rows += floor_targets.rows(run.rows, SIM, STREAMS, EMU)
     try:
         plots = _plots(run, out)
     except Exception:  # noqa: BLE001 - the table matters more than the pictures

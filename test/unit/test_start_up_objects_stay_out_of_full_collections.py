@@ -20,7 +20,9 @@ def test_a_full_collection_after_settling_walks_only_what_came_since():
         before = min(full_collection_s() for _ in range(3))
         kept, took = heap.settle()
         assert kept >= 200_000 and took > 0.0
-        assert gc.get_freeze_count() == kept
+        # frozen, not walked: a frozen object its reference count frees is still freed, so the
+        # count may only have fallen since (another thread's object, on the xdist worker)
+        assert 200_000 <= gc.get_freeze_count() <= kept
         made_since = [[i] for i in range(1000)]
         after = min(full_collection_s() for _ in range(3))
         assert after < 0.25 * before, (after, before)
