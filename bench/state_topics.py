@@ -134,7 +134,8 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
             s, "inter-arrival", ia["p99"], machine_percent))
         out.append(Row(group, f"{name} inter-arrival p50 / p99 / max, {condition}",
                        f"{fmt(ia['p50'])} / {fmt(ia['p99'])} / {fmt(ia['max'])} ms",
-                       f"p99 ≤ {INTERARRIVAL_P99_MS:g} ms", verdict(ok), note))
+                       f"p99 ≤ {INTERARRIVAL_P99_MS:g} ms", verdict(ok), note,
+                       data={"interarrival_ms": ia}))
     for name, s in stats.items():
         if "age_ms" not in s:
             continue
