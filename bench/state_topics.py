@@ -150,3 +150,25 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
                        f"{fmt(age['p50'])} / {fmt(age['p99'])} / {fmt(age['max'])} ms",
                        f"p99 ≤ {AGE_P99_MS:g} ms", verdict(ok), note))
     return out
+
+
+ALONE = "alone in its subscriber"
+
+
+def record_alone(driver, seconds: float) -> dict:
+    """Each state topic recorded by itself for ``seconds`` (one after the other), so that no
+    other topic's receive thread in this process competes with it for the interpreter lock:
+    the three topics arrive together each cycle, and a rospy subscriber of all three hands its
+    lock from one receive thread to the next, each hand-over a wake-up that a loaded machine
+    delays (measured: joint_position alone p99 8.4-8.6 ms, among the three 12.1 ms, loaded)."""
+    return {name: record(driver, seconds, ((name, msg_type),))[name]
+            for name, msg_type in TOPICS}
+
+
+def alone_rows(group: str, condition: str, stats: dict) -> list[Row]:
+    """Report rows of :func:`record_alone`'s windows (their targets: bench.floor_targets)."""
+    return [Row(group, f"{name} inter-arrival p50 / p99 / max, {condition}, {ALONE}",
+                f"{fmt(s['interarrival_ms']['p50'])} / {fmt(s['interarrival_ms']['p99'])} / "
+                f"{fmt(s['interarrival_ms']['max'])} ms ({s['messages']} msgs)", "report",
+                REPORT, data={"interarrival_ms": s["interarrival_ms"]})
+            for name, s in stats.items()]
