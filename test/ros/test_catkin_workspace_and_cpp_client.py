@@ -24,7 +24,7 @@ import math
 import numpy as np
 import pytest
 
-from support.ros_harness import ROOT, stop_process, wait_until
+from support.ros_harness import ROOT, forget_params, forget_sim_time, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -100,6 +100,10 @@ class Node:
     """The node started with rosrun from a sourced workspace; its output in a log file."""
 
     def __init__(self, command: str, env: dict, log: Path):
+        # what an earlier module's node left on this worker's master (~sim_time, ~scene, ...)
+        # would reach this one: it starts as on a fresh master
+        forget_params("/jaka_driver")
+        forget_sim_time()
         self.log_path = log
         self._log = open(log, "wb")
         self.proc = subprocess.Popen(["bash", "-c", f"exec {command}"], env=env,

@@ -186,6 +186,18 @@ class LaunchProcess:
         self._log.close()
 
 
+def forget_params(prefix: str) -> None:
+    """Remove the params under ``prefix`` (a node's private namespace) from the master.
+    Private params stay on the master after a node exits (a previous module's ``_scene:=...``
+    or ``_sim_time:=true`` would reach the next node of that name): a node started after this
+    starts from a clean slate, as under a fresh roslaunch."""
+    try:
+        xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam("/test_harness",
+                                                                            prefix)
+    except xmlrpc.client.Fault:
+        pass
+
+
 class DriverProcess:
     """The real node, started as ``rosrun`` would, with private params ``_name:=value``."""
 
@@ -195,11 +207,7 @@ class DriverProcess:
             args.append(f"__ns:={ns}")
         self.ns = ns
         self.prefix = f"/{ns}/jaka_driver" if ns else "/jaka_driver"
-        # Private params stay on the master after a node exits (a previous module's
-        # `_scene:=...` would reach this node): start from a clean slate, as a fresh
-        # roslaunch would.
-        xmlrpc.client.ServerProxy(os.environ["ROS_MASTER_URI"]).deleteParam(
-            "/test_harness", self.prefix)
+        forget_params(self.prefix)
         self.log_path = Path(os.environ.get("ROS_LOG_DIR", tempfile.gettempdir())) / f"{log_name}.log"
         self.log_path.parent.mkdir(parents=True, exist_ok=True)
         self._log = open(self.log_path, "wb")
