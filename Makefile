@@ -5,8 +5,9 @@ MODEL ?= zu5
 BACKEND ?= sim
 PYTEST_ARGS ?=
 # make test's worker processes (pytest-xdist), measured on 2 cores shared with other sessions:
-# 2 workers 358 s (load 2), 3 314-383 s (load 5-7), 4 223 s (load 3.5-5) but 376 s with 13
-# timing failures at load 11; the tests mostly wait on real-time motion, and 3 failed least
+# 3 workers 304-308 s (2201 tests, load 1-2), 370 s with both cores kept busy by two other
+# programs, green in both; 4 workers 255 s, but a roscpp call of the C++ client failed once.
+# The tests mostly wait on real-time motion: ~1.1 cores busy on average with 3
 TEST_WORKERS ?= 3
 
 .PHONY: setup run test unit fuzz bench emulator clean
