@@ -97,11 +97,17 @@ def finished(client, call, chunk: int = 25, limit: float = 20.0) -> float:
 
 
 def answered(client) -> None:
-    """A goal refused before anything moves is answered without a cycle of the twin. Waited
-    for on the wall clock: actionlib's wait_for_result counts this process's ROS time, the
-    last /clock it has read, which jumps ahead as a busy machine lets it read a backlog (the
-    twin ran as fast as it could before the module paused it)."""
-    assert wait_until(lambda: client.simple_state == actionlib.SimpleGoalState.DONE, ANSWER)
+    """A goal refused before anything moves is answered without a cycle of the twin.
+
+    Read from the goal's own handle, on the wall clock. actionlib's wait_for_result counts this
+    process's ROS time, the last /clock it has read, which jumps ahead as a busy machine lets
+    it read a backlog (the twin ran as fast as it could before the module paused it). And
+    SimpleActionClient takes the handle of a goal only once send_goal has returned: an answer
+    that arrives before that, as a refusal can on a busy machine, updates the handle but not
+    the client's simple state ("a transition callback on a goal handle that we're not
+    tracking")."""
+    assert wait_until(lambda: client.gh is not None
+                      and client.gh.get_comm_state() == actionlib.CommState.DONE, ANSWER)
 
 
 def still_at(joints, call, q, after: float) -> None:
