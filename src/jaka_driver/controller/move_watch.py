@@ -101,12 +101,22 @@ class MoveWatch:
         self._need_inpos = need_inpos
         self._seen_moving = False
         self._armed_at = time.time()
+        self._packets_show_arrival = True
         self.started = time.monotonic()
 
-    def arm(self) -> None:
-        """Judge only packets read from now on (call just before sending the command)."""
+    def arm(self, packets_show_arrival: bool = True) -> None:
+        """Judge only packets read from now on (call just before sending the command).
+
+        ``packets_show_arrival`` False: a packet at the target with ``inpos`` does not end a
+        move in which no motion was seen; :meth:`on_motion_state` does. A packet read after
+        the command went out can have been written before the controller took it, and an arm
+        already at the target shows ``inpos`` there (on a busy machine the move was then
+        judged done before the controller had started it, and the next command was refused
+        as "moving"); a ``get_motion_state`` reply is written after the move was taken, on
+        the same connection. Where the controller has no such command, packets must do."""
         self._armed_at = time.time()
         self._seen_moving = False
+        self._packets_show_arrival = packets_show_arrival
 
     def on_status(self, status: StatusPacket, received: float) -> None:
         if self.completion.done or received < self._armed_at:
@@ -119,7 +129,7 @@ class MoveWatch:
         if self._need_inpos and not status.inpos:
             self._seen_moving = True
             return
-        if self._seen_moving or self._at_target(status):
+        if self._seen_moving or (self._packets_show_arrival and self._at_target(status)):
             message = f"{self.label} done in {time.monotonic() - self.started:.3f} s"
             if self._final_error is not None:
                 message += f", {self._final_error(status)}"

@@ -88,7 +88,7 @@ class MoveCommands(RequestPart):
         self.send.require_link()
         # The controller would queue it; this driver does not (see the module doc).
         self.motion.take(MoveRun(watch), keeps_out(watch.label))
-        watch.arm()
+        watch.arm(packets_show_arrival=not self._motion_state_known)
         with self._send_lock:
             # stop_move or a lost link may end the watch before the move goes out: then it
             # is not sent, and the completion already says why
