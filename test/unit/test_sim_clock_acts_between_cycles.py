@@ -110,3 +110,26 @@ def test_a_request_stops_a_paused_clocks_steps_but_the_step_request_does_not():
     clock.tick()
     step.join(2.0)
     assert stepped == [True] and clock.cycles == 2
+
+
+def test_a_holder_whose_event_is_set_stops_time_until_it_has_run():
+    """As the jog watchdog kicked between two steps: its event set, the next cycle waits for
+    the waiter to run (it may still hold time when it does), however late its thread gets a
+    core — not only until its next look at the clock."""
+    clock, event, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event(), threading.Event()
+    order = []
+
+    def watchdog():
+        with clock.hold(react=False):
+            clock.wait(event, 10.0)
+            order.append("acted")
+            time.sleep(0.05)                 # still holding time while it acts
+
+    thread = _in_thread(watchdog)
+    time.sleep(0.1)                          # it waits on the clock: time may run
+    event.set()
+    assert clock.wait_for_cycle(quit_)       # the next cycle starts only once it has acted
+    order.append("cycle")
+    clock.tick()
+    thread.join(2.0)
+    assert order == ["acted", "cycle"]

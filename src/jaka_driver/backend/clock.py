@@ -239,7 +239,12 @@ class SimClock:
             return again
         for tid, (depth, since) in self._holds.items():
             waiter = self._waiting.get(tid)
-            if depth > 0 and (waiter is None or waiter.woken):
+            # a holder whose event is set is as good as awake: time stops at this cycle's
+            # end until it has run (the jog watchdog kicked while stepping, on a busy machine,
+            # woke 0.15 s of sim time late when the cycles ran on until its thread got a core)
+            awake = waiter is None or waiter.woken or (waiter.event is not None
+                                                       and waiter.event.is_set())
+            if depth > 0 and awake:
                 if wall - since < HOLD_LIMIT:
                     return min(again, since + HOLD_LIMIT)
                 if not self._stale_warned:
