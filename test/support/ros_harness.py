@@ -133,21 +133,12 @@ def stop_launch(proc: subprocess.Popen, timeout: float = 20.0) -> None:
     """SIGINT lets roslaunch stop its nodes; whatever it started and is still alive after
     ``timeout`` s is killed by pid."""
     started = descendants(proc.pid)
-    if proc.poll() is None:
-        try:
-            os.killpg(proc.pid, signal.SIGINT)
-            proc.wait(timeout=timeout)
-        except (subprocess.TimeoutExpired, ProcessLookupError):
-            pass
+    stop_process(proc, timeout)
     for pid in started:
         try:
             os.kill(pid, signal.SIGKILL)
         except ProcessLookupError:
             pass
-    try:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
     proc.wait()
 
 
