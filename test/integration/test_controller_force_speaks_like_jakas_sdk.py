@@ -19,18 +19,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from support.fake_controller import PROGRAM_STATE_POLL, FakeController, start_backend
+from support.fake_controller import fake  # noqa: F401 - the fixture
+from support.fake_controller import PROGRAM_STATE_POLL, start_backend
 from support.ros_harness import wait_until
 
 from jaka_driver.common.results import Code
 from jaka_driver.driver import RobotDriver
 from jaka_driver.kinematics import Kinematics
-
-
-@pytest.fixture
-def fake():
-    with FakeController(move_time=0.3) as controller:
-        yield controller
 
 
 @pytest.fixture
