@@ -1,6 +1,8 @@
 """sim_time through ROS on the zu5 twin at real_time_factor 0: /use_sim_time is set and /clock
 ticks every 8 ms cycle with the samples stamped on it; a joint_move takes its planned time and
-a servo stream is followed, both measured in sim time."""
+a servo stream is followed, both measured in sim time; its threads keep the default
+scheduling policy."""
+import os
 import time
 
 import numpy as np
@@ -9,6 +11,7 @@ from rosgraph_msgs.msg import Clock
 
 from support.ros_harness import (START, Recorder, go_home, sample_at, sim_sleep,
                                  start_sim_time_driver, stamp, wait_until)
+from support.scheduling import thread_policies
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 
 from jaka_driver.common.models import load_model
@@ -75,3 +78,10 @@ def test_a_servo_stream_paced_by_the_samples_is_followed(call, joints):
     reached = sim_sleep(joints, 0.1)
     assert np.max(np.abs(np.array(reached.position) - q)) < 1e-3
     assert call("servo_move_enable", ServoMoveEnable, enable=False).ret == 1
+
+
+def test_a_twin_in_sim_time_keeps_the_default_scheduling_policy(sim_driver):
+    """At real_time_factor 0 its cycles run back to back: at real-time priority they would
+    hold cores from every other program (jaka_driver.host.realtime)."""
+    assert set(thread_policies(sim_driver.proc.pid).values()) == {(os.SCHED_OTHER, 0)}
+    assert "scheduling: no real-time priority in sim time" in sim_driver.log_path.read_text()

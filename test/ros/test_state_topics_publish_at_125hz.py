@@ -6,10 +6,8 @@ each once, at that rate on average.
 Rates count the samples published per second of the arm's time (the stamps of its 8 ms cycles),
 not per second of the test's receipt: on a busy machine a subscriber receives late and in
 bursts, which says nothing of what the node published (bench/ times the delivery)."""
-import platform
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -118,25 +116,3 @@ def test_a_lower_rate_publishes_some_samples_each_once(request, sim_driver, rosp
         assert 45 <= rate <= 55, f"{rate:.1f} Hz"
     finally:
         rec.close()
-
-
-def _kernel_has_custom_slices() -> bool:
-    """Linux 6.12 and later honour a SCHED_OTHER thread's own time slice."""
-    major, minor = (int(x) for x in platform.release().split(".")[:2])
-    return (major, minor) >= (6, 12)
-
-
-def test_every_node_thread_asks_the_kernel_for_a_short_time_slice(sim_driver):
-    """Set once in the main thread before rospy and the twin start theirs, so the physics,
-    publisher and service threads all wake as latency-sensitive (jaka_driver.host.latency_hint)."""
-    slices = {}
-    for task in Path(f"/proc/{sim_driver.proc.pid}/task").iterdir():
-        sched = (task / "sched").read_text()
-        slices[task.name] = int(sched.split("se.slice")[1].split(":")[1].split()[0])
-    log = sim_driver.log_path.read_text()
-    if _kernel_has_custom_slices():
-        assert len(slices) >= 5, slices         # main, physics, publisher, rospy's own...
-        assert set(slices.values()) == {200_000}, slices
-        assert "scheduling: time slice 0.2 ms" in log
-    else:
-        assert "scheduling: no short time slice: this kernel has no custom slices" in log

@@ -38,6 +38,7 @@ import threading
 import time
 from typing import Any, Callable, Mapping, Optional, Tuple
 
+from ..host import realtime
 from ..protocol import CommandClient, StatusPoller, StatusReceiver, errors
 from ..protocol.fields import STATUS_REQUEST_PORT
 from ..protocol.replies import Reply
@@ -297,7 +298,8 @@ class ControllerLink:
         hooks = dict(
             on_status=lambda status, received: self._status(status, received, generation),
             on_connection_lost=lambda reason: self.lost(reason, generation),
-            connect_timeout=self.connect_timeout, stall_timeout=self.stall_timeout)
+            connect_timeout=self.connect_timeout, stall_timeout=self.stall_timeout,
+            thread_context=realtime.cycle_thread)
         receivers = []
         if self.status_source in ("stream", "both"):
             receivers.append(StatusReceiver(self.host, self.status_port, **hooks))

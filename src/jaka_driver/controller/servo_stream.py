@@ -22,6 +22,7 @@ import numpy as np
 from ..backend.completion import Completion
 from ..common.constants import SERVO_CYCLE
 from ..common.results import Code, Result
+from ..host import realtime
 from ..protocol import commands, errors
 from .move_watch import MoveWatch, joints_at
 
@@ -82,6 +83,7 @@ class TrajectoryStreamer:
         is told."""
         self.watch.abort(result)
 
+    @realtime.runs_the_cycle
     def _run(self) -> None:
         try:
             self._stream()

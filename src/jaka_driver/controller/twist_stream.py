@@ -25,6 +25,7 @@ import numpy as np
 
 from ..common.constants import SERVO_CYCLE
 from ..common.results import Code, Result
+from ..host import realtime
 from ..motion.velocity_jog import VelocityJog
 from ..protocol import commands, errors
 
@@ -67,6 +68,7 @@ class TwistStreamer:
         self.outcome = result
         self._halt.set()
 
+    @realtime.runs_the_cycle
     def _run(self) -> None:
         try:
             due = time.monotonic()

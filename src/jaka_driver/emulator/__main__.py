@@ -1,6 +1,7 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
-[--dh-from MODEL] [--calibration FILE|SEED] [--scene FILE] [--programs DIR] [--force-sensor]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--dh-from MODEL] [--calibration FILE|SEED] [--scene FILE] [--programs DIR] [--force-sensor]
+[--realtime-priority N]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -15,7 +16,7 @@ import sys
 import threading
 
 from ..common.models import MODEL_NAMES, load_model
-from ..host import heap, latency_hint
+from ..host import heap, latency_hint, realtime
 from .handlers import EMULATOR_COMMANDS
 from .profiles import ALIASES, DEFAULT_PROFILE, PROFILES, START_STATES
 from .ready_line import ready_line
@@ -67,8 +68,24 @@ def _parser() -> argparse.ArgumentParser:
                              "most arms ship)")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
+    parser.add_argument("--realtime-priority", type=_priority, default=realtime.DEFAULT_PRIORITY,
+                        metavar="N", help="SCHED_FIFO priority of the emulator's twin and status "
+                        "push once it serves, as a controller's cycle runs in real time (default "
+                        f"{realtime.DEFAULT_PRIORITY}; 0: the default policy); without the "
+                        "privilege it logs why and runs at the default policy")
     parser.add_argument("--log-level", default="INFO")
     return parser
+
+
+def _priority(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    why = realtime.priority_error(value)
+    if why is not None:
+        raise argparse.ArgumentTypeError(why)
+    return value
 
 
 def main(argv=None) -> int:
@@ -94,6 +111,8 @@ def main(argv=None) -> int:
             "%d objects of start-up kept out of full garbage collections (collected in %.0f "
             "ms)", kept, took * 1e3)
         emulator.start()
+        logging.getLogger("jaka_driver.emulator").info(
+            "scheduling: %s", realtime.request_realtime(args.realtime_priority))
     except ValueError as exc:
         print(f"jaka_emulator: {exc}", file=sys.stderr)
         return 2

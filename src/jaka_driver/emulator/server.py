@@ -30,6 +30,7 @@ import time
 from typing import Callable, Dict, Optional
 
 from ..common.constants import SERVO_CYCLE
+from ..host import realtime
 from ..protocol.fields import DATA_REQUEST_MAX_BYTES, ERROR_CODE_FAILED, Cmd, Field
 from ..protocol.status_stream import StatusEncoder, encode_data_reply
 from ..protocol.tcp_server import TcpServer
@@ -195,6 +196,7 @@ class EmulatorServer:
         return then != "close"
 
     # ---- status stream ------------------------------------------------------------------------
+    @realtime.runs_the_cycle
     def _broadcast(self) -> None:
         deadline = time.monotonic()
         encoder = StatusEncoder()       # the unchanged arrays are encoded once

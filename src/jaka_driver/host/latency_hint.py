@@ -21,6 +21,10 @@ physics thread alone with the short slice costs nothing and gains nothing measur
 Threads inherit the setting from the thread that starts them, so the scripts request it first
 thing, before an import can start one (numpy's BLAS pool does); this module imports nothing
 that starts threads.
+
+It is what start-up runs with, and what remains where the system gives no real-time priority:
+once ready, :mod:`.realtime` puts the threads at SCHED_FIFO where it may, which closes what no
+slice length does (a burst that a tick finds past its slice waits for the next tick).
 """
 from __future__ import annotations
 

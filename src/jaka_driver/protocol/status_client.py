@@ -16,7 +16,8 @@ import socket
 import threading
 import time
 import zlib
-from typing import Callable, Optional, Tuple
+from contextlib import nullcontext
+from typing import Callable, ContextManager, Optional, Tuple
 
 from .commands import data_request, encode
 from .connect import RECV_SIZE, open_connection
@@ -43,6 +44,8 @@ class StatusReceiver:
     any reason other than :meth:`stop` (peer closed, socket error, or no data for
     ``stall_timeout`` s if given); the thread then ends and :meth:`start` may be called again.
     Exceptions raised by the callbacks are logged and do not stop the thread.
+    ``thread_context()`` is entered first in that thread and left as it ends (the owner's
+    say on the thread, e.g. its scheduling; default: nothing).
     """
 
     _POLL = 0.1   # s; how often the thread looks at the stop flag and the stall timer
@@ -51,8 +54,10 @@ class StatusReceiver:
                  on_status: Optional[StatusCallback] = None,
                  on_connection_lost: Optional[LostCallback] = None,
                  connect_timeout: float = 1.0, stall_timeout: Optional[float] = None,
-                 clock: Callable[[], float] = time.time, max_buffer: int = MAX_BUFFER):
+                 clock: Callable[[], float] = time.time, max_buffer: int = MAX_BUFFER,
+                 thread_context: Callable[[], ContextManager] = nullcontext):
         self.host = host
+        self.thread_context = thread_context
         self.port = int(port)
         self.on_status = on_status
         self.on_connection_lost = on_connection_lost
@@ -123,6 +128,10 @@ class StatusReceiver:
         self.stop()
 
     def _run(self, sock: socket.socket, stop: threading.Event) -> None:
+        with self.thread_context():
+            self._read(sock, stop)
+
+    def _read(self, sock: socket.socket, stop: threading.Event) -> None:
         reason = None
         last_data = time.monotonic()
         try:
@@ -209,7 +218,7 @@ class StatusPoller(StatusReceiver):
         super().__init__(host, port, **kwargs)
         self.period = float(period)
 
-    def _run(self, sock: socket.socket, stop: threading.Event) -> None:
+    def _read(self, sock: socket.socket, stop: threading.Event) -> None:
         reason = None
         request = encode(data_request())
         wait = self.stall_timeout if self.stall_timeout is not None else 1.0

@@ -39,6 +39,9 @@ Parameters (private, ``~name``):
                      another live node already publishes ``/clock`` (ros/sim_time.py)
   ``real_time_factor``  sim_time: sim seconds per wall second (default 1.0; 0 = as fast as
                      the machine can step)
+  ``realtime_priority``  SCHED_FIFO priority of the threads of the node's cycle once it is
+                     ready (default 10; 0: the default policy); needs root, CAP_SYS_NICE or an
+                     rtprio limit, else the log says so; not in sim time (host/realtime.py)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
                      ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
 
@@ -57,7 +60,7 @@ import rospy
 from ..common.models import MODEL_NAMES, load_model, repo_root
 from ..conventions import conventions_named
 from ..driver import RobotDriver
-from ..host import heap, latency_hint
+from ..host import heap, latency_hint, realtime
 from . import sim_time
 from .circular_move import advertise_circular_move
 from .command_status import CommandStatus
@@ -159,12 +162,24 @@ def _params() -> dict:
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
         "force_sensor": rospy.get_param("~force_sensor", ""),
+        "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
 
 def _settled(kept: int, took: float) -> None:
     rospy.loginfo(f"{kept} objects of start-up kept out of full garbage collections "
                   f"(collected in {took * 1e3:.0f} ms)")
+
+
+def _realtime(p: dict) -> str:
+    """Real-time priority for the threads of the node's cycle now that it is ready
+    (host/realtime.py)."""
+    if p["sim_time"] and p["realtime_priority"]:
+        # At real_time_factor 0 the twin steps as fast as it can: at real-time priority it
+        # would hold cores from every other program; and in sim time what a client sees is
+        # stamped in sim time, whenever the wall clock lets the threads run.
+        return "no real-time priority in sim time; threads at the default policy"
+    return realtime.request_realtime(p["realtime_priority"])
 
 
 def main() -> int:
@@ -203,6 +218,13 @@ def main() -> int:
     if not p["real_time_factor"] >= 0:
         rospy.logfatal(f"~real_time_factor {p['real_time_factor']} is negative; expected ≥ 0 "
                        "(0 = as fast as possible)")
+        return 2
+    priority = p["realtime_priority"]
+    why = (realtime.priority_error(priority) if isinstance(priority, int)
+           and not isinstance(priority, bool) else f"realtime_priority {priority!r}; expected "
+           "a whole number")
+    if why is not None:
+        rospy.logfatal(f"~{why}")
         return 2
     if p["model"] not in MODEL_NAMES:
         rospy.logfatal(f"unknown model {p['model']!r}; expected one of {', '.join(MODEL_NAMES)}")
@@ -248,6 +270,7 @@ def main() -> int:
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     _settled(*heap.settle())
+    rospy.loginfo(f"scheduling: {_realtime(p)}")
     rospy.loginfo(f"jaka_driver ready: backend {p['backend']}, model {p['model']}, "
                   f"{p['rate']:g} Hz{timing}, conventions {conventions.name}")
     rospy.spin()

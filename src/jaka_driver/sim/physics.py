@@ -29,6 +29,7 @@ import mujoco
 import numpy as np
 
 from ..common.constants import SERVO_CYCLE, STALL_CYCLES
+from ..host import realtime
 from .motions import Hold, Motion
 from .servo import JointServo
 
@@ -211,6 +212,7 @@ class PhysicsLoop:
     def simulated(self) -> bool:
         return self.clock is not None and self.clock.simulated
 
+    @realtime.runs_the_cycle
     def _run(self) -> None:
         if self.simulated:
             self._run_in_sim_time()
