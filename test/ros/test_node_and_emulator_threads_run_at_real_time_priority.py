@@ -1,15 +1,17 @@
-"""Once ready, the threads of the cycle run at SCHED_FIFO 10 by default, every other thread at
-the default policy (jaka_driver.host.realtime: a busy machine then no longer delays a cycle by a
-scheduler tick): the twin's physics thread and the state publisher in the node on the twin, the
-status reader and the publisher in the node on a controller, the twin and the status push in
-the emulator. ``realtime_priority`` 0 leaves them at the default policy, with the short time
-slice; a priority outside 0–99 stops the node (exit 2) or the emulator (a usage error) with the
-value and the range; a twin in sim time keeps the default policy (at real_time_factor 0 it
-would hold cores at real-time priority)."""
+"""Once ready, the periodic threads run at SCHED_FIFO 10 by default and the others at the default
+policy (jaka_driver.host.realtime: a busy machine then no longer delays a cycle by a scheduler
+tick): in the node the cycle's (the twin's physics thread or the controller's status reader, the
+state publisher) and its watchers and slower topics, the main thread and the service threads
+not; in the emulator its twin and status push; a status reader started again after a lost link
+starts at the priority. ``realtime_priority`` 0 leaves them at the default policy, with the
+short time slice; a priority outside 0–99 stops the node (exit 2) or the emulator (a usage
+error) with the value and the range; a twin in sim time keeps the default policy (at
+real_time_factor 0 it would hold cores at real-time priority)."""
 from __future__ import annotations
 
 import os
 import platform
+import re
 import subprocess
 import sys
 
@@ -39,21 +41,32 @@ def _needs_fifo():
         pytest.skip("this machine gives the tests neither CAP_SYS_NICE nor an rtprio limit")
 
 
-def _fifo_and_others(pid: int) -> tuple[int, set]:
-    """(threads at SCHED_FIFO 10, the set of the others' (policy, priority))."""
+def _fifo(pid: int) -> list[int]:
+    """The threads of ``pid`` at SCHED_FIFO 10 (the others are checked to be at the default)."""
     policies = thread_policies(pid)
-    fifo = [tid for tid, p in policies.items() if p == FIFO_10]
-    return len(fifo), {p for p in policies.values() if p != FIFO_10}
+    assert {p for p in policies.values() if p != FIFO_10} == {DEFAULT}, policies
+    return [tid for tid, p in policies.items() if p == FIFO_10]
 
 
-def test_the_twin_node_s_physics_and_publisher_run_at_sched_fifo_10_once_ready(request,
-                                                                             rospy_node):
+def _said(log: str) -> int:
+    """How many periodic threads the log's scheduling line says it switched."""
+    match = re.search(r"scheduling: real-time priority SCHED_FIFO 10 for the periodic threads "
+                      r"\((\d+) now, and those that start later\); the others at the default "
+                      r"policy", log)
+    assert match, log[-3000:]
+    return int(match.group(1))
+
+
+def test_the_twin_node_s_periodic_threads_run_at_sched_fifo_10_and_no_other(request,
+                                                                          rospy_node):
     _needs_fifo()
     driver = _ready_driver(request)
-    assert _fifo_and_others(driver.proc.pid) == (2, {DEFAULT})
-    assert len(thread_policies(driver.proc.pid)) >= 5      # main, rospy's own... stay as they are
-    assert ("scheduling: real-time priority SCHED_FIFO 10 for the cycle's threads (2 now, and "
-            "those that start later)") in driver.log_path.read_text()
+    fifo = _fifo(driver.proc.pid)
+    # physics, publisher, TF, program state, diagnostics, speed ratio, watchdogs, stream ends
+    assert len(fifo) >= 8, fifo
+    assert len(fifo) == _said(driver.log_path.read_text())
+    assert driver.proc.pid not in fifo                      # the main thread
+    assert len(thread_policies(driver.proc.pid)) > len(fifo) + 3   # rospy's own, services
 
 
 def _kernel_has_custom_slices() -> bool:
@@ -100,21 +113,23 @@ def test_the_emulator_s_twin_and_status_push_and_the_node_s_status_reader_run_at
     _needs_fifo()
     emulator = EmulatorProcess("zu5").start()
     request.addfinalizer(emulator.stop)
-    assert _fifo_and_others(emulator.proc.pid) == (2, {DEFAULT})
+    assert len(_fifo(emulator.proc.pid)) == 2
     driver = DriverProcess(log_name=f"realtime_{request.node.name}", backend="controller",
                            model="zu5", ip="127.0.0.1", command_port=emulator.command_port,
                            status_port=emulator.status_port)
     request.addfinalizer(driver.stop)
     driver.wait_ready()
-    assert _fifo_and_others(driver.proc.pid) == (2, {DEFAULT})
-    # a status reader that starts again, after the link was lost, starts at the priority
+    ready = len(_fifo(driver.proc.pid))
+    assert ready == _said(driver.log_path.read_text()) and ready >= 8
+    # the status reader ends with its link; the one that starts when the link is back
+    # starts at the priority
     emulator.stop()
-    assert wait_until(lambda: _fifo_and_others(driver.proc.pid)[0] == 1, 10.0), \
-        thread_policies(driver.proc.pid)              # the reader ended with its link
+    assert wait_until(lambda: len(_fifo(driver.proc.pid)) == ready - 1, 10.0), \
+        thread_policies(driver.proc.pid)
     restarted = EmulatorProcess("zu5", command_port=emulator.command_port,
                                 status_port=emulator.status_port).start()
     request.addfinalizer(restarted.stop)
-    assert wait_until(lambda: _fifo_and_others(driver.proc.pid) == (2, {DEFAULT}), 20.0), \
+    assert wait_until(lambda: len(_fifo(driver.proc.pid)) == ready, 20.0), \
         thread_policies(driver.proc.pid)
 
 

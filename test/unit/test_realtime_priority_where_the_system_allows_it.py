@@ -20,7 +20,7 @@ from jaka_driver.host import realtime
 seen = {}
 ready, done = threading.Event(), threading.Event()
 
-@realtime.runs_the_cycle
+@realtime.runs_periodically
 def cycle(name, before=None):
     if before is not None:
         before.set()
@@ -45,7 +45,7 @@ for t in threads:
     t.join()
 # a cycle thread that ended is no longer registered: a later grant does not reach its id
 print(json.dumps({"message": message, "main": realtime.policy_name(), **seen,
-                  "registered": len(realtime._cycle_threads)}))
+                  "registered": len(realtime._periodic_threads)}))
 """
 NOBODY = 65534
 
@@ -67,11 +67,11 @@ def _as_nobody():
     return drop
 
 
-def test_the_cycle_threads_run_and_start_at_the_priority_and_no_other_thread_does():
+def test_the_periodic_threads_run_and_start_at_the_priority_and_no_other_thread_does():
     if not may_use_fifo():
         pytest.skip("this machine gives the tests neither CAP_SYS_NICE nor an rtprio limit")
     got = _child(10)
-    assert got["message"] == ("real-time priority SCHED_FIFO 10 for the cycle's threads (1 now, "
+    assert got["message"] == ("real-time priority SCHED_FIFO 10 for the periodic threads (1 now, "
                               "and those that start later); the others at the default policy")
     assert (got["before"], got["after"]) == ("SCHED_FIFO", "SCHED_FIFO"), got
     assert (got["main"], got["other"]) == ("SCHED_OTHER", "SCHED_OTHER"), got

@@ -299,7 +299,7 @@ class ControllerLink:
             on_status=lambda status, received: self._status(status, received, generation),
             on_connection_lost=lambda reason: self.lost(reason, generation),
             connect_timeout=self.connect_timeout, stall_timeout=self.stall_timeout,
-            thread_context=realtime.cycle_thread)
+            thread_context=realtime.periodic_thread)
         receivers = []
         if self.status_source in ("stream", "both"):
             receivers.append(StatusReceiver(self.host, self.status_port, **hooks))

@@ -33,6 +33,7 @@ from typing import Optional
 
 from ..backend.programs import Programs, ProgramState, ProgramStatus, UserVariable
 from ..common.results import Code, CommandRefused, Result
+from ..host import realtime
 from ..protocol import commands
 from ..protocol import programs as wire
 from .commander import Commander, answers
@@ -79,6 +80,7 @@ class ControllerPrograms(Programs):
         """Read the state now (a new connection, a program command sent)."""
         self._wake.set()
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         while not self._quit.is_set():
             self._wake.wait(STATE_POLL)

@@ -83,7 +83,7 @@ class TrajectoryStreamer:
         is told."""
         self.watch.abort(result)
 
-    @realtime.runs_the_cycle
+    @realtime.runs_periodically
     def _run(self) -> None:
         try:
             self._stream()

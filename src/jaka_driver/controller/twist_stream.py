@@ -68,7 +68,7 @@ class TwistStreamer:
         self.outcome = result
         self._halt.set()
 
-    @realtime.runs_the_cycle
+    @realtime.runs_periodically
     def _run(self) -> None:
         try:
             due = time.monotonic()

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Callable, Optional
 
 from ..backend.clock import SimClock, WallClock
+from ..host import realtime
 
 
 @dataclass
@@ -77,6 +78,7 @@ class JogWatchdog:
         self._changed.set()
         self._thread.join(timeout=1.0)
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         clock = self._clock
         with clock.hold(react=False):

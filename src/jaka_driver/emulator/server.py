@@ -196,7 +196,7 @@ class EmulatorServer:
         return then != "close"
 
     # ---- status stream ------------------------------------------------------------------------
-    @realtime.runs_the_cycle
+    @realtime.runs_periodically
     def _broadcast(self) -> None:
         deadline = time.monotonic()
         encoder = StatusEncoder()       # the unchanged arrays are encoded once

@@ -18,6 +18,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 
 from ..common.results import Result
+from ..host import realtime
 
 
 class CommandStatus:
@@ -77,6 +78,7 @@ class StreamEnd:
         if not self._started.is_set():
             self._started.set()
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         while not rospy.is_shutdown():
             if not self._started.wait(1.0):

@@ -9,6 +9,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from ..driver import RobotDriver
+from ..host import realtime
 
 
 class Diagnostics:
@@ -48,6 +49,7 @@ class Diagnostics:
                                 message=message, hardware_id=f"JAKA {self._driver.model.name}",
                                 values=[KeyValue(k, v) for k, v in values.items()])
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         while not rospy.is_shutdown():
             try:

@@ -27,6 +27,7 @@ from jaka_driver_msgs.msg import AdmittanceAxis, ForceControlState, ToolDriveAxi
 from ..backend.force import SENSOR_FRAME, ForceSettings, rebound_from_si
 from ..backend.robot_state import RobotState
 from ..driver import RobotDriver
+from ..host import realtime
 
 STATE_CHECK_PERIOD = 0.1        # s (wall) between looks for a change of the force state
 
@@ -109,6 +110,7 @@ class ForceTopics:
             msg.header.stamp = rospy.Time.from_sec(self._driver.state().stamp)
             self._state.publish(msg)
 
+    @realtime.runs_periodically
     def _watch(self) -> None:
         while not rospy.is_shutdown():
             time.sleep(STATE_CHECK_PERIOD)      # wall time: a look, not a timeout

@@ -11,6 +11,7 @@ from geometry_msgs.msg import TransformStamped
 
 from ..common.transforms import matrix_to_quat
 from ..driver import RobotDriver
+from ..host import realtime
 
 
 def _transform(parent: str, child: str, pose, stamp) -> TransformStamped:
@@ -36,6 +37,7 @@ class FrameBroadcaster:
         self._tf = tf2_ros.TransformBroadcaster()
         threading.Thread(target=self._run, name="frame-tf", daemon=True).start()
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         while not rospy.is_shutdown():
             try:

@@ -39,9 +39,10 @@ Parameters (private, ``~name``):
                      another live node already publishes ``/clock`` (ros/sim_time.py)
   ``real_time_factor``  sim_time: sim seconds per wall second (default 1.0; 0 = as fast as
                      the machine can step)
-  ``realtime_priority``  SCHED_FIFO priority of the threads of the node's cycle once it is
-                     ready (default 10; 0: the default policy); needs root, CAP_SYS_NICE or an
-                     rtprio limit, else the log says so; not in sim time (host/realtime.py)
+  ``realtime_priority``  SCHED_FIFO priority of the node's periodic threads (its cycle's,
+                     watchers, slower topics) once it is ready (default 10; 0: the default
+                     policy); needs root, CAP_SYS_NICE or an rtprio limit, else the log says
+                     so; not in sim time (host/realtime.py)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
                      ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
 
@@ -172,7 +173,7 @@ def _settled(kept: int, took: float) -> None:
 
 
 def _realtime(p: dict) -> str:
-    """Real-time priority for the threads of the node's cycle now that it is ready
+    """Real-time priority for the node's periodic threads now that it is ready
     (host/realtime.py)."""
     if p["sim_time"] and p["realtime_priority"]:
         # At real_time_factor 0 the twin steps as fast as it can: at real-time priority it

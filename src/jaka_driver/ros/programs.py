@@ -25,6 +25,7 @@ from jaka_driver_msgs.srv import (GetLoadedProgram, GetLoadedProgramResponse,
 
 from ..backend import ProgramStatus
 from ..driver import RobotDriver
+from ..host import realtime
 from .services import _logged, _ret
 
 #: s (wall) between two looks at the program's state
@@ -79,6 +80,7 @@ class ProgramStatePublisher:
         self._pub = rospy.Publisher("~program/state", ProgramState, queue_size=10, latch=True)
         threading.Thread(target=self._run, name="program-state", daemon=True).start()
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         last = None
         while not rospy.is_shutdown():

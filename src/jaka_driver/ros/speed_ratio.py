@@ -14,6 +14,7 @@ from std_msgs.msg import Float64
 from jaka_driver_msgs.srv import SetSpeedRatio, SetSpeedRatioResponse
 
 from ..driver import RobotDriver
+from ..host import realtime
 
 
 class SpeedRatio:
@@ -41,6 +42,7 @@ class SpeedRatio:
                 self._pub.publish(Float64(ratio))
                 self._published = ratio
 
+    @realtime.runs_periodically
     def _run(self) -> None:
         while not rospy.is_shutdown():
             try:

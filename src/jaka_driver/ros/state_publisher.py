@@ -120,7 +120,7 @@ class StatePublisher:
         except Exception as exc:  # noqa: BLE001 — a bad sample must not stop the stream
             rospy.logerr_throttle(5.0, f"state publishing failed: {exc!r}")
 
-    @realtime.runs_the_cycle
+    @realtime.runs_periodically
     def _run(self) -> None:
         every_sample = self._sim_clock is not None
         last = self._driver.state().stamp - 1e-6     # from the current sample on

@@ -212,7 +212,7 @@ class PhysicsLoop:
     def simulated(self) -> bool:
         return self.clock is not None and self.clock.simulated
 
-    @realtime.runs_the_cycle
+    @realtime.runs_periodically
     def _run(self) -> None:
         if self.simulated:
             self._run_in_sim_time()
