@@ -2,8 +2,7 @@
 
 1. state topics for ``topic_s`` with the machine otherwise idle (node CPU measured alongside),
    then the bare timer loop of :mod:`bench.scheduler_floor` (what the machine allows);
-2. the same with both cores loaded by :class:`bench.cpu_load.BusyLoad` (node CPU too), then
-   each topic alone in this process's subscriber, and the bare loop beside them, still loaded;
+2. the same with both cores loaded by :class:`bench.cpu_load.BusyLoad` (node CPU too);
 3. servo_j round trip; 4. the servo sine stream (node CPU measured during it).
 
 Every window also records the whole machine's CPU use, so a run disturbed by other programs
@@ -20,7 +19,6 @@ from .cpu_load import BusyLoad
 from .proc_meter import CpuWindow, MachineWindow
 
 FLOOR_S = 10.0      # the bare loop's window: 1250 wake-ups
-LOADED = "both cores loaded"
 
 
 def _window(driver, seconds: float, loaded: bool):
@@ -50,14 +48,6 @@ def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: floa
         raw[f"topics {condition}"] = samples
         raw[f"timer loop {condition}"] = floor
         raw[f"machine {condition}"] = cpu[condition]["machine_percent"]
-    log(f"  state topics, {LOADED}, each {state_topics.ALONE}, {topic_s / 3:g} s each")
-    with BusyLoad():
-        alone = state_topics.record_alone(driver, topic_s / 3)
-        floor = scheduler_floor.timer_loop(min(topic_s / 3, FLOOR_S))
-    rows += state_topics.alone_rows(group, LOADED, state_topics.analyse(alone))
-    rows += scheduler_floor.rows(group, f"{LOADED}, beside the topics {state_topics.ALONE}",
-                                 scheduler_floor.analyse(floor),
-                                 state_topics.INTERARRIVAL_P99_MS)
     with ExitStack() as stack:
         joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
         log("  servo_j round trip")

@@ -87,14 +87,12 @@ def _late_note(s: dict, what: str, value: float, machine_percent: float | None) 
             "after three wake-ups: the twin's physics thread at the cycle's end, the node's "
             "publisher, the subscriber's receive thread. The bare timer loop's row (same "
             "load, right after this window) shows what one wake-up at the default priority "
-            "gets from this machine. The node asks the kernel for a short time slice for "
-            "its threads (jaka_driver.host.latency_hint); the subscriber here runs at the "
-            "default, as a user's would. What closes the rest is real-time priority "
-            "(SCHED_FIFO) for the node's and the receiving thread: measured here, the "
-            "node's threads at SCHED_FIFO took ~0.6 ms off this p99 while the subscriber "
-            "stayed at the default, and a whole rospy subscriber process at SCHED_FIFO "
-            "starved the machine, so give it to the one receiving thread (a C++ "
-            "subscriber can).")
+            "gets from this machine; the subscriber here runs at the default, as a user's "
+            "would. The node's threads run at real-time priority (SCHED_FIFO 10) once it is "
+            "ready where the system allows it, else at the default policy with a short time "
+            "slice: its log's \"scheduling:\" line says which (jaka_driver.host.realtime). At "
+            "the default policy a cycle's burst that a scheduler tick finds past its slice "
+            "waits for the next tick (3-4 ms).")
 
 
 def rows(group: str, condition: str, stats: dict, judge: bool = True,
@@ -150,25 +148,3 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
                        f"{fmt(age['p50'])} / {fmt(age['p99'])} / {fmt(age['max'])} ms",
                        f"p99 ≤ {AGE_P99_MS:g} ms", verdict(ok), note))
     return out
-
-
-ALONE = "alone in its subscriber"
-
-
-def record_alone(driver, seconds: float) -> dict:
-    """Each state topic recorded by itself for ``seconds`` (one after the other), so that no
-    other topic's receive thread in this process competes with it for the interpreter lock:
-    the three topics arrive together each cycle, and a rospy subscriber of all three hands its
-    lock from one receive thread to the next, each hand-over a wake-up that a loaded machine
-    delays (measured: joint_position alone p99 8.4-8.6 ms, among the three 12.1 ms, loaded)."""
-    return {name: record(driver, seconds, ((name, msg_type),))[name]
-            for name, msg_type in TOPICS}
-
-
-def alone_rows(group: str, condition: str, stats: dict) -> list[Row]:
-    """Report rows of :func:`record_alone`'s windows (their targets: bench.floor_targets)."""
-    return [Row(group, f"{name} inter-arrival p50 / p99 / max, {condition}, {ALONE}",
-                f"{fmt(s['interarrival_ms']['p50'])} / {fmt(s['interarrival_ms']['p99'])} / "
-                f"{fmt(s['interarrival_ms']['max'])} ms ({s['messages']} msgs)", "report",
-                REPORT, data={"interarrival_ms": s["interarrival_ms"]})
-            for name, s in stats.items()]

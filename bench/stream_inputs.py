@@ -5,6 +5,13 @@ command → observed, each with the floor a causal 8 ms cycle allows and the dri
 it, and the node's CPU while each streams — and the velocity input ``~twist_command``: from the
 first twist published to the first sample that moves (with the same floor), from the last twist
 to rest, and the node's CPU while a teleop streams twists at 125 Hz.
+
+The node's CPU of the four inputs is compared in interleaved windows (:func:`cpu_of_inputs`):
+``CPU_ROUNDS`` rounds, each input streamed for ``CPU_STREAM_S`` in every round (the order
+turned by one each round) and measured over the middle ``CPU_WINDOW_S``, their sums compared.
+Each input costs a few % of a core, and a window of one input after another minutes apart moved
+by ±2 points with the host (the servo_j stream measured 4.2 % and 7.8 % in two runs); in
+interleaved windows a drift of the host's speed falls on every input alike.
 """
 from __future__ import annotations
 
@@ -29,6 +36,10 @@ TWIST_TRIALS = 20
 TWIST_BURST_S = 0.24          # s of twists per trial
 REST_WAIT_S = 0.5             # s after a burst: the watchdog (0.1 s) and the ramp to rest
 MOVED_RAD = 1e-6              # a sample this far from the rest pose has moved
+CPU_ROUNDS = 4
+CPU_STREAM_S = 4.0            # two periods of the sines: each stream ends where it began
+CPU_WINDOW_S = 3.0            # measured in the middle of it
+TWIST = "~twist_command topic"
 
 
 def _publisher(driver, leaf: str, msg_type):
@@ -49,12 +60,6 @@ def trajectory_sender(driver, names):
         pub.publish(JointTrajectory(joint_names=names,
                                     points=[JointTrajectoryPoint(positions=q.tolist())]))
     return lambda servo: send
-
-
-def _cpu(driver, fn):
-    with MachineWindow() as machine, CpuWindow(driver.proc.pid) as window:
-        result = fn()
-    return result, {**window.as_dict(), "machine_percent": machine.percent}
 
 
 def paced_cycles(seconds: float):
@@ -140,17 +145,77 @@ def twist_rows(group: str, trials: dict, cpu: dict, service_cpu: dict) -> list[R
             f"{cpu['cpu_percent']:.1f} % of one core (servo_j service stream "
             f"{service_cpu['cpu_percent']:.1f} %); machine {cpu['machine_percent']:.0f} % of 1 "
             f"core over {cpu['window_s']:.0f} s", "report", REPORT,
-            "Each twist: a velocity jog call (checks, the watchdog's kick); each cycle in the "
-            "physics thread: one IK and two 6×6 SVDs of the velocity jog.", data=cpu),
+            "Each twist: a velocity jog call (checks; only the first twist of a stream wakes "
+            "the watchdog); each cycle in the physics thread: the velocity jog's kinematics "
+            "in one C call. Measured in windows interleaved with the servo inputs' (module "
+            "docstring).", data=cpu),
     ]
 
 
-def twist_stream(driver, seconds: float) -> None:
-    """A teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz for ``seconds``."""
+class _Meter:
+    """The node's and the machine's CPU summed over the windows of one input."""
+
+    def __init__(self):
+        self.node_s = self.machine_s = self.wall_s = 0.0
+
+    def add(self, node: CpuWindow, machine: MachineWindow) -> None:
+        self.node_s += node.percent / 100 * node.seconds
+        self.machine_s += machine.percent / 100 * node.seconds
+        self.wall_s += node.seconds
+
+    def as_dict(self) -> dict:
+        return {"cpu_percent": 100 * self.node_s / self.wall_s, "window_s": self.wall_s,
+                "machine_percent": 100 * self.machine_s / self.wall_s}
+
+
+def _measured(driver, meter: _Meter, send_cycle) -> None:
+    """``send_cycle(i)`` at 125 Hz for CPU_STREAM_S, the node's CPU taken over the middle
+    CPU_WINDOW_S into ``meter``."""
+    first = int(round((CPU_STREAM_S - CPU_WINDOW_S) / 2 / SERVO_CYCLE))
+    last = first + int(round(CPU_WINDOW_S / SERVO_CYCLE))
+    node, machine = CpuWindow(driver.proc.pid), MachineWindow()
+    for i in paced_cycles(CPU_STREAM_S):
+        if i == first:
+            machine.__enter__()
+            node.start()
+        elif i == last:
+            node.stop()
+            machine.__exit__(None, None, None)
+            meter.add(node, machine)
+        send_cycle(i)
+
+
+def _servo_input(driver, calls, joints, sender):
+    """One window of the servo sine through ``sender`` (see servo_latency.sine_stream)."""
+    def window(meter: _Meter) -> None:
+        center = np.array(ros_session.wait_until(joints.latest, 5.0).position)
+        with servo_latency.ServoSession(driver, calls) as servo:
+            send = sender(servo)
+            _measured(driver, meter, lambda i: send(center + servo_latency.AMPLITUDE_RAD * (
+                np.sin(2 * np.pi * servo_latency.FREQUENCY_HZ * i * SERVO_CYCLE))))
+    return window
+
+
+def _twist_input(driver):
+    """One window of a teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz."""
     pub = _publisher(driver, "twist_command", TwistStamped)
-    for i in paced_cycles(seconds):
-        pub.publish(base_twist(TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE)))
-    time.sleep(REST_WAIT_S)
+
+    def window(meter: _Meter) -> None:
+        _measured(driver, meter, lambda i: pub.publish(base_twist(
+            TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE))))
+        time.sleep(REST_WAIT_S)           # the watchdog and the ramp to rest
+    return window
+
+
+def cpu_of_inputs(inputs: dict) -> dict:
+    """label → CPU dict (``cpu_percent`` of one core, ``window_s``, ``machine_percent``) of
+    each input (label → ``window(meter)``), over CPU_ROUNDS interleaved rounds."""
+    meters = {label: _Meter() for label in inputs}
+    labels = list(inputs)
+    for r in range(CPU_ROUNDS):
+        for label in labels[r % len(labels):] + labels[:r % len(labels)]:
+            inputs[label](meters[label])
+    return {label: m.as_dict() for label, m in meters.items()}
 
 
 def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) -> list[Row]:
@@ -158,13 +223,18 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
     joints = ros_session.Recorder(driver.name("joint_position"), JointState)
     try:
         names = list(ros_session.wait_until(joints.latest, 5.0).name)
-        streams, cpu = {}, {}
-        for label, sender in (("servo_j service", servo_latency.by_service),
-                              ("~joint_position_command topic", array_sender(driver)),
-                              ("~joint_command topic", trajectory_sender(driver, names))):
+        senders = {"servo_j service": servo_latency.by_service,
+                   "~joint_position_command topic": array_sender(driver),
+                   "~joint_command topic": trajectory_sender(driver, names)}
+        streams = {}
+        for label, sender in senders.items():
             log(f"  servo sine through the {label}, {seconds:g} s")
-            streams[label], cpu[label] = _cpu(driver, lambda: servo_latency.sine_stream(
-                driver, calls, joints, seconds, sender))
+            streams[label] = servo_latency.sine_stream(driver, calls, joints, seconds, sender)
+        log(f"  node CPU of the four inputs: {CPU_ROUNDS} interleaved rounds of "
+            f"{CPU_WINDOW_S:g} s each")
+        cpu = cpu_of_inputs({**{label: _servo_input(driver, calls, joints, sender)
+                                for label, sender in senders.items()},
+                             TWIST: _twist_input(driver)})
         service_cpu = cpu["servo_j service"]
         for label, stream in streams.items():
             topic = label != "servo_j service"
@@ -178,14 +248,13 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
             rows.append(Row(group, f"node CPU while streaming through the {label}",
                             f"{c['cpu_percent']:.1f} % of one core; machine "
                             f"{c['machine_percent']:.0f} % of 1 core over "
-                            f"{c['window_s']:.0f} s",
+                            f"{c['window_s']:.0f} s ({CPU_ROUNDS} windows interleaved with "
+                            "the other inputs')",
                             "≤ the servo_j service stream's" if topic else "report",
                             judged(cpu_ok) if topic else REPORT, data=c))
         log(f"  twist: {trials} starts and stops from rest")
         trials_data = twist_trials(driver, joints, trials)
-        log(f"  twist: a teleop stream, {seconds:g} s")
-        _, twist_cpu = _cpu(driver, lambda: twist_stream(driver, seconds))
-        rows += twist_rows(group, trials_data, twist_cpu, service_cpu)
+        rows += twist_rows(group, trials_data, cpu[TWIST], service_cpu)
     finally:
         joints.close()
     return rows
