@@ -11,7 +11,7 @@ received by a subscriber at the default priority, 10 s windows, one fresh node e
 * the default policy, with the short slice of :mod:`.latency_hint` or any other (0.2, 0.5, 0.7,
   1, 3 and 10 ms; nice -5 and -10): inter-arrival p99 8.2–13.4 ms (55 nodes, 38 of them over
   10 ms), sample age p99 up to 6 ms, ~9 % of the cycles one tick late;
-* the cycle's threads alone at ``SCHED_FIFO`` 10: 8.2–10.2 ms (14 nodes, median 9.0);
+* the cycle's threads alone at ``SCHED_FIFO`` 10: 8.2–10.2 ms (14 nodes, median 8.9);
 * the periodic threads at ``SCHED_FIFO`` 10 (below): 8.2–9.3 ms (6 nodes, median 8.4, paired
   with 6 of the former: lower in 5), the bare timer loop of ``bench/scheduler_floor.py`` 8.0 ms.
 
