@@ -77,6 +77,12 @@ def round_trip(driver, calls, joints_rec, n: int = 2000) -> dict:
     return {"rtt_s": times, "refused": refused}
 
 
+def sine_target(center: np.ndarray, k: int) -> np.ndarray:
+    """Target ``k`` (rad) of the servo sine about ``center``: AMPLITUDE_RAD at FREQUENCY_HZ on
+    every joint, one target per 8 ms cycle."""
+    return center + AMPLITUDE_RAD * np.sin(2 * np.pi * FREQUENCY_HZ * k * SERVO_CYCLE)
+
+
 def by_service(servo: ServoSession):
     """A sender through the servo_j service: ``send(q) -> refused`` (True if refused)."""
     return lambda q: servo.proxy(pose=q.tolist()).ret != 1
@@ -122,7 +128,7 @@ def sine_stream(driver, calls, joints_rec, seconds: float, sender=by_service) ->
             delay = deadline - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
-            q = center + AMPLITUDE_RAD * np.sin(2 * np.pi * FREQUENCY_HZ * k * SERVO_CYCLE)
+            q = sine_target(center, k)
             targets[k] = q
             sent[k] = time.time()
             t0 = time.perf_counter()

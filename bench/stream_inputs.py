@@ -191,8 +191,7 @@ def _servo_input(driver, calls, joints, sender):
         center = np.array(ros_session.wait_until(joints.latest, 5.0).position)
         with servo_latency.ServoSession(driver, calls) as servo:
             send = sender(servo)
-            _measured(driver, meter, lambda i: send(center + servo_latency.AMPLITUDE_RAD * (
-                np.sin(2 * np.pi * servo_latency.FREQUENCY_HZ * i * SERVO_CYCLE))))
+            _measured(driver, meter, lambda i: send(servo_latency.sine_target(center, i)))
     return window
 
 

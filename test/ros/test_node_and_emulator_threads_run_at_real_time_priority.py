@@ -10,7 +10,6 @@ real_time_factor 0 it would hold cores at real-time priority)."""
 from __future__ import annotations
 
 import os
-import platform
 import re
 import subprocess
 import sys
@@ -18,7 +17,8 @@ import sys
 import pytest
 
 from support.ros_harness import DriverProcess, wait_until
-from support.scheduling import may_use_fifo, thread_policies, thread_slices
+from support.scheduling import (kernel_has_custom_slices, may_use_fifo, thread_policies,
+                                thread_slices)
 
 from jaka_driver.emulator.process import EmulatorProcess
 
@@ -69,12 +69,6 @@ def test_the_twin_node_s_periodic_threads_run_at_sched_fifo_10_and_no_other(requ
     assert len(thread_policies(driver.proc.pid)) > len(fifo) + 3   # rospy's own, services
 
 
-def _kernel_has_custom_slices() -> bool:
-    """Linux 6.12 and later honour a SCHED_OTHER thread's own time slice."""
-    major, minor = (int(x) for x in platform.release().split(".")[:2])
-    return (major, minor) >= (6, 12)
-
-
 def test_realtime_priority_0_leaves_every_thread_at_the_default_policy_with_the_short_slice(
         request, rospy_node):
     """The short slice (jaka_driver.host.latency_hint) is set once in the main thread before
@@ -85,7 +79,7 @@ def test_realtime_priority_0_leaves_every_thread_at_the_default_policy_with_the_
     log = driver.log_path.read_text()
     assert "scheduling: real-time priority off (realtime_priority 0)" in log
     slices = thread_slices(driver.proc.pid)
-    if _kernel_has_custom_slices():
+    if kernel_has_custom_slices():
         assert len(slices) >= 5, slices         # main, physics, publisher, rospy's own...
         assert set(slices.values()) == {200_000}, slices
         assert "scheduling: time slice 0.2 ms" in log

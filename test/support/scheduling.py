@@ -3,10 +3,17 @@ processes ask for real-time priority (jaka_driver.host.realtime)."""
 from __future__ import annotations
 
 import os
+import platform
 import resource
 from pathlib import Path
 
 CAP_SYS_NICE = 23
+
+
+def kernel_has_custom_slices() -> bool:
+    """Linux 6.12 and later honour a SCHED_OTHER thread's own time slice."""
+    major, minor = (int(x) for x in platform.release().split(".")[:2])
+    return (major, minor) >= (6, 12)
 
 
 def may_use_fifo(priority: int = 10) -> bool:

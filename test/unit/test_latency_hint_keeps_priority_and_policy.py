@@ -3,13 +3,13 @@ the slice, the process keeps its nice value and SCHED_OTHER, and a process start
 real-time priority is left there. Each case runs in a child process of its own, so this
 test process's scheduling is untouched."""
 import os
-import platform
 import subprocess
 import sys
 
 import pytest
 
 from jaka_driver.host.latency_hint import SLICE_S
+from support.scheduling import kernel_has_custom_slices
 
 CHILD = """
 import os, threading
@@ -24,11 +24,6 @@ print(os.getpriority(os.PRIO_PROCESS, 0), os.sched_getscheduler(0))
 """
 
 
-def _kernel_has_custom_slices() -> bool:
-    major, minor = (int(x) for x in platform.release().split(".")[:2])
-    return (major, minor) >= (6, 12)
-
-
 def _child(prefix=(), preexec=None) -> tuple[str, str, list[int]]:
     out = subprocess.run([*prefix, sys.executable, "-c", CHILD], capture_output=True,
                          text=True, timeout=30, preexec_fn=preexec, check=True)
@@ -38,7 +33,7 @@ def _child(prefix=(), preexec=None) -> tuple[str, str, list[int]]:
 
 def test_a_thread_started_after_the_request_has_the_short_slice():
     message, thread_slice, (nice, policy) = _child()
-    if _kernel_has_custom_slices():
+    if kernel_has_custom_slices():
         assert message == "time slice 0.2 ms for this process's threads (latency-sensitive)"
         assert float(thread_slice) == pytest.approx(SLICE_S, abs=1e-9)
     else:

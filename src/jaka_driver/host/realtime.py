@@ -72,15 +72,6 @@ def priority_error(priority: int) -> str | None:
     return f"realtime_priority {priority}; expected 0 (off) or 1–{highest} (SCHED_FIFO)"
 
 
-def policy_name(tid: int = 0) -> str:
-    """The scheduling policy of thread ``tid`` (0: the calling thread), e.g. ``SCHED_FIFO``."""
-    policy = os.sched_getscheduler(tid)
-    for name in ("SCHED_OTHER", "SCHED_FIFO", "SCHED_RR", "SCHED_BATCH", "SCHED_IDLE"):
-        if policy == getattr(os, name, None):
-            return name
-    return f"policy {policy}"
-
-
 @contextmanager
 def periodic_thread() -> Iterator[None]:
     """Run the calling thread's loop as one of the periodic threads: at the granted real-time
