@@ -4,7 +4,8 @@ the step check against the last target, the servo stream's watchdog), on either 
 
 - ``~joint_command`` (``trajectory_msgs/JointTrajectory``): exactly one point, its
   ``positions`` (rad) named by ``joint_names`` — all six of the model's, in any order (they are
-  reordered), as moveit_servo publishes to a controller;
+  reordered), as moveit_servo publishes to a controller (read from its bytes:
+  :mod:`.trajectory_wire`);
 - ``~joint_position_command`` (``std_msgs/Float64MultiArray``): ``data`` the six positions
   (rad) in the model's joint order, as a ros_control position group takes them.
 
@@ -13,36 +14,16 @@ and the stream's end go to ``~command_status`` (:mod:`.command_status`).
 """
 from __future__ import annotations
 
-from typing import Sequence
-
 import rospy
 from std_msgs.msg import Float64MultiArray
-from trajectory_msgs.msg import JointTrajectory
 
-from ..common.results import Code, Result
+from ..common.results import Result
 from ..driver import RobotDriver
 from .command_status import CommandStatus, StreamEnd
+from .trajectory_wire import TrajectoryReader, TrajectoryTarget
 
 TRAJECTORY_TOPIC = "~joint_command"
 ARRAY_TOPIC = "~joint_position_command"
-
-
-def trajectory_positions(msg: JointTrajectory, joint_names: Sequence[str]) -> "list | Result":
-    """The six positions (rad, the model's order) of a one-point JointTrajectory, or the
-    refusal naming the field, the value and the limit."""
-    if len(msg.points) != 1:
-        return Result.failure(Code.INVALID_PARAMETER, f"points has {len(msg.points)} points, "
-                              "expected 1 (one servo target per message)")
-    names = list(msg.joint_names)
-    if sorted(names) != sorted(joint_names):
-        return Result.failure(Code.INVALID_PARAMETER, f"joint_names is {names}, expected the "
-                              f"six joints {list(joint_names)} in any order")
-    positions = list(msg.points[0].positions)
-    if len(positions) != len(names):
-        return Result.failure(Code.INVALID_PARAMETER, f"points[0].positions has "
-                              f"{len(positions)} values, expected {len(names)}")
-    by_name = dict(zip(names, positions))
-    return [by_name[name] for name in joint_names]
 
 
 class JointCommandInput:
@@ -51,7 +32,7 @@ class JointCommandInput:
     def __init__(self, driver: RobotDriver, status: CommandStatus, servo_timeout: float):
         self._driver = driver
         self._status = status
-        self._names = list(driver.model.joint_names)
+        self._trajectory = TrajectoryReader(driver.model.joint_names)
         ends = "the stream stopped: the arm holds its last target"
         self._resolved = {topic: rospy.resolve_name(topic)
                           for topic in (TRAJECTORY_TOPIC, ARRAY_TOPIC)}
@@ -59,14 +40,13 @@ class JointCommandInput:
                       for topic, name in self._resolved.items()}
         # tcp_nodelay: a stream of small messages is sent at once, not batched by Nagle
         self._subs = [
-            rospy.Subscriber(TRAJECTORY_TOPIC, JointTrajectory, self._on_trajectory,
+            rospy.Subscriber(TRAJECTORY_TOPIC, TrajectoryTarget, self._on_trajectory,
                              queue_size=8, tcp_nodelay=True),
             rospy.Subscriber(ARRAY_TOPIC, Float64MultiArray, self._on_array, queue_size=8,
                              tcp_nodelay=True)]
 
-    def _on_trajectory(self, msg: JointTrajectory) -> None:
-        positions = trajectory_positions(msg, self._names)
-        self._target(TRAJECTORY_TOPIC, positions)
+    def _on_trajectory(self, msg: TrajectoryTarget) -> None:
+        self._target(TRAJECTORY_TOPIC, self._trajectory.positions(msg))
 
     def _on_array(self, msg: Float64MultiArray) -> None:
         self._target(ARRAY_TOPIC, list(msg.data))
