@@ -6,16 +6,20 @@ it, and the node's CPU while each streams — and the velocity input ``~twist_co
 first twist published to the first sample that moves (with the same floor), from the last twist
 to rest, and the node's CPU while a teleop streams twists at 125 Hz.
 
-The node's CPU of the four inputs is compared in interleaved windows (:func:`cpu_of_inputs`):
-``CPU_ROUNDS`` rounds, each input streamed for ``CPU_STREAM_S`` in every round (the order
-turned by one each round) and measured over the middle ``CPU_WINDOW_S``, their sums compared.
-Each input costs a few % of a core, and a window of one input after another minutes apart moved
-by ±2 points with the host (the servo_j stream measured 4.2 % and 7.8 % in two runs); in
-interleaved windows a drift of the host's speed falls on every input alike.
+The node's CPU of the inputs is compared in interleaved windows, because the host's speed
+does not hold still: one input's windows a few seconds apart measured 4.7 and 14.7 % of a core
+(the same stream), so windows of one input after another compare the host's seconds, not the
+inputs. The three servo inputs share one servo session (:func:`cpu_of_servo_inputs`): the
+sender changes every SEGMENT_CYCLES cycles in turn, the node's CPU read at each change on the
+kernel's nanosecond clock of the process, so every input meets the same seconds of the host.
+The velocity input needs servo mode off, so it is compared with the servo_j service stream in
+windows of their own (:func:`cpu_of_inputs`: CPU_ROUNDS rounds, the order swapped each round,
+each measured over the middle CPU_WINDOW_S of a CPU_STREAM_S stream).
 """
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 import rospy
@@ -25,7 +29,7 @@ from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from . import ros_session, servo_latency
-from .proc_meter import CpuWindow, MachineWindow
+from .proc_meter import ProcessCpuClock, machine_busy_seconds
 from .report import REPORT, Row, judged
 from .stats import fmt, summary
 from jaka_driver.common.constants import SERVO_CYCLE
@@ -36,14 +40,23 @@ TWIST_TRIALS = 20
 TWIST_BURST_S = 0.24          # s of twists per trial
 REST_WAIT_S = 0.5             # s after a burst: the watchdog (0.1 s) and the ramp to rest
 MOVED_RAD = 1e-6              # a sample this far from the rest pose has moved
-CPU_ROUNDS = 4
+CPU_ROUNDS = 4                # twist against the service: S W, W S, S W, W S
 CPU_STREAM_S = 4.0            # two periods of the sines: each stream ends where it began
 CPU_WINDOW_S = 3.0            # measured in the middle of it
+SEGMENT_CYCLES = 25           # the servo inputs: a sender's turn, 0.2 s
+SERVO_CPU_SEGMENTS = 180      # 36 s: 60 turns of each of the three servo inputs
 TWIST = "~twist_command topic"
 
 
 def _publisher(driver, leaf: str, msg_type):
-    pub = rospy.Publisher(driver.name(leaf), msg_type, queue_size=10, tcp_nodelay=True)
+    """A publisher as a servo loop's: each message written to the socket by the sending thread
+    (``queue_size=None``). rospy's queued publisher hands every message to a thread of its
+    own; on these two cores that thread, the sender and the node's receiving thread made
+    three runnable at once, and the node's thread was preempted 0.5-1 times a message
+    (bench.thread_meter) — the sender's cost counted as the node's."""
+    with warnings.catch_warnings():       # rospy warns of queue_size=None for callbacks' sake
+        warnings.simplefilter("ignore")
+        pub = rospy.Publisher(driver.name(leaf), msg_type, queue_size=None, tcp_nodelay=True)
     ros_session.wait_until(lambda: pub.get_num_connections() > 0, 5.0)
     return pub
 
@@ -143,45 +156,55 @@ def twist_rows(group: str, trials: dict, cpu: dict, service_cpu: dict) -> list[R
             "0.2 s of the last twist.", data={"stop_ms": stop}),
         Row(group, "node CPU, ~twist_command streamed at 125 Hz",
             f"{cpu['cpu_percent']:.1f} % of one core (servo_j service stream "
-            f"{service_cpu['cpu_percent']:.1f} %); machine {cpu['machine_percent']:.0f} % of 1 "
+            f"{service_cpu['cpu_percent']:.1f} % in the windows between); machine "
+            f"{cpu['machine_percent']:.0f} % of 1 "
             f"core over {cpu['window_s']:.0f} s", "report", REPORT,
             "Each twist: a velocity jog call (checks; only the first twist of a stream wakes "
             "the watchdog); each cycle in the physics thread: the velocity jog's kinematics "
-            "in one C call. Measured in windows interleaved with the servo inputs' (module "
-            "docstring).", data=cpu),
+            "in one C call. Measured in windows interleaved with the servo_j service "
+            "stream's (module docstring).",
+            data={**cpu, "service_cpu_percent": service_cpu["cpu_percent"]}),
     ]
 
 
 class _Meter:
-    """The node's and the machine's CPU summed over the windows of one input."""
+    """The node's CPU (its process's nanosecond clock), the machine's and the wall time, summed
+    over the windows of one input: :meth:`begin` and :meth:`end` around each window."""
 
-    def __init__(self):
+    def __init__(self, clock: ProcessCpuClock):
+        self._clock = clock
         self.node_s = self.machine_s = self.wall_s = 0.0
+        self.windows = 0
+        self._since: tuple | None = None
 
-    def add(self, node: CpuWindow, machine: MachineWindow) -> None:
-        self.node_s += node.percent / 100 * node.seconds
-        self.machine_s += machine.percent / 100 * node.seconds
-        self.wall_s += node.seconds
+    def begin(self) -> None:
+        self._since = (self._clock(), *machine_busy_seconds())
+
+    def end(self) -> None:
+        node0, busy0, t0 = self._since
+        busy1, t1 = machine_busy_seconds()
+        self.node_s += self._clock() - node0
+        self.machine_s += busy1 - busy0
+        self.wall_s += t1 - t0
+        self.windows += 1
+        self._since = None
 
     def as_dict(self) -> dict:
         return {"cpu_percent": 100 * self.node_s / self.wall_s, "window_s": self.wall_s,
-                "machine_percent": 100 * self.machine_s / self.wall_s}
+                "machine_percent": 100 * self.machine_s / self.wall_s,
+                "windows": self.windows}
 
 
-def _measured(driver, meter: _Meter, send_cycle) -> None:
+def _measured(meter: _Meter, send_cycle) -> None:
     """``send_cycle(i)`` at 125 Hz for CPU_STREAM_S, the node's CPU taken over the middle
     CPU_WINDOW_S into ``meter``."""
     first = int(round((CPU_STREAM_S - CPU_WINDOW_S) / 2 / SERVO_CYCLE))
     last = first + int(round(CPU_WINDOW_S / SERVO_CYCLE))
-    node, machine = CpuWindow(driver.proc.pid), MachineWindow()
     for i in paced_cycles(CPU_STREAM_S):
         if i == first:
-            machine.__enter__()
-            node.start()
+            meter.begin()
         elif i == last:
-            node.stop()
-            machine.__exit__(None, None, None)
-            meter.add(node, machine)
+            meter.end()
         send_cycle(i)
 
 
@@ -191,29 +214,58 @@ def _servo_input(driver, calls, joints, sender):
         center = np.array(ros_session.wait_until(joints.latest, 5.0).position)
         with servo_latency.ServoSession(driver, calls) as servo:
             send = sender(servo)
-            _measured(driver, meter, lambda i: send(servo_latency.sine_target(center, i)))
+            _measured(meter, lambda i: send(servo_latency.sine_target(center, i)))
     return window
 
 
 def _twist_input(driver):
-    """One window of a teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz."""
+    """One window of a teleop's stream: a 0.5 Hz sine of 0.05 m/s along x at 125 Hz, from rest
+    to rest (whole periods of a sine velocity: the arm ends where it began, window after
+    window; a cosine's stop at full speed moved it ~5 mm further each time, until the twin's
+    floor stopped it)."""
     pub = _publisher(driver, "twist_command", TwistStamped)
 
     def window(meter: _Meter) -> None:
-        _measured(driver, meter, lambda i: pub.publish(base_twist(
-            TWIST_SPEED * np.cos(2 * np.pi * 0.5 * i * SERVO_CYCLE))))
+        _measured(meter, lambda i: pub.publish(base_twist(
+            TWIST_SPEED * np.sin(2 * np.pi * 0.5 * i * SERVO_CYCLE))))
         time.sleep(REST_WAIT_S)           # the watchdog and the ramp to rest
     return window
 
 
-def cpu_of_inputs(inputs: dict) -> dict:
-    """label → CPU dict (``cpu_percent`` of one core, ``window_s``, ``machine_percent``) of
-    each input (label → ``window(meter)``), over CPU_ROUNDS interleaved rounds."""
-    meters = {label: _Meter() for label in inputs}
+def cpu_of_inputs(driver, inputs: dict) -> dict:
+    """label → CPU dict (``cpu_percent`` of one core, ``window_s``, ``machine_percent``,
+    ``windows``) of each input (label → ``window(meter)``) of ``driver``'s node, over
+    CPU_ROUNDS interleaved rounds."""
+    clock = ProcessCpuClock(driver.proc.pid)
+    meters = {label: _Meter(clock) for label in inputs}
     labels = list(inputs)
     for r in range(CPU_ROUNDS):
         for label in labels[r % len(labels):] + labels[:r % len(labels)]:
             inputs[label](meters[label])
+    return {label: m.as_dict() for label, m in meters.items()}
+
+
+def cpu_of_servo_inputs(driver, calls, joints, senders: dict) -> dict:
+    """label → CPU dict (as :func:`cpu_of_inputs`) of each servo input (label → sender, as
+    :func:`servo_latency.sine_stream` takes them), in one servo session: the sine streamed for
+    SERVO_CPU_SEGMENTS turns of SEGMENT_CYCLES cycles, the senders taking turns in order, each
+    turn measured without its first cycle (a topic's last message of the turn before is
+    handled in it)."""
+    clock = ProcessCpuClock(driver.proc.pid)
+    labels = list(senders)
+    meters = {label: _Meter(clock) for label in labels}
+    center = np.array(ros_session.wait_until(joints.latest, 5.0).position)
+    cycles = SERVO_CPU_SEGMENTS * SEGMENT_CYCLES + 1     # the last turn's end is read too
+    with servo_latency.ServoSession(driver, calls) as servo:
+        sends = {label: sender(servo) for label, sender in senders.items()}
+        for i in paced_cycles(cycles * SERVO_CYCLE):
+            turn, phase = divmod(i, SEGMENT_CYCLES)
+            label = labels[turn % len(labels)]
+            if phase == 0 and turn > 0:
+                meters[labels[(turn - 1) % len(labels)]].end()
+            elif phase == 1:
+                meters[label].begin()
+            sends[label](servo_latency.sine_target(center, i))
     return {label: m.as_dict() for label, m in meters.items()}
 
 
@@ -229,12 +281,15 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
         for label, sender in senders.items():
             log(f"  servo sine through the {label}, {seconds:g} s")
             streams[label] = servo_latency.sine_stream(driver, calls, joints, seconds, sender)
-        log(f"  node CPU of the four inputs: {CPU_ROUNDS} interleaved rounds of "
-            f"{CPU_WINDOW_S:g} s each")
-        cpu = cpu_of_inputs({**{label: _servo_input(driver, calls, joints, sender)
-                                for label, sender in senders.items()},
-                             TWIST: _twist_input(driver)})
+        log(f"  node CPU of the three servo inputs: turns of {SEGMENT_CYCLES} cycles in one "
+            f"servo session, {SERVO_CPU_SEGMENTS * SEGMENT_CYCLES * SERVO_CYCLE:g} s")
+        cpu = cpu_of_servo_inputs(driver, calls, joints, senders)
         service_cpu = cpu["servo_j service"]
+        log(f"  node CPU of ~twist_command and the servo_j service: {CPU_ROUNDS} rounds of "
+            f"{CPU_WINDOW_S:g} s each")
+        paired = cpu_of_inputs(driver, {
+            "servo_j service": _servo_input(driver, calls, joints, servo_latency.by_service),
+            TWIST: _twist_input(driver)})
         for label, stream in streams.items():
             topic = label != "servo_j service"
             floor = servo_latency.floor_text(servo_latency.observed_latency(stream))[1]["p99"]
@@ -245,15 +300,15 @@ def run(group: str, driver, calls, *, seconds: float, trials: int, log=print) ->
             c = cpu[label]
             cpu_ok = c["cpu_percent"] <= service_cpu["cpu_percent"]
             rows.append(Row(group, f"node CPU while streaming through the {label}",
-                            f"{c['cpu_percent']:.1f} % of one core; machine "
+                            f"{c['cpu_percent']:.2f} % of one core; machine "
                             f"{c['machine_percent']:.0f} % of 1 core over "
-                            f"{c['window_s']:.0f} s ({CPU_ROUNDS} windows interleaved with "
-                            "the other inputs')",
+                            f"{c['window_s']:.0f} s ({c['windows']} turns of 0.2 s taken "
+                            "in turn with the other servo inputs in one servo session)",
                             "≤ the servo_j service stream's" if topic else "report",
                             judged(cpu_ok) if topic else REPORT, data=c))
         log(f"  twist: {trials} starts and stops from rest")
         trials_data = twist_trials(driver, joints, trials)
-        rows += twist_rows(group, trials_data, cpu[TWIST], service_cpu)
+        rows += twist_rows(group, trials_data, paired[TWIST], paired["servo_j service"])
     finally:
         joints.close()
     return rows
