@@ -39,6 +39,30 @@ def test_flange_pose_and_tcp_pose_compose_tool_and_user(kin):
                                    atol=1e-12)
 
 
+def test_tcp_pose_follows_every_change_of_the_user_frame():
+    """The user frame's inverse is kept between calls: a new frame, the old one again, the
+    same array changed in place and a frame that is no pose must all be seen."""
+    kin = Kinematics(load_model("zu5"))
+    rng = np.random.default_rng(2)
+    q, tool = _random_q(kin, rng, 1)[0], _random_frame(rng, 0.2)
+    F = kin.flange_pose(q)
+    a, b = _random_frame(rng, 0.5), _random_frame(rng, 0.5)
+    for user in (a, b, a, a.copy()):
+        np.testing.assert_allclose(kin.tcp_pose(q, tool, user), np.linalg.inv(user) @ F @ tool,
+                                   atol=1e-12)
+    a[:3, 3] += 0.1                            # the same array, moved
+    np.testing.assert_allclose(kin.tcp_pose(q, tool, a), np.linalg.inv(a) @ F @ tool,
+                               atol=1e-12)
+    np.testing.assert_allclose(kin.tcp_pose(q, tool, a.tolist()), np.linalg.inv(a) @ F @ tool,
+                               atol=1e-12)
+    bad = a.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(ValueError):
+        kin.tcp_pose(q, tool, bad)
+    with pytest.raises(ValueError):
+        kin.tcp_pose(q, tool, a.reshape(16))   # the same bytes, not a 4x4
+
+
 def test_jacobian_matches_finite_differences(kin):
     rng = np.random.default_rng(2)
     tool = _random_frame(rng, 0.15)

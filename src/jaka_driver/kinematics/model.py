@@ -114,6 +114,8 @@ class Kinematics:
         self._weight = 1.0 / np.asarray(model.max_velocity, dtype=float)
         self._weight2 = self._weight ** 2
         self._local = threading.local()
+        #: (the user frame's shape, dtype and bytes, its inverse): the last one asked for
+        self._user_inverse: tuple | None = None
         # Plain-float copies for the hot path of the seed's clamping.
         self._lower_list = self._lower.tolist()
         self._upper_list = self._upper.tolist()
@@ -172,8 +174,22 @@ class Kinematics:
         if tool is not None:
             T = T @ _as_pose(tool, "tool")
         if user is not None:
-            T = _inv(_as_pose(user, "user")) @ T
+            T = self._inverse_of_user(user) @ T
         return T
+
+    def _inverse_of_user(self, user) -> np.ndarray:
+        """``user⁻¹`` (4x4, m), checked; the last user frame's is kept: every sample's TCP
+        needs it and a user frame changes rarely (an inverse and its checks were a fifth of
+        the state publisher's work per sample)."""
+        key = (user.shape, user.dtype.str, user.tobytes()) if isinstance(user, np.ndarray) \
+            else None
+        kept = self._user_inverse
+        if key is not None and kept is not None and kept[0] == key:
+            return kept[1]
+        inverse = _inv(_as_pose(user, "user"))
+        if key is not None:
+            self._user_inverse = (key, inverse)
+        return inverse
 
     def jacobian(self, q, tool=None) -> np.ndarray:
         """6x6 Jacobian of the TCP at joint positions ``q`` (rad): rows (vx, vy, vz, ωx, ωy, ωz)
