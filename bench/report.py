@@ -47,10 +47,16 @@ def _machine() -> dict:
 
 
 def _commit(root: Path) -> str:
+    """The checkout's commit, ``-dirty`` if a tracked file differs from it — the results this
+    run has just written (plots first) aside, or every run would read dirty."""
+    git = ["git", "-C", str(root)]
     try:
-        out = subprocess.run(["git", "-C", str(root), "describe", "--always", "--dirty"],
-                             capture_output=True, text=True, timeout=5)
-        return out.stdout.strip()
+        commit = subprocess.run(git + ["describe", "--always"], capture_output=True, text=True,
+                                timeout=5).stdout.strip()
+        changed = subprocess.run(git + ["status", "--porcelain", "--untracked-files=no", "--",
+                                        ".", ":(exclude)bench/results"],
+                                 capture_output=True, text=True, timeout=5).stdout.strip()
+        return f"{commit}-dirty" if commit and changed else commit
     except (OSError, subprocess.SubprocessError):
         return ""
 
