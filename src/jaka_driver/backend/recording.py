@@ -19,7 +19,8 @@ facet has one method for each:
 **The rules**, written once here for every backend (docs/design.md, "Where a new capability
 lives"): a name is a program's name (:func:`checked_name`: letters, digits, ``_ - .``, no path,
 at most :data:`MAX_NAME` characters — JAKA's header gives 100), the configuration's values are
-sane (:func:`checked_config`), and the twin's facet refuses starting while it records, and
+sane (:func:`checked_config`: thresholds 0.01 mm / 0.01° or more, as the wire's 2 decimals
+carry them), and the twin's facet refuses starting while it records, and
 renaming, removing or generating a recording that does not exist or is being recorded.
 
 Units: :class:`TrajConfig` holds SI (m, rad, m/s, m/s²); JAKA's SDK and the services speak mm,
@@ -46,6 +47,9 @@ _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
 #: point of a demonstration worth the name)
 MAX_XYZ_INTERVAL_MM = 1000.0
 MAX_RPY_INTERVAL_DEG = 180.0
+#: mm and deg: the smallest thresholds — JAKA's SDK writes them with 2 decimals, so a smaller
+#: one would reach a controller as 0
+MIN_INTERVAL = 0.01
 
 
 @dataclass(frozen=True)
@@ -94,18 +98,20 @@ def checked_name(field: str, name) -> str:
 
 
 def checked_config(config: TrajConfig, max_speed: float, max_accel: float) -> TrajConfig:
-    """``config`` if every value is sane — thresholds above 0 and at most
+    """``config`` if every value is sane — thresholds from :data:`MIN_INTERVAL` to
     :data:`MAX_XYZ_INTERVAL_MM` / :data:`MAX_RPY_INTERVAL_DEG`, the replay's speed and
     acceleration above 0 and at most the arm's (``max_speed`` m/s, ``max_accel`` m/s²) —, or a
     -2 refusal naming the field, the value and the limit in the request's units."""
     x, r, v, a = config.request_units()
-    for field, value, limit, unit in (("xyz_interval", x, MAX_XYZ_INTERVAL_MM, "mm"),
-                                      ("rpy_interval", r, MAX_RPY_INTERVAL_DEG, "deg"),
-                                      ("vel", v, max_speed * 1e3, "mm/s"),
-                                      ("acc", a, max_accel * 1e3, "mm/s²")):
-        if not math.isfinite(value) or not 0.0 < value <= limit + 1e-9:
+    for field, value, low, limit, unit in (
+            ("xyz_interval", x, MIN_INTERVAL, MAX_XYZ_INTERVAL_MM, "mm"),
+            ("rpy_interval", r, MIN_INTERVAL, MAX_RPY_INTERVAL_DEG, "deg"),
+            ("vel", v, 0.0, max_speed * 1e3, "mm/s"),
+            ("acc", a, 0.0, max_accel * 1e3, "mm/s²")):
+        if not math.isfinite(value) or not low - 1e-9 <= value <= limit + 1e-9 or value <= 0:
+            least = f"at least {low:g}" if low else "above 0"
             raise CommandRefused(Code.INVALID_PARAMETER, f"{field} is {value:g} {unit}, "
-                                 f"expected above 0 and at most {limit:g} {unit}")
+                                 f"expected {least} and at most {limit:g} {unit}")
     return config
 
 

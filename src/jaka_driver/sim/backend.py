@@ -105,6 +105,7 @@ class SimBackend(Backend):
         # trajectory recording: the tool's pose offered every cycle, after the checks
         self.recording = SimRecording(self.programs.folder, self._kin, self.frames,
                                       lambda: (self._tool_id, self._user_id),
+                                      self._physics,
                                       model.max_tcp_speed, model.max_tcp_accel)
         self._physics.on_cycle.append(self.recording.sample)
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)

@@ -5,7 +5,7 @@ While a recording runs, :meth:`SimRecording.sample` — one of the physics loop'
 checks — reads the tool's pose from the cycle's measured joints, whatever moves the arm (drag
 mode, tool drive under a push, jogs, moves, programs, servo streams), and keeps a point
 whenever the tool has moved ``xyz_interval`` or turned ``rpy_interval`` since the last kept
-point (:class:`PathSampler`; the first cycle's pose is always kept). The pose is the tool that
+point (:class:`PathSampler`; the pose it starts at, the latest sample's, is always kept). The pose is the tool that
 was active when the recording started in the user frame active then, so a frame changed
 meanwhile does not bend the path. In simulated time the same requests keep the same points,
 bit for bit: the sampling runs in the cycle, never in a thread of its own.
@@ -75,15 +75,17 @@ class _Take:
 class SimRecording(Recording):
     """Recording on the twin (see the module): ``programs`` the programs folder (None: none),
     ``kinematics`` the arm's, ``frames()`` the active (tool, user) 4x4s and ``frame_ids()``
-    their ids, ``max_speed`` / ``max_accel`` the arm's TCP
+    their ids, ``physics`` the loop (its latest sample: a recording keeps the pose it starts
+    at), ``max_speed`` / ``max_accel`` the arm's TCP
     limits (m/s, m/s²)."""
 
     def __init__(self, programs: Optional[Path], kinematics, frames: Callable, frame_ids:
-                 Callable, max_speed: float, max_accel: float):
+                 Callable, physics, max_speed: float, max_accel: float):
         self._store = TrackFolder(programs)
         self._kin = kinematics
         self._frames = frames
         self._frame_ids = frame_ids
+        self._physics = physics
         self._limits = (max_speed, max_accel)
         self._lock = threading.Lock()
         self._config = TrajConfig()
@@ -130,8 +132,11 @@ class SimRecording(Recording):
                 return Result.failure(Code.BUSY, f"filename is {name!r}: already recording "
                                       f"{self._take.name!r} (set_traj_sample_mode 0 stops it)")
             config = self._config
-            self._take = _Take(name, tool.copy(), user.copy(), frames,
-                               PathSampler(config), config)
+            take = self._take = _Take(name, tool.copy(), user.copy(), frames,
+                                      PathSampler(config), config)
+            now = self._physics.sample()          # stamped wall0 + d.time, as below
+            take.sampler.offer(now.stamp - self._physics.wall0, now.q,
+                               self._kin.tcp_pose(now.q, take.tool, take.user))
         return Result.success(f"recording {name!r} ({config.describe()}; {frames})")
 
     def stop(self) -> Result:
