@@ -25,6 +25,7 @@ import numpy as np
 
 from ..backend.recording import TRACK_FOLDER, TrajConfig
 from .folder import SUFFIX
+from .parser import MAX_BYTES
 
 #: a recording's file suffix
 RECORDING_SUFFIX = ".track"
@@ -102,7 +103,8 @@ class TrackFolder:
             self._path(name, suffix).unlink(missing_ok=True)
 
     def write_program(self, name: str, points: Sequence[KeptPoint], config: TrajConfig) -> Path:
-        """Write the replay program of ``points`` as ``track/<name>`` (see the module)."""
+        """Write the replay program of ``points`` as ``track/<name>`` (see the module);
+        ValueError when it would be longer than a program may be (the parser's ``MAX_BYTES``)."""
         _, _, vel, acc = config.request_units()
         first = points[0]
         lines = [f"# {TRACK_FOLDER}/{name}: the replay of recording {name}, {len(points)} kept "
@@ -112,8 +114,15 @@ class TrackFolder:
                  "      # to the first kept point"]
         lines += [f"linear_move {_numbers(p.pose_mm[:3], 4, p.pose_mm[3:], 6)} "
                   f"speed {vel:.6g} accel {acc:.6g}" for p in points[1:]]
+        text = "\n".join(lines) + "\n"
+        size = len(text.encode("utf-8"))
+        if size > MAX_BYTES:
+            raise ValueError(f"its replay of {len(points)} kept points would be {size} bytes, "
+                             f"a program has at most {MAX_BYTES}: record with a larger "
+                             "xyz_interval or rpy_interval")
+        self.folder.mkdir(parents=True, exist_ok=True)
         path = self._path(name, SUFFIX)
-        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        path.write_text(text, encoding="utf-8")
         return path
 
 

@@ -210,7 +210,13 @@ class SimRecording(Recording):
         if not points:
             return Result.failure(Code.INVALID_PARAMETER, f"fileName is {name!r}: the "
                                   "recording kept no point")
-        self._store.write_program(name, points, self._config)
+        try:
+            self._store.write_program(name, points, self._config)
+        except ValueError as exc:
+            return Result.failure(Code.INVALID_PARAMETER, f"fileName is {name!r}: {exc}")
+        except OSError as exc:
+            return Result.failure(Code.COMMUNICATION_ERROR, f"fileName is {name!r}: the "
+                                  f"program cannot be written: {exc}")
         return Result.success(f"program {TRACK_PREFIX}{name} generated: {len(points)} kept "
                               f"points at {self._config.describe()}",
                               f"{TRACK_PREFIX}{name}")
