@@ -69,6 +69,7 @@ from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
+from .recording_services import advertise_recording
 from .services import advertise, advertise_faults
 from .servo_filter import advertise_servo_filter
 from .servo_topics import JointCommandInput
@@ -255,6 +256,7 @@ def main() -> int:
     advertise(driver)
     advertise_circular_move(driver)
     advertise_programs(driver)
+    advertise_recording(driver)
     advertise_servo_filter(driver)
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)

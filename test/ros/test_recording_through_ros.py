@@ -1,0 +1,110 @@
+"""Trajectory recording through ROS on one node (the zu5 twin, its programs folder a temporary
+one): the eight services are there under JAKA's SDK names; a joint move made while recording
+is recorded, listed, renamed, generated as track/<name>, loaded and played by the program
+services to its end, the last kept point (at most xyz_interval before the move's end); the configuration reads back in the request's
+units; refusals come back with ret -2 / -10 naming the field and value, and change nothing."""
+import numpy as np
+import pytest
+import rosservice
+from jaka_msgs.srv import GetFK, Move
+
+from jaka_driver.programs.track import TrackFolder
+from jaka_driver_msgs.msg import ProgramState
+from jaka_driver_msgs.srv import (GetTrajConfig, GetTrajFiles, GetTrajSampleStatus,
+                                  LoadProgram, ProgramCommand, RenameTrajFile, SetTrajConfig,
+                                  SetTrajSampleMode, TrajFile)
+from sensor_msgs.msg import JointState
+from support.ros_harness import (START, Recorder, Services, go_home, position, start_driver,
+                                 wait_until)
+
+pytestmark = pytest.mark.ros
+
+RECORDING_SERVICES = {"set_traj_config", "get_traj_config", "set_traj_sample_mode",
+                      "get_traj_sample_status", "get_exist_traj_file_name",
+                      "rename_traj_file_name", "remove_traj_file", "generate_traj_exe_file"}
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("programs")
+
+
+@pytest.fixture(scope="module")
+def node(request, rospy_node, folder):
+    return start_driver(request, backend="sim", model="zu5", programs=str(folder))
+
+
+@pytest.fixture(scope="module")
+def call(node):
+    services = Services(node)
+    yield services
+    services.close()
+
+
+@pytest.fixture(scope="module")
+def joints(node):
+    recorder = Recorder(node.name("joint_position"), JointState)
+    yield recorder
+    recorder.close()
+
+
+@pytest.fixture(scope="module")
+def program_state(node):
+    recorder = Recorder(node.name("program/state"), ProgramState)
+    yield recorder
+    recorder.close()
+
+
+def test_a_move_recorded_through_ros_replays_as_track_program_to_its_end(call, program_state,
+                                                                         joints, folder):
+    served = {name.split("/jaka_driver/", 1)[1] for name in rosservice.get_service_list()
+              if name.startswith("/jaka_driver/")}
+    assert RECORDING_SERVICES <= served, RECORDING_SERVICES - served
+    go_home(call)
+    reply = call("set_traj_config", SetTrajConfig, xyz_interval=20.0, rpy_interval=5.0,
+                 vel=200.0, acc=2000.0)
+    assert reply.ret == 1, reply.message
+    config = call("get_traj_config", GetTrajConfig)
+    assert (config.xyz_interval, config.rpy_interval, config.vel, config.acc) == \
+        pytest.approx((20.0, 5.0, 200.0, 2000.0))
+    assert call("set_traj_sample_mode", SetTrajSampleMode, start=True, filename="demo").ret == 1
+    assert call("get_traj_sample_status", GetTrajSampleStatus).sampling
+    target = list(START)
+    target[0] += 0.15
+    assert call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=5.0).ret == 1
+    assert call("set_traj_sample_mode", SetTrajSampleMode, start=False, filename="").ret == 1
+    assert not call("get_traj_sample_status", GetTrajSampleStatus).sampling
+    assert call("rename_traj_file_name", RenameTrajFile, src="demo", dest="taught").ret == 1
+    assert call("get_exist_traj_file_name", GetTrajFiles).names == ["taught"]
+    generated = call("generate_traj_exe_file", TrajFile, name="taught")
+    assert generated.ret == 1 and "track/taught" in generated.message
+    end = np.array(call("get_fk", GetFK, joint=target).cartesian_pose[:3])
+
+    go_home(call)
+    assert call("program/load", LoadProgram, name="track/taught").ret == 1
+    assert call("program/play", ProgramCommand).ret == 1
+    assert wait_until(lambda: (m := program_state.latest()) and m.state == 1, 5.0)
+    done = wait_until(lambda: (m := program_state.latest()) and m.state == 0 and m, 15.0)
+    assert done and done.error == "" and done.name == "track/taught", program_state.latest()
+    here = np.array(call("get_fk", GetFK, joint=list(position(joints))).cartesian_pose[:3])
+    last = TrackFolder(folder).load("taught")[-1].pose_mm[:3]
+    assert np.linalg.norm(here - last) < 0.5                # the last kept point,
+    assert np.linalg.norm(here - end) < 20.0 + 0.5          # the move's end within the interval
+
+
+def test_refusals_through_ros_name_field_and_value_and_change_nothing(call):
+    before = call("get_exist_traj_file_name", GetTrajFiles).names
+    for name, srv, fields, ret, words in (
+            ("set_traj_sample_mode", SetTrajSampleMode, dict(start=True, filename="a/b"), -2,
+             "filename is 'a/b'"),
+            ("generate_traj_exe_file", TrajFile, dict(name="nowhere"), -2,
+             "fileName is 'nowhere': no recording"),
+            ("set_traj_config", SetTrajConfig, dict(xyz_interval=1.0, rpy_interval=1.0,
+                                                    vel=0.0, acc=100.0), -2, "vel is 0 mm/s")):
+        reply = call(name, srv, **fields)
+        assert reply.ret == ret and words in reply.message, (name, reply.message)
+    assert call("set_traj_sample_mode", SetTrajSampleMode, start=True, filename="one").ret == 1
+    again = call("set_traj_sample_mode", SetTrajSampleMode, start=True, filename="two")
+    assert again.ret == -10 and "already recording 'one'" in again.message
+    assert call("set_traj_sample_mode", SetTrajSampleMode, start=False, filename="").ret == 1
+    assert call("get_exist_traj_file_name", GetTrajFiles).names == sorted(before + ["one"])
