@@ -19,9 +19,7 @@ from jaka_driver_msgs.msg import ProgramState
 from jaka_driver_msgs.srv import (GetTrajConfig, GetTrajFiles, GetTrajSampleStatus,
                                   LoadProgram, ProgramCommand, RenameTrajFile, SetTrajConfig,
                                   SetTrajSampleMode, TrajFile)
-from sensor_msgs.msg import JointState
-from support.ros_harness import (START, Recorder, Services, go_home, position, start_driver,
-                                 wait_until)
+from support.ros_harness import START, Recorder, go_home, position, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -36,27 +34,15 @@ def folder(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def node(request, rospy_node, folder):
+def sim_driver(request, rospy_node, folder):
+    """conftest's node on the zu5 twin, with a programs folder of its own (conftest's ``call``
+    and ``joints`` are on it)."""
     return start_driver(request, backend="sim", model="zu5", programs=str(folder))
 
 
 @pytest.fixture(scope="module")
-def call(node):
-    services = Services(node)
-    yield services
-    services.close()
-
-
-@pytest.fixture(scope="module")
-def joints(node):
-    recorder = Recorder(node.name("joint_position"), JointState)
-    yield recorder
-    recorder.close()
-
-
-@pytest.fixture(scope="module")
-def program_state(node):
-    recorder = Recorder(node.name("program/state"), ProgramState)
+def program_state(sim_driver):
+    recorder = Recorder(sim_driver.name("program/state"), ProgramState)
     yield recorder
     recorder.close()
 
