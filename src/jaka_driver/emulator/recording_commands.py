@@ -75,5 +75,5 @@ class RecordingCommands:
 
     def _sample_mode(self, req: Mapping) -> Answer:
         on = integer(req, Field.TRAJ_MODE, 0, 1)
-        name = text(req, Field.TRAJ_FILENAME)
+        name = text(req, Field.TRAJ_FILENAME, default="")      # a stop needs none
         return self._answer(req, self.recording.start(name) if on else self.recording.stop())
