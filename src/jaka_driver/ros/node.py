@@ -22,7 +22,7 @@ Parameters (private, ``~name``):
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
-                     this package's config/programs)
+                     this package's config/programs), and of its recordings (``track/``)
   ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
                      (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
                      twin's is mounted, a controller's arm is said to carry one
