@@ -5,7 +5,8 @@ then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (
 idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
 service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
 (:mod:`bench.servo_filters`), simulated time, the force/torque sensor and force control
-(:mod:`bench.force`), and the node on the controller backend through the emulator; then the
+(:mod:`bench.force`), trajectory recording (:mod:`bench.recording`), and the node on the
+controller backend through the emulator; then the
 rows that judge the tails against the floors the same run measured (:mod:`bench.floor_targets`).
 Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
@@ -22,6 +23,7 @@ import argparse
 import datetime as dt
 import signal
 import sys
+import tempfile
 import time
 import traceback
 from contextlib import ExitStack
@@ -35,9 +37,10 @@ SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
 GROUPS = ("ik", "twin", "startup", "sim", "streams", "filters", "sim_time", "force",
-          "controller")
+          "recording", "controller")
 #: the groups that need a rosmaster
-ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "force", "controller")
+ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "force", "recording",
+              "controller")
 STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
 FILTERS = "Servo filters beside the unfiltered stream (zu5 twin through ROS), report only"
 
@@ -171,6 +174,20 @@ def _force(run: Run) -> None:
         run.rows += force.run(driver, calls, seconds=3 if run.quick else 20, log=run.log)
 
 
+def _recording(run: Run) -> None:
+    from . import recording, ros_session
+    run.log("recording: a known path on the twin in sim time")
+    path = recording.known_path(log=run.log)
+    with ExitStack() as stack:
+        run.log("recording node: starting (the zu5 twin)")
+        driver = ros_session.start_driver(stack, "bench_recording", backend="sim", model="zu5",
+                                          programs=stack.enter_context(
+                                              tempfile.TemporaryDirectory()))
+        calls = ros_session.services(stack, driver)
+        cpu = recording.recording_cpu(driver, calls, log=run.log)
+    run.rows += recording.rows(path, cpu)
+
+
 def _emulator(run: Run, out: Path) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
@@ -278,6 +295,10 @@ def main(argv=None) -> int:
             from .force import GROUP as FORCE
             run.guarded(FORCE, "wrench sample age, constant-force step, CPU with force "
                         "control on", "see the table", lambda: _force(run))
+        if ros_up and "recording" in chosen:
+            from .recording import GROUP as RECORDING
+            run.guarded(RECORDING, "kept points and replay of a known path; node CPU while "
+                        "recording", "see the table", lambda: _recording(run))
         if ros_up and "controller" in chosen:
             run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                         "report", lambda: _emulator(run, out))

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Generate jaka_driver_msgs, the driver's own types (driver_msgs/: msg — the program state, the IO
 # states, the force-control state; srv — the speed ratio, the twin's reset, pause, step and push,
-# circular_move, programs, the servo filter, the force/torque sensor and force control; action —
-# the sensor's payload identification), with Debian's genpy and gencpp, into a devel space:
+# circular_move, programs, the servo filter, the force/torque sensor and force control, trajectory
+# recording; action — the sensor's payload identification), with Debian's genpy and gencpp, into a devel space:
 #   DEVEL/lib/python3/dist-packages/jaka_driver_msgs, DEVEL/include/jaka_driver_msgs,
 #   DEVEL/share/jaka_driver_msgs (package.xml + msg/, srv/, action/ for rosmsg and rossrv).
 # An action's seven messages are derived from its .action file by actionlib's convention

@@ -110,7 +110,7 @@ def sdk_json(obj: Any, fixed: Dict[str, int], key: str = "") -> str:
 #: fields the SDK writes with fixed decimals (seen: "rate_value":0.50, "mass":1.50, "tol":0.50,
 #: "circle_cnt":1.50, "value_new":2.50, "ftReboundFK":0.250)
 FIXED_DECIMALS = {"rate_value": 2, "mass": 2, "tol": 2, "circle_cnt": 2, "value_new": 2,
-                  "ftReboundFK": 3}
+                  "ftReboundFK": 3, "xyz_interval": 2, "rpy_interval": 2}
 
 
 def deg(values) -> List[float]:

@@ -14,11 +14,12 @@ MODEL = load_model("zu5")
 
 
 @contextmanager
-def twin_with_sensor(scene: Optional[str] = None, sensor: bool = True):
+def twin_with_sensor(scene: Optional[str] = None, sensor: bool = True,
+                     programs: Optional[str] = None):
     """A started driver on the zu5 twin (``sensor``: with its force/torque sensor, in the
-    workcell ``scene``), shut down on leaving."""
+    workcell ``scene``; ``programs`` its programs folder), shut down on leaving."""
     driver = RobotDriver(SimBackend(MODEL, scene=scene, sim_time=True, real_time_factor=0,
-                                    force_sensor=sensor))
+                                    force_sensor=sensor, programs=programs))
     driver.start()
     try:
         yield driver

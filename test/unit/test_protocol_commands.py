@@ -8,6 +8,7 @@ import pytest
 
 from jaka_driver.protocol import commands as c
 from jaka_driver.protocol import programs as programs
+from jaka_driver.protocol import recording as rec
 from jaka_driver.protocol import servo_filters as filters
 from jaka_driver.protocol import torque_sensor as t
 from jaka_driver.protocol.errors import (CommandRejected, InvalidArgument, JakaProtocolError,
@@ -67,6 +68,11 @@ ALL_REQUESTS = [
     t.get_motion_limit_warning_range(), t.set_compliant_speed_limit(100, 30),
     t.get_compliant_speed_limit(), t.set_torque_ref_point(1), t.get_torque_ref_point(),
     t.set_end_sensor_sensitivity_threshold([10] * 6), t.get_end_sensor_sensitivity_threshold(),
+    # trajectory recording
+    rec.set_traj_config(0.1, 0.2, 25, 100), rec.get_traj_config(),
+    rec.set_traj_sample_mode(True, "rec1"), rec.get_traj_sample_status(),
+    rec.get_exist_traj_file_name(), rec.rename_traj_file_name("rec1", "rec2"),
+    rec.remove_traj_file("rec2"), rec.generate_traj_exe_file("rec2"),
 ]
 
 

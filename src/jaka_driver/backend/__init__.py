@@ -8,6 +8,8 @@ units (:mod:`.contract`), and what travels across it.
   with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
 * :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
+* :mod:`.recording` — :class:`Recording`: trajectory recording and its replay programs
+  (``backend.recording``; :class:`NoRecording` refuses every request), :class:`TrajConfig`;
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -17,9 +19,10 @@ from .completion import Completion
 from .contract import Backend
 from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .programs import ProgramState, ProgramStatus, Programs, UserVariable
+from .recording import NoRecording, Recording, TrajConfig
 from .robot_state import MotionState, RobotState
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
-           "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
+           "UserVariable", "Recording", "NoRecording", "TrajConfig", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
            "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]

@@ -27,6 +27,7 @@ from ..common.results import Code, Result
 from .clock import WallClock
 from .force import Force, NoForceSensor
 from .programs import Programs
+from .recording import NoRecording, Recording
 from .robot_state import RobotState
 from .twin import Twin
 
@@ -56,6 +57,9 @@ class Backend(ABC):
     #: The flange force/torque sensor and force control on it (:class:`~.force.Force`), never
     #: None: an arm without a sensor refuses every force request and says why.
     force: Force = NoForceSensor("no force/torque sensor: this backend drives none")
+    #: Trajectory recording and its replay programs (:class:`~.recording.Recording`), never
+    #: None: a backend that cannot record refuses every request and says why.
+    recording: Recording = NoRecording("trajectory recording is not available on this backend")
 
     def __init__(self, model: RobotModel):
         self.model = model

@@ -30,7 +30,8 @@ stop — (:class:`~.moves.MoveCommands`: when a move has ended, :mod:`.move_watc
 servo targets and the velocity jog (:class:`~.servo_commands.ServoCommands`), and the arm's
 settings — frames, payload, drag, collision, IO, errors, the speed ratio
 (:class:`~.arm_settings.ArmSettings`); the controller's own programs are offered as the facet
-``backend.programs`` (:class:`~.programs.ControllerPrograms`), whose state every sample carries.
+``backend.programs`` (:class:`~.programs.ControllerPrograms`), whose state every sample carries,
+and its trajectory recording as ``backend.recording`` (:class:`~.recording.ControllerRecording`).
 When the arm carries a force/torque sensor (``force_sensor``), another part is ``backend.force``
 (:class:`~.force.ControllerForce`: the sensor and force control, their readings from every
 packet's ``torqsensor``).
@@ -73,6 +74,7 @@ from .force import ControllerForce
 from .frames_by_id import ControllerFrames
 from .moves import MoveCommands
 from .programs import ControllerPrograms
+from .recording import ControllerRecording
 from .running_motion import RunningMotion
 from .servo_commands import ServoCommands
 from .status_view import StatusView
@@ -122,6 +124,8 @@ class ControllerBackend(Backend):
                                   trajectory_step_num)
         #: the controller's own programs (``backend.programs``)
         self.programs = ControllerPrograms(self.send)
+        #: the controller's trajectory recording (``backend.recording``)
+        self.recording = ControllerRecording(self.send)
         sensor = model.force_sensor.mounted_as(force_sensor)
         self._force_part = None
         if sensor.mounted:

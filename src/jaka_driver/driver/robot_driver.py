@@ -13,7 +13,8 @@ RobotDriver is assembled from parts, one per subject, each handed the door's cor
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``). What a
+force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``),
+trajectory recording (:mod:`.recording_requests`, ``driver.recording``). What a
 request does is documented in its part.
 """
 from __future__ import annotations
@@ -34,6 +35,7 @@ from .jogs import JogRequests
 from .moves import MoveRequests
 from .program_requests import ProgramRequests
 from .program_steps import ProgramSteps
+from .recording_requests import RecordingRequests
 from .servo_requests import ServoRequests
 from .twin_requests import TwinRequests
 
@@ -63,6 +65,8 @@ class RobotDriver:
         self._twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
+        #: trajectory recording and its replay programs (driver/recording_requests.py)
+        self.recording = RecordingRequests(door)
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 

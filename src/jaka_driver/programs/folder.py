@@ -4,7 +4,9 @@
 A program called ``name`` is the file ``<folder>/<name>.jdp`` in the format of
 docs/programs.md. JAKA's SDK appends ".jks" to every name it loads, so a trailing ".jks" (or
 ".jdp") is taken off first: ``pick``, ``pick.jks`` and ``pick.jdp`` all load ``pick.jdp``, whose
-name is then ``pick``. A name is a file name, never a path: nothing outside the folder is read.
+name is then ``pick``. A name is a file name, never a path: nothing outside the folder is read —
+but for ``track/<name>``, the replay program generated from a recording (:mod:`.track`), in
+the folder ``track/`` of the programs folder.
 Steps run through the executor bound with :meth:`FolderPrograms.bind` (RobotDriver's door on
 the twin).
 """
@@ -15,6 +17,7 @@ from pathlib import Path
 from typing import Callable, List, Optional
 
 from ..backend.programs import Programs, ProgramStatus
+from ..backend.recording import TRACK_FOLDER
 from ..common.results import Code, Result
 from .language import ProgramError
 from .parser import parse
@@ -25,6 +28,9 @@ SUFFIX = ".jdp"
 #: what JAKA's SDK appends to every program name it loads
 JKS = ".jks"
 _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
+#: what names a replay program generated from a recording (``track/<name>``, as on JAKA's
+#: controllers): the one folder a name may name
+TRACK_PREFIX = f"{TRACK_FOLDER}/"
 #: the longest name (characters): a file name's limit (255 bytes) less the suffix
 MAX_NAME = 200
 
@@ -50,27 +56,36 @@ class FolderPrograms(Programs):
         self._runner.executor = executor
 
     def available(self) -> List[str]:
-        """The names of the programs in the folder."""
+        """The names of the programs in the folder, then the replay programs of its
+        ``track/`` folder as ``track/<name>``."""
         if self.folder is None or not self.folder.is_dir():
             return []
-        return sorted(p.stem for p in self.folder.glob(f"*{SUFFIX}") if p.is_file())
+        return (sorted(p.stem for p in self.folder.glob(f"*{SUFFIX}") if p.is_file())
+                + sorted(f"{TRACK_PREFIX}{p.stem}"
+                         for p in (self.folder / TRACK_FOLDER).glob(f"*{SUFFIX}")
+                         if p.is_file()))
 
     def load(self, name: str) -> Result:
         wanted = program_name(name)
+        folder, stem = self.folder, wanted
+        if wanted.startswith(TRACK_PREFIX):     # a replay program (programs/track.py)
+            stem = wanted[len(TRACK_PREFIX):]
+            folder = self.folder / TRACK_FOLDER if self.folder is not None else None
         if len(wanted) > MAX_NAME:
             return Result.failure(Code.INVALID_PARAMETER, f"name has {len(wanted)} characters, "
                                   f"at most {MAX_NAME}")
-        if not _NAME.fullmatch(wanted) or wanted in (".", ".."):
+        if not _NAME.fullmatch(stem) or stem in (".", ".."):
             return Result.failure(Code.INVALID_PARAMETER, f"name is {name!r}, expected a "
-                                  "program's name (letters, digits, '_', '-', '.'; no path)")
+                                  "program's name (letters, digits, '_', '-', '.'; no path "
+                                  f"but {TRACK_PREFIX!r} before a recording's replay)")
         if self.folder is None:
             return Result.failure(Code.WRONG_MODE, "no programs folder is set (the node's "
                                   "~programs parameter, launch argument programs)")
-        path = self.folder / f"{wanted}{SUFFIX}"
+        path = folder / f"{stem}{SUFFIX}"
         if not path.is_file():
             there = ", ".join(self.available()) or "none"
             return Result.failure(Code.INVALID_PARAMETER, f"name is {name!r}: no {path.name} "
-                                  f"in {self.folder} (programs there: {there})")
+                                  f"in {folder} (programs there: {there})")
         try:
             program = parse(path.read_text(encoding="utf-8", errors="replace"), wanted)
         except ProgramError as exc:

@@ -182,6 +182,18 @@ class Field:
     ANGULAR_SPEED_LIMIT = "angular_speed_limit"
     REF_POINT = "ref_point"
     THRESHOLD_PERCENT = "threshold_percent"   # [6]
+    # trajectory recording (JAKA's SDK 2.1.14, sdk §11 in docs/protocol.md)
+    XYZ_INTERVAL = "xyz_interval"             # mm, 2 decimals on the wire
+    RPY_INTERVAL = "rpy_interval"             # deg, 2 decimals on the wire
+    TRAJ_VEL = "vel"                          # mm/s, the replay's speed
+    TRAJ_ACC = "acc"                          # mm/s², the replay's acceleration
+    TRAJ_FILENAME = "filename"                # set_traj_sample_mode (lower case)
+    TRAJ_MODE = "mode"                        # 1 start, 0 stop
+    SAMPLE_STATUS = "sampleStatus"            # an int: 1 recording
+    TRAJ_FILE_NAMES = "trajTrackFileName"     # a list of strings
+    TRAJ_SRC = "src"
+    TRAJ_DEST = "dest"
+    TRAJ_FILE_NAME = "fileName"               # generate / remove (camel case)
 
 #: The keys of ``torqueSensorSoftLimit``, in the order of a wrench.
 SOFT_LIMIT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
@@ -307,6 +319,15 @@ class Cmd:
     GET_TORQUE_REF_POINT = "get_torque_ref_point"
     SET_END_SENSOR_SENSITIVITY_THRESHOLD = "set_end_sensor_sensitivity_threshold"
     GET_END_SENSOR_SENSITIVITY_THRESHOLD = "get_end_sensor_sensitivity_threshold"
+    # trajectory recording
+    SET_TRAJ_CONFIG = "set_traj_config"
+    GET_TRAJ_CONFIG = "get_traj_config"
+    SET_TRAJ_SAMPLE_MODE = "set_traj_sample_mode"
+    GET_TRAJ_SAMPLE_STATUS = "get_traj_sample_status"
+    GET_EXIST_TRAJ_FILE_NAME = "get_exist_traj_file_name"
+    RENAME_TRAJ_FILE_NAME = "rename_traj_file_name"
+    REMOVE_TRAJ_FILE = "remove_traj_file"
+    GENERATE_TRAJ_EXE_FILE = "generate_traj_exe_file"
     DATA_REQUEST = "data_request"         # port 10004 only
 
 
@@ -550,6 +571,20 @@ _SPECS = (
     CommandSpec(Cmd.GET_TORQUE_REF_POINT, reply=(F.REF_POINT,)),
     CommandSpec(Cmd.SET_END_SENSOR_SENSITIVITY_THRESHOLD, request=(F.THRESHOLD_PERCENT,)),
     CommandSpec(Cmd.GET_END_SENSOR_SENSITIVITY_THRESHOLD, reply=(F.THRESHOLD_PERCENT,)),
+    # trajectory recording: every reply's errorCode a string (an int aborts JAKA's SDK)
+    CommandSpec(Cmd.SET_TRAJ_CONFIG, request=(F.TRAJ_ACC, F.RPY_INTERVAL, F.TRAJ_VEL,
+                                             F.XYZ_INTERVAL),
+                note="intervals with 2 decimals; values unconverted (mm, deg, mm/s, mm/s²)"),
+    CommandSpec(Cmd.GET_TRAJ_CONFIG, reply=(F.XYZ_INTERVAL, F.RPY_INTERVAL, F.TRAJ_VEL,
+                                           F.TRAJ_ACC)),
+    CommandSpec(Cmd.SET_TRAJ_SAMPLE_MODE, request=(F.TRAJ_FILENAME, F.TRAJ_MODE)),
+    CommandSpec(Cmd.GET_TRAJ_SAMPLE_STATUS, reply=(F.SAMPLE_STATUS,), note="an int"),
+    CommandSpec(Cmd.GET_EXIST_TRAJ_FILE_NAME, reply=(F.TRAJ_FILE_NAMES,),
+                note="at most 256 names, each cut to 255 characters"),
+    CommandSpec(Cmd.RENAME_TRAJ_FILE_NAME, request=(F.TRAJ_DEST, F.TRAJ_SRC)),
+    CommandSpec(Cmd.REMOVE_TRAJ_FILE, request=(F.TRAJ_FILE_NAME,)),
+    CommandSpec(Cmd.GENERATE_TRAJ_EXE_FILE, request=(F.TRAJ_FILE_NAME,),
+                note='the replay loads as program "track/<name>"'),
 )
 del F
 

@@ -22,7 +22,7 @@ Parameters (private, ``~name``):
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
   ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
-                     this package's config/programs)
+                     this package's config/programs), and of its recordings (``track/``)
   ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
                      (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
                      twin's is mounted, a controller's arm is said to carry one
@@ -69,6 +69,7 @@ from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
+from .recording_services import advertise_recording
 from .services import advertise, advertise_faults
 from .servo_filter import advertise_servo_filter
 from .servo_topics import JointCommandInput
@@ -255,6 +256,7 @@ def main() -> int:
     advertise(driver)
     advertise_circular_move(driver)
     advertise_programs(driver)
+    advertise_recording(driver)
     advertise_servo_filter(driver)
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)

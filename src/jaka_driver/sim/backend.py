@@ -6,8 +6,9 @@ MuJoCo computed. Kinematics (FK for the TCP, IK for linear moves, jogs and servo
 Pinocchio on the same URDF.
 
 Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
-what the emulator reads and drives) and ``force`` (:class:`.force.SimForce` when the arm
-carries a force/torque sensor); everything else is private. The motion that runs now has one
+what the emulator reads and drives), ``force`` (:class:`.force.SimForce` when the arm
+carries a force/torque sensor), ``programs`` and ``recording`` (:class:`.recording.
+SimRecording`, trajectory recording into the programs folder); everything else is private. The motion that runs now has one
 owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted, stopped
 there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults and the
 force sensor's stops use too.
@@ -49,6 +50,7 @@ from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun,
                       stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
 from .physics import PhysicsLoop
+from .recording import SimRecording
 from .servo import JointServo
 from .tool_push import ToolPush
 from .twin import SimTwin
@@ -100,6 +102,12 @@ class SimBackend(Backend):
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._defaults()
+        # trajectory recording: the tool's pose offered every cycle, after the checks
+        self.recording = SimRecording(self.programs.folder, self._kin, self.frames,
+                                      lambda: (self._tool_id, self._user_id),
+                                      self._physics,
+                                      model.max_tcp_speed, model.max_tcp_accel)
+        self._physics.on_cycle.append(self.recording.sample)
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
         self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
@@ -121,6 +129,7 @@ class SimBackend(Backend):
     def _reset(self, q: np.ndarray) -> None:
         """Back to a fresh start at ``q`` (rad): :class:`.twin.SimTwin`'s reset."""
         self.programs.reset()             # first: a program's step would act on the reset arm
+        self.recording.reset()            # what was recorded before the reset is kept
         with self._lock:
             with self._physics.lock:
                 self._physics.servo.released = False
