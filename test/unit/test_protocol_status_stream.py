@@ -235,7 +235,7 @@ def test_a_stream_encoder_writes_what_encode_status_writes(stream):
     """The emulator's encoder keeps the encoding of a value it is handed again (the same
     object); packet after packet its bytes are encode_status's, whether a value is new, the
     same object again, or an equal new one."""
-    from jaka_driver.protocol.status_stream import StatusEncoder
+    from jaka_driver.protocol.status_encoder import StatusEncoder
     encoder = StatusEncoder()
     kept = {"din": [0, 1] * 8, "funcdi": [[-1, -1]] * 3}
     for fields in stream:

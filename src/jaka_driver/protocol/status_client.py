@@ -23,8 +23,9 @@ from .commands import data_request, encode
 from .connect import RECV_SIZE, open_connection
 from .errors import ProtocolError
 from .fields import DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT
-from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, data_reply_fields,
-                            parse_status)
+from .data_reply import data_reply_fields
+from .status_packet import StatusPacket, parse_status
+from .status_stream import MAX_BUFFER, StatusStreamDecoder
 
 _log = logging.getLogger(__name__)
 
