@@ -3,6 +3,7 @@ packets are skipped and counted, the buffer stays bounded, ``len`` is self-consi
 packet becomes a StatusPacket in driver units."""
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +12,8 @@ from hypothesis import strategies as st
 
 from jaka_driver.protocol import StatusPacket, StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.status_stream import PACKET_START
+
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 # ---- packets -------------------------------------------------------------------------------
 
@@ -121,6 +124,63 @@ def test_nested_len_key_does_not_break_an_incomplete_packet():
     assert decoder.feed(pkt[:30]) == []
     assert decoder.feed(pkt[30:]) == [json.loads(pkt)]
     assert decoder.packets_dropped == 0
+
+
+# ---- the compiled parser's path ------------------------------------------------------------
+
+@pytest.fixture
+def no_python_parser(monkeypatch):
+    """json's parser made to fail: what still decodes went through the compiled one."""
+    from jaka_driver.protocol import wire
+
+    class Refuse:
+        def raw_decode(self, text):
+            raise AssertionError("the pure-Python parser was used")
+    monkeypatch.setattr(wire, "_STRICT", Refuse())
+
+
+def test_a_whole_packet_never_reaches_the_pure_python_parser(no_python_parser):
+    """The 8 ms packet of the default profile's size, whole or with the next one's first bytes
+    behind it, is cut at its ``len`` and parsed by the compiled parser."""
+    fields = json.loads((DATA / "status_packet.json").read_text())
+    a, b = encode_status(fields), encode_status(sample_packet(1))
+    assert len(a) > 6000
+    decoder = StatusStreamDecoder()
+    assert decoder.feed(a) == [json.loads(a)]
+    assert decoder.feed(b + a[:100]) == [json.loads(b)]
+    assert decoder.buffered == 100 and decoder.packets_dropped == 0
+
+
+@pytest.mark.parametrize("declared", [10, 500, 10**6])
+def test_a_wrong_len_costs_no_packet(declared):
+    """``len`` is a hint: too short, too long or beyond belief, the packets still come whole
+    (the careful path), in order, nothing dropped."""
+    body = json.loads(encode_status(sample_packet(0)))
+    body["len"] = declared
+    from jaka_driver.protocol.wire import encode_json_spaced
+    pkts = [encode_json_spaced(body), encode_status(sample_packet(1))]
+    decoder = StatusStreamDecoder()
+    got = decoder.feed(pkts[0]) + decoder.feed(pkts[1])
+    assert [p["joint_actual_position"][0] for p in got] == [0, 1]
+    assert (decoder.packets_dropped, decoder.bytes_dropped) == (0, 0)
+
+
+@pytest.mark.parametrize("data", [
+    b'{"a": 1} {"b": 2}', b' {"a": 1}', b'{"a": NaN}', b'{"a": "\xff"}', b'{"a": "\\ud800"}',
+    b'{"a": [1, 2}', b'{"a": ' + b"[" * 100_000 + b"]" * 100_000 + b"}", b'"text"', b"",
+    b'{"a": 1', b"[1] ", b'{"a": 1}]'])
+def test_what_is_not_exactly_one_value_is_left_to_the_careful_reader(data):
+    from jaka_driver.protocol.wire import decode_whole
+    assert decode_whole(data) is None
+
+
+@settings(max_examples=100, deadline=None)
+@given(packets)
+def test_the_compiled_parser_reads_a_packet_as_json_does(packet):
+    from jaka_driver.protocol.wire import decode_whole
+    data = encode_status(packet)
+    assert decode_whole(data) == json.loads(data) == packet
+    assert decode_whole(bytearray(data)) == packet
 
 
 # ---- encode_status -------------------------------------------------------------------------

@@ -12,7 +12,7 @@ import re
 from typing import Any, Dict, List
 
 from .errors import MalformedInput
-from .wire import HeadDecoder
+from .wire import HeadDecoder, decode_whole
 
 #: Every packet starts with these bytes (``len`` first; a space may follow the colon).
 PACKET_START = b'{"len":'
@@ -21,6 +21,7 @@ _LEN_VALUE = re.compile(rb'\{"len":\s*(\d{1,9})')
 MAX_BUFFER = 1 << 20
 #: A declared ``len`` above this is not believed (7× the largest packet observed).
 MAX_PACKET = 1 << 16
+_CLOSING_BRACE = ord("}")
 
 
 class StatusStreamDecoder:
@@ -38,10 +39,14 @@ class StatusStreamDecoder:
       :mod:`.status_client` count them);
     * ``text_repaired`` — packets with invalid UTF-8 inside a string (kept as U+FFFD).
 
-    A packet is declared unfinished when it cannot be decoded although the next token has
+    A packet is declared broken when it cannot be decoded although the next token has
     arrived and the buffer holds at least the packet's declared ``len``; the ``len`` check keeps
-    a nested ``{"len":`` from being mistaken for the next packet. The decoder does not otherwise
-    rely on ``len``, whose exact meaning on real controllers is not verified.
+    a nested ``{"len":`` from being mistaken for the next packet. ``len`` also says when a
+    packet has all arrived and where to cut it for the compiled parser (:meth:`_take_declared`,
+    the usual case: one pass in C, no copy to ``str``, no parse of a packet's first TCP segments
+    on their own); the decoder does not otherwise rely on it: a ``len`` that is wrong sends
+    its packet the careful way (:class:`~.wire.HeadDecoder`) once the next token arrives, and
+    one above :data:`MAX_PACKET` is ignored.
     """
 
     def __init__(self, max_buffer: int = MAX_BUFFER):
@@ -81,6 +86,17 @@ class StatusStreamDecoder:
                 break
             if start > 0:
                 self._drop(start)
+            declared = self._declared_length()
+            if declared is not None:
+                if len(self._buf) >= declared:
+                    packet = self._take_declared(declared)
+                    if packet is not None:
+                        packets.append(packet)
+                        continue
+                elif self._buf.find(PACKET_START, 1) < 0:
+                    # Not all of it has arrived (a packet spans several TCP segments on a real
+                    # network) and nothing follows it yet: no parse before it has.
+                    break
             try:
                 packet = self._try_decode()
             except MalformedInput:
@@ -92,7 +108,6 @@ class StatusStreamDecoder:
             following = self._buf.find(PACKET_START, 1)
             if following < 0:
                 break   # incomplete: wait for more bytes
-            declared = self._declared_length()
             if declared is not None and len(self._buf) < declared:
                 # The token may belong to a nested object ({"len": ...} inside the packet):
                 # only a packet that stays undecodable past its own length is broken.
@@ -105,6 +120,22 @@ class StatusStreamDecoder:
             self.packets_dropped += 1
         self.packets += len(packets)
         return packets
+
+    def _take_declared(self, n: int):
+        """The packet at the head cut at its declared length ``n`` (all arrived) and parsed
+        whole by the compiled parser (:func:`~.wire.decode_whole`), or None when those bytes
+        are not one JSON object — then :meth:`_try_decode` reads the head the careful way.
+        ``len`` is only a hint: bytes that parse whole from the packet's ``{`` are that
+        packet, whatever ``len`` means on a controller."""
+        if self._buf[n - 1] != _CLOSING_BRACE:
+            return None
+        packet = decode_whole(self._buf[:n])
+        if not isinstance(packet, dict):
+            return None
+        del self._buf[:n]
+        self._scan_from = 0
+        self._head.reset()
+        return packet
 
     def _try_decode(self):
         """The packet at the head, or None while it is unfinished; raises MalformedInput."""
