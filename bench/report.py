@@ -110,6 +110,7 @@ def write(rows: list[Row], out_dir: Path, root: Path, started: str, duration_s: 
     out_dir.mkdir(parents=True, exist_ok=True)
     meta = {"started": started, "duration_s": round(duration_s, 1), "commit": _commit(root),
             "machine": _machine(), "quick": quick, "runs": runs,
+            "run_seconds": extra.get("run_seconds"),
             "machine_percent_before": extra.get("machine_percent_before"),
             "machine_percent_during": extra.get("machine_percent_during", {}),
             "other_programs": extra.get("other_programs", [])}
@@ -163,10 +164,12 @@ def _markdown(rows: list[Row], meta: dict, plots: list[str]) -> str:
     runs = meta.get("runs", 1)
     counts = {s: sum(r.status == s for r in rows) for s in (PASS, FAIL, REPORT, NOT_RUN)}
     if runs > 1:
-        how = (f"**{runs} runs** of the same groups, one after the other: each row's value is "
-               "its judged number's min / median / max over the runs, its margin the room "
-               "left to the target in the worst run (negative: a miss), and it passes only if "
-               "it passed in every run.")
+        took = meta.get("run_seconds") or []
+        how = (f"**{runs} runs** of the same groups, one after the other"
+               + (f" ({', '.join(f'{s:.0f}' for s in took)} s)" if took else "")
+               + ": each row's value is its judged number's min / median / max over the runs, "
+               "its margin the room left to the target in the worst run (negative: a miss), "
+               "and it passes only if it passed in every run.")
         head = ["| metric | min / median / max | target | margin, worst run | runs met | "
                 "result |", "|---|---|---|---|---|---|"]
     else:
