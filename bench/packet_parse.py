@@ -8,10 +8,13 @@ The packet is the evidence's default-profile packet (``test/data/status_packet.j
 6.5 kB as the controller writes it), its joints changing from packet to packet as on a moving
 arm (the IO arrays unchanged, as they are). Per packet:
 
-* ``framing`` — :class:`~jaka_driver.protocol.StatusStreamDecoder` ``.feed`` of the packet in
-  one read (the usual case on 127.0.0.1), and ``framing, 5 reads`` — in the 1448-byte TCP
-  segments a real network delivers it in;
-* ``parse_status`` — the decoded packet → :class:`~jaka_driver.protocol.StatusPacket`;
+* ``framing (every key decoded)`` — a default
+  :class:`~jaka_driver.protocol.StatusStreamDecoder`'s ``.feed`` of the packet in one read,
+  and ``parse_status of those`` — its dict → :class:`~jaka_driver.protocol.StatusPacket`;
+* ``receiver: framing + parse_status`` — the reader thread's work: the decoder a
+  :class:`~jaka_driver.protocol.StatusReceiver` builds (which may decode only what
+  ``parse_status`` reads), then ``parse_status``; in one read (the usual case on 127.0.0.1),
+  and in the 1448-byte TCP segments a real network delivers it in;
 * ``reply`` — a ``servo_j`` reply read by the command client's decoder and ``parse_reply``.
 
 The CPU time is the interpreter lock's time: the JSON parsers (``json``'s C scanner, msgspec)
@@ -38,7 +41,7 @@ SEGMENT = 1448    # bytes of TCP payload per Ethernet frame
 # Runs inside the measured checkout's process: prints one JSON line of {measure: [wall, cpu]}.
 _MEASURE = r"""
 import json, sys, time
-from jaka_driver.protocol import StatusStreamDecoder, encode_status, parse_status
+from jaka_driver.protocol import StatusReceiver, StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.wire import HeadDecoder
 from jaka_driver.protocol.replies import parse_reply
 fields = json.loads(open(sys.argv[1]).read())
@@ -61,15 +64,19 @@ def per(fn, items):
 
 decoder = StatusStreamDecoder()
 out = {"packet bytes": [len(packets[0]), 0]}
-out["framing"] = per(decoder.feed, packets)
-pieces = [[p[i:i + segment] for i in range(0, len(p), segment)] for p in packets]
-out[f"framing, {len(pieces[0])} reads"] = per(lambda ps: [decoder.feed(s) for s in ps], pieces)
+out["framing (every key decoded)"] = per(decoder.feed, packets)
 decoded = [StatusStreamDecoder().feed(p)[0] for p in packets]
-out["parse_status"] = per(parse_status, decoded)
-out["framing + parse_status"] = [out["framing"][i] + out["parse_status"][i] for i in (0, 1)]
+out["parse_status of those"] = per(parse_status, decoded)
+# the reader thread's work: its receiver's own decoder, then parse_status
+receiver = StatusReceiver("127.0.0.1").decoder
+out["receiver: framing + parse_status"] = per(
+    lambda p: [parse_status(f) for f in receiver.feed(p)], packets)
+pieces = [[p[i:i + segment] for i in range(0, len(p), segment)] for p in packets]
+out[f"receiver, the packet in {len(pieces[0])} reads"] = per(
+    lambda ps: [parse_status(f) for s in ps for f in receiver.feed(s)], pieces)
 head = HeadDecoder()
 out["reply"] = per(lambda r: parse_reply(head.decode(r).value), [reply])
-assert decoder.packets_dropped == 0, decoder.packets_dropped
+assert decoder.packets_dropped == 0 and receiver.packets_dropped == 0
 print(json.dumps(out))
 """
 

@@ -303,3 +303,76 @@ def test_a_stream_encoder_writes_what_encode_status_writes(stream):
         assert encoder.encode(fields) == encode_status(fields)
         kept = {"din": kept["din"] if len(fields) % 2 else list(kept["din"]) + [1],
                 "funcdi": kept["funcdi"]}
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.one_of(st.floats(allow_nan=False, allow_infinity=False), st.integers(),
+                 st.booleans(), st.none(), st.text()))
+def test_a_stream_encoder_writes_every_scalar_as_json_does(value):
+    from jaka_driver.protocol.status_encoder import StatusEncoder
+    assert StatusEncoder().encode({"x": value}) == encode_status({"x": value})
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_a_stream_encoder_refuses_what_is_not_json(value):
+    from jaka_driver.protocol.status_encoder import StatusEncoder
+    with pytest.raises(ValueError):
+        StatusEncoder().encode({"x": value})
+
+
+# ---- the receiver's decoder: only the keys parse_status reads --------------------------------
+
+def _same_status(a, b, path="status"):
+    """Field by field, into the torque sensor's record; arrays NaN-equal."""
+    import dataclasses
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if dataclasses.is_dataclass(x):
+            _same_status(x, y, f"{path}.{f.name}")
+        elif isinstance(x, np.ndarray):
+            assert np.array_equal(x, y, equal_nan=True), f"{path}.{f.name}"
+        else:
+            assert x == y, f"{path}.{f.name}"
+
+
+@pytest.mark.parametrize("fixture", ["status_packet.json", "status_packet_fw1.5.14.json"])
+def test_the_receivers_decoder_reads_packets_as_parse_status_reads_json(fixture):
+    """Packet after packet — the IO arrays unchanged (read from their remembered bytes), then
+    one changed — the StatusPacket is the one parse_status makes of the whole JSON."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    fields = json.loads((DATA / fixture).read_text())
+    for i in range(3):
+        fields["joint_actual_position"][0] = 10.0 * i
+        if i == 2:
+            fields["din"] = [1] + fields["din"][1:]
+        data = encode_status(fields)
+        _same_status(parse_status(decode_read_keys(data)), parse_status(json.loads(data)))
+    (packet,) = StatusStreamDecoder(decode=decode_read_keys).feed(data)
+    assert "din" in packet and "len" not in packet   # only the keys parse_status reads
+
+
+@pytest.mark.parametrize("wrong", [b"[true, 0, 1]", b'"text"', b'{"a": 1}', b"[[1], 2]",
+                                   b'[1, "x"]', b"[1e999, 0]"])
+def test_a_malformed_io_array_is_named_as_json_s_reader_names_it(wrong):
+    """The receiver's decoder (after the good array was remembered) and the default decoder
+    read the same packet: din malformed, nothing else."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    fields = json.loads((DATA / "status_packet.json").read_text())
+    good = encode_status(fields)
+    fields["din"] = "DIN"
+    data = encode_status(fields).replace(b'"DIN"', wrong)    # len now a hint only
+    fast = StatusStreamDecoder(decode=decode_read_keys)
+    fast.feed(good)
+    (packet,) = fast.feed(data + good)[:1]
+    status = parse_status(packet)
+    assert status.malformed == ("din",) and status.din == ()
+    _same_status(status, parse_status(StatusStreamDecoder().feed(data + good)[0]))
+
+
+def test_unreadable_bytes_of_an_io_array_are_a_malformed_field_not_a_drop():
+    """The compiled parser only skims the arrays it leaves undecoded: invalid UTF-8 inside
+    one is found when it is read, and only that field is lost."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    data = encode_status({**sample_packet(), "din": ["ERR"]}).replace(b"ERR", b"\xff\xfe")
+    status = parse_status(decode_read_keys(data))
+    assert status.malformed == ("din",) and list(status.joint_position) != []

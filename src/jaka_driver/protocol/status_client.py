@@ -24,7 +24,7 @@ from .connect import RECV_SIZE, open_connection
 from .errors import ProtocolError
 from .fields import DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT
 from .data_reply import data_reply_fields
-from .status_packet import StatusPacket, parse_status
+from .status_packet import StatusPacket, decode_read_keys, parse_status
 from .status_stream import MAX_BUFFER, StatusStreamDecoder
 
 _log = logging.getLogger(__name__)
@@ -66,8 +66,9 @@ class StatusReceiver:
         self.stall_timeout = stall_timeout
         self._clock = clock
         #: The stream decoder; its counters (packets, bytes_dropped, packets_dropped) add up over
-        #: every connection of this receiver.
-        self.decoder = StatusStreamDecoder(max_buffer)
+        #: every connection of this receiver. It decodes only the keys parse_status reads
+        #: (its packets are for parse_status alone).
+        self.decoder = StatusStreamDecoder(max_buffer, decode=decode_read_keys)
         self._lock = threading.Lock()
         self._thread: Optional[threading.Thread] = None
         self._sock: Optional[socket.socket] = None

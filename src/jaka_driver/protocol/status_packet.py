@@ -1,6 +1,12 @@
 """A status packet read: :class:`StatusPacket`, the packet's fields in the SDK's units, and
 :func:`parse_status`, which reads them from a decoded packet (port 10000's stream, port 10004's
-reply or ``get_data``'s fields) and never raises for a field it cannot read."""
+reply or ``get_data``'s fields) and never raises for a field it cannot read.
+
+:func:`decode_read_keys` decodes a whole packet for it in one pass of msgspec's compiled parser,
+only the keys it reads and the IO arrays left as their bytes: ~1100 of a packet's ~1300
+numbers are IO arrays that come again unchanged packet after packet, and an array whose bytes
+are the last packet's reads as the same floats without being parsed at all.
+"""
 from __future__ import annotations
 
 import math
@@ -8,6 +14,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Dict, List, Mapping, Optional, Tuple
 
+import msgspec
 import numpy as np
 
 from .errors import ProtocolError
@@ -231,11 +238,28 @@ class _RepeatedNumbers:
 
     def __call__(self, raw) -> Tuple[float, ...]:
         last_raw, last_values = self.last
-        if raw == last_raw and _NUMBER_TYPES.issuperset(map(type, raw)):
+        if type(raw) is msgspec.Raw:   # from decode_read_keys: the array's bytes
+            if raw == last_raw:        # the very bytes the last values were read from
+                return last_values
+            values = _numbers(_raw_value(raw))
+        elif raw == last_raw and _NUMBER_TYPES.issuperset(map(type, raw)):
             return last_values
-        values = _numbers(raw)
+        else:
+            values = _numbers(raw)
         self.last = (raw, values)
         return values
+
+
+_ANY = msgspec.json.Decoder()
+
+
+def _raw_value(raw: msgspec.Raw) -> Any:
+    """The JSON value a key's bytes hold; ValueError when they cannot be read (invalid UTF-8
+    in a string, nesting past the parser's limit: the compiled parser only skipped them)."""
+    try:
+        return _ANY.decode(raw)
+    except (ValueError, RecursionError) as exc:   # msgspec.DecodeError is a ValueError
+        raise ValueError(f"unreadable JSON ({exc})") from None
 
 
 def _flag_of(key: str):
@@ -283,6 +307,49 @@ _LAST_FIELDS = (
     ("homed", S.HOMED, _homed, True),
     ("sensor_errcode", S.TORQSENSOR, _sensor_errcode, True),
 )
+
+
+def _read_keys_struct():
+    """A msgspec Struct of the keys parse_status reads: the arrays its
+    :class:`_RepeatedNumbers` read as :class:`msgspec.Raw` (their bytes), the rest any JSON
+    value; a key the packet lacks is UNSET."""
+    arrays = [key for _, key, convert, _ in _FIELDS if isinstance(convert, _RepeatedNumbers)]
+    arrays += [key for key, _ in _FIELDBUS]
+    others = [key for _, key, convert, _ in _FIELDS + _LAST_FIELDS
+              if not isinstance(convert, _RepeatedNumbers)]
+    return msgspec.defstruct(
+        "ReadKeys", [(key, msgspec.Raw, msgspec.UNSET) for key in arrays]
+        + [(key, Any, msgspec.UNSET) for key in others])
+
+
+_READ_KEYS = _read_keys_struct()
+_READ_KEYS_DECODER = msgspec.json.Decoder(_READ_KEYS)
+_KEY_NAMES = _READ_KEYS.__struct_fields__
+_UNSET = msgspec.UNSET
+_OPEN_BRACE, _CLOSE_BRACE = ord("{"), ord("}")
+
+
+def decode_read_keys(data) -> Optional[Dict[str, Any]]:
+    """A whole status packet's bytes → the keys :func:`parse_status` reads, for it alone: one
+    pass of the compiled parser, the IO and fieldbus arrays left undecoded
+    (:class:`msgspec.Raw`, read by :func:`parse_status` only when their bytes changed), the keys
+    it does not read skipped. None when ``data`` is not exactly one JSON object (two, an
+    unfinished one, not JSON, NaN, invalid UTF-8 in a value it reads, nested past the parser's
+    limit): then the careful reader (:class:`~.wire.HeadDecoder`) reads it. For the stream
+    decoder of a reader that only parses (``StatusStreamDecoder(decode=decode_read_keys)``).
+
+    The parser only skims what it leaves undecoded or skips: invalid UTF-8 inside an IO array
+    makes that array malformed when it is read (the careful reader would have repaired the
+    string and then refused it as not a number), and inside a key nobody reads it is not seen,
+    so such a packet is not counted in ``text_repaired``."""
+    if not data or data[0] != _OPEN_BRACE or data[-1] != _CLOSE_BRACE:
+        return None
+    try:
+        packet = _READ_KEYS_DECODER.decode(data)
+    except (ValueError, RecursionError):   # msgspec.DecodeError and ValidationError included
+        return None
+    return {key: value for key, value in zip(_KEY_NAMES, msgspec.structs.astuple(packet))
+            if value is not _UNSET}
 
 
 def parse_status(packet: Mapping[str, Any]) -> StatusPacket:

@@ -9,7 +9,7 @@ fields become a :class:`~.status_packet.StatusPacket` in :mod:`.status_packet`.
 from __future__ import annotations
 
 import re
-from typing import Any, Dict, List
+from typing import Any, Callable, Dict, List, Optional
 
 from .errors import MalformedInput
 from .wire import HeadDecoder, decode_whole
@@ -26,6 +26,11 @@ _CLOSING_BRACE = ord("}")
 
 class StatusStreamDecoder:
     """Incremental decoder: bytes in, whole packets (dicts) out.
+
+    ``decode`` turns the bytes of one whole packet into its dict, or None when they are not
+    exactly one JSON object (then the careful reader decides): by default every key as JSON
+    reads it (:func:`~.wire.decode_whole`); a reader that only parses the packets passes
+    :func:`~.status_packet.decode_read_keys`, which decodes only what the parser reads.
 
     Not thread-safe: one reader feeds it. Counters (cumulative):
 
@@ -49,10 +54,12 @@ class StatusStreamDecoder:
     one above :data:`MAX_PACKET` is ignored.
     """
 
-    def __init__(self, max_buffer: int = MAX_BUFFER):
+    def __init__(self, max_buffer: int = MAX_BUFFER,
+                 decode: Callable[[bytes], Optional[Dict[str, Any]]] = decode_whole):
         if max_buffer < 2 * len(PACKET_START):
             raise ValueError(f"max_buffer must be at least {2 * len(PACKET_START)} bytes")
         self.max_buffer = int(max_buffer)
+        self._decode = decode
         self.packets = 0
         self.bytes_dropped = 0
         self.packets_dropped = 0
@@ -129,7 +136,7 @@ class StatusStreamDecoder:
         packet, whatever ``len`` means on a controller."""
         if self._buf[n - 1] != _CLOSING_BRACE:
             return None
-        packet = decode_whole(self._buf[:n])
+        packet = self._decode(self._buf[:n])
         if not isinstance(packet, dict):
             return None
         del self._buf[:n]
