@@ -243,7 +243,10 @@ class StatusPoller(StatusReceiver):
                         raise ProtocolError(f"the data_request reply of {reply[1]} bytes is "
                                             f"longer than the SDK's {DATA_REQUEST_MAX_BYTES} "
                                             f"or inflates past {MAX_INFLATED_BYTES} bytes")
-                    fields = data_reply_fields(*reply)
+                    # only the keys parse_status reads; the careful reader for the rest
+                    fields = decode_read_keys(reply[0])
+                    if fields is None:
+                        fields = data_reply_fields(*reply)
                 except ProtocolError as exc:
                     self.decoder.packets_dropped += 1
                     _log.debug("status reply from %s dropped: %s", self.address, exc)
