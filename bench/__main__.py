@@ -19,7 +19,8 @@ only ever comes from a whole run; ``--out`` names another folder.
 ``--runs N`` runs the selected groups N times, one run after the other (one rosmaster), and
 writes one table (:mod:`bench.runs`): each targeted row's judged numbers as min / median / max
 over the runs, its margin to the target in the worst run, and pass only if it passed in every
-run; into ``bench/results/only-<names>-<N>-runs/`` (``all-<N>-runs`` for every group).
+run; into ``bench/results/only-<names>-<N>-runs/`` (``all-<N>-runs`` for every group), each
+run's own table into its ``run-<k>/`` as that run ends.
 ``make bench ARGS="--runs 3 --only sim,streams,controller"`` passes arguments through make
 (``make bench RUNS=3 ONLY=sim,streams,controller`` says the same).
 """
@@ -324,6 +325,10 @@ def main(argv=None) -> int:
             _groups(run, chosen, out, ros_up)
             seconds.append(round(time.monotonic() - began, 1))
             done.append(run)
+            if args.runs > 1:   # each run's own table as it ends: an interrupted series keeps it
+                _, one = write(run.rows, out / f"run-{k + 1}", ROOT, started, seconds[-1], [],
+                               run.extra, quick=args.quick)
+                run.log(f"run {k + 1} of {args.runs} took {seconds[-1]:.0f} s: {one}")
     run = done[-1]
     try:
         plots = _plots(run, out)
