@@ -49,9 +49,9 @@ class StatusStreamDecoder:
     a nested ``{"len":`` from being mistaken for the next packet. ``len`` also says when a
     packet has all arrived and where to cut it for the compiled parser (:meth:`_take_declared`,
     the usual case: one pass in C, no copy to ``str``, no parse of a packet's first TCP segments
-    on their own); the decoder does not otherwise rely on it: a ``len`` that is wrong sends
-    its packet the careful way (:class:`~.wire.HeadDecoder`) once the next token arrives, and
-    one above :data:`MAX_PACKET` is ignored.
+    on their own); the decoder does not otherwise rely on it: a ``len`` that understates sends
+    its packet the careful way (:class:`~.wire.HeadDecoder`), one that overstates makes it wait
+    for the next token first, and one above :data:`MAX_PACKET` is ignored.
     """
 
     def __init__(self, max_buffer: int = MAX_BUFFER,
