@@ -32,9 +32,14 @@ unit: setup
 fuzz: setup
 	@$(ENV) JAKA_FUZZ_EXAMPLES=10000 python -m pytest test -m fuzz $(PYTEST_ARGS)
 
-## Benchmarks with targets; writes bench/results/latest.{json,md}.
+## Benchmarks with targets; writes bench/results/latest.{json,md}. Arguments of python -m bench
+## pass through ARGS (make bench ARGS="--only controller --quick"), or RUNS / ONLY:
+## make bench RUNS=3 ONLY=sim,streams,controller = python -m bench --runs 3 --only sim,...
+RUNS ?=
+ONLY ?=
+ARGS ?=
 bench: setup
-	@$(ENV) python -m bench
+	@$(ENV) python -m bench $(if $(RUNS),--runs $(RUNS)) $(if $(ONLY),--only $(ONLY)) $(ARGS)
 
 ## The controller emulator (JAKA TCP protocol on 127.0.0.1:10001/10000) serving the twin.
 emulator: setup

@@ -14,8 +14,16 @@ A group that fails is reported as "not run" with the reason and the others still
 process started is stopped on the way out (``ExitStack``), also on SIGINT / SIGTERM.
 ``--quick`` shortens every window for a smoke run (its numbers are not the benchmark).
 ``--only controller`` (names from :data:`GROUPS`, comma-separated) runs those groups alone and
-writes to ``bench/results/only-<names>/`` (not committed), so that the table of record
-(``latest.md``) only ever comes from a whole run; ``--out`` names another folder.
+writes to ``bench/results/only-<names>/`` (not committed), so that ``bench/results/latest.md``
+only ever comes from a whole run; ``--out`` names another folder.
+
+``--runs N`` runs the selected groups N times, one run after the other (one rosmaster), and
+writes one table (:mod:`bench.runs`): each targeted row's judged numbers as min / median / max
+over the runs, its margin to the target in the worst run, and pass only if it passed in every
+run; into ``bench/results/only-<names>-<N>-runs/`` (``all-<N>-runs`` for every group), each
+run's own table into its ``run-<k>/`` as that run ends.
+``make bench ARGS="--runs 3 --only sim,streams,controller"`` passes arguments through make
+(``make bench RUNS=3 ONLY=sim,streams,controller`` says the same).
 """
 from __future__ import annotations
 
@@ -232,6 +240,56 @@ def _plots(run: Run, out: Path) -> list[str]:
     return [str(p) for p in made if p is not None]
 
 
+def _groups(run: Run, chosen: list[str], out: Path, ros_up: bool) -> None:
+    """One run of the ``chosen`` groups, in :data:`GROUPS`' order, its rows into ``run``."""
+    if "ik" in chosen:
+        run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
+                    "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
+    if "twin" in chosen:
+        run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 150",
+                    lambda: _twin(run))
+    if ros_up and "startup" in chosen:
+        run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
+                    lambda: _startup(run))
+    if ros_up and "sim" in chosen:
+        run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
+                    "see the table", lambda: _sim(run))
+    if ros_up and "streams" in chosen:
+        run.guarded(STREAMS, "joint stream and twist topics beside the servo_j service",
+                    "topic p99 ≤ floor + 3 ms; CPU ≤ the service stream's",
+                    lambda: _streams(run))
+    if ros_up and "filters" in chosen:
+        run.guarded(FILTERS, "servo command → observed per servo filter", "report",
+                    lambda: _filters(run))
+    if ros_up and "sim_time" in chosen:
+        run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
+                    "60 s of sim time through ROS; determinism idle vs loaded",
+                    "≤ 15 s wall; ≤ 1e-9 rad", lambda: _sim_time(run))
+    if ros_up and "force" in chosen:
+        from .force import GROUP as FORCE
+        run.guarded(FORCE, "wrench sample age, constant-force step, CPU with force "
+                    "control on", "see the table", lambda: _force(run))
+    if ros_up and "recording" in chosen:
+        from .recording import GROUP as RECORDING
+        run.guarded(RECORDING, "kept points and replay of a known path; node CPU while "
+                    "recording", "see the table", lambda: _recording(run))
+    if ros_up and "controller" in chosen:
+        run.guarded(EMU, "controller backend (emulator): rate / age / servo",
+                    "report", lambda: _emulator(run, out))
+    if {"sim", "streams", "controller"} & set(chosen):
+        from . import floor_targets
+        run.rows += floor_targets.rows(run.rows, SIM, STREAMS, EMU)
+
+
+def default_out(chosen: list[str], runs: int) -> Path:
+    """Where a run writes: ``bench/results`` for one run of every group (the table of record
+    of a whole run), else ``bench/results/only-<groups>[-<N>-runs]/`` (not committed)."""
+    if set(chosen) == set(GROUPS) and runs == 1:
+        return OUT
+    name = "all" if set(chosen) == set(GROUPS) else f"only-{'-'.join(chosen)}"
+    return OUT / (name + (f"-{runs}-runs" if runs > 1 else ""))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true",
@@ -239,19 +297,26 @@ def main(argv=None) -> int:
     parser.add_argument("--only", default=",".join(GROUPS),
                         help=f"comma-separated groups to run, of: {', '.join(GROUPS)} "
                              "(default: all)")
+    parser.add_argument("--runs", type=int, default=1,
+                        help="run the selected groups this many times, one run after the other; "
+                             "the report gives each targeted row's min / median / max and its "
+                             "margin in the worst run, and a row passes only if it passed in "
+                             "every run (default 1)")
     parser.add_argument("--out", default=None, help="folder for the results (default "
-                        "bench/results, or bench/results/only-<groups> with --only)")
+                        "bench/results for one run of all groups, else "
+                        "bench/results/only-<groups>[-<N>-runs])")
     args = parser.parse_args(argv)
     chosen = [g.strip() for g in args.only.split(",") if g.strip()]
     unknown = sorted(set(chosen) - set(GROUPS))
     if unknown or not chosen:
         parser.error(f"--only: unknown group(s) {', '.join(unknown) or '(none given)'}; "
                      f"expected some of {', '.join(GROUPS)}")
-    whole = set(chosen) == set(GROUPS)
-    out = Path(args.out) if args.out else OUT if whole else OUT / f"only-{'-'.join(chosen)}"
+    if args.runs < 1:
+        parser.error("--runs: at least 1")
+    out = Path(args.out) if args.out else default_out(chosen, args.runs)
     for sig in (signal.SIGTERM, signal.SIGHUP):   # unwind, so that finally blocks run
         signal.signal(sig, lambda signum, _frame: sys.exit(128 + signum))
-    run = Run(args.quick)
+    t0 = time.monotonic()
     started = dt.datetime.now().astimezone().isoformat(timespec="seconds")
     out.mkdir(parents=True, exist_ok=True)
 
@@ -259,52 +324,33 @@ def main(argv=None) -> int:
     others = OtherPrograms().start()
     with MachineWindow() as before:
         time.sleep(1.0)
-    run.extra["machine_percent_before"] = before.percent
     if before.percent > 30:
-        run.log(f"warning: the machine is already {before.percent:.0f} % busy (of one core) "
-                "before the benchmarks start; numbers will be disturbed")
-
-    if "ik" in chosen:
-        run.guarded("IK: ours vs PyKDL ChainIkSolverPos_NR_JL", "IK speed and success",
-                    "median ≤ 50 µs; ≥ 3× faster than KDL; success ≥ KDL's", lambda: _ik(run))
-    if "twin" in chosen:
-        run.guarded("Twin physics (MuJoCo, no ROS)", "twin physics", "report; RTF ≥ 150",
-                    lambda: _twin(run))
+        print(f"[bench] warning: the machine is already {before.percent:.0f} % busy (of one "
+              "core) before the benchmarks start; numbers will be disturbed", flush=True)
+    done: list[Run] = []
+    seconds: list[float] = []   # each run's duration
     with ExitStack() as ros:
         from . import ros_session
-        ros_up = any(g in ROS_GROUPS for g in chosen) and run.guarded(
-            "ROS", "rosmaster for the ROS benchmarks", "—", lambda: ros_session.start_ros(ros))
-        if ros_up and "startup" in chosen:
-            run.guarded("Start-up", "roslaunch → first joint_position", "≤ 3 s",
-                        lambda: _startup(run))
-        if ros_up and "sim" in chosen:
-            run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
-                        "see the table", lambda: _sim(run))
-        if ros_up and "streams" in chosen:
-            run.guarded(STREAMS, "joint stream and twist topics beside the servo_j service",
-                        "topic p99 ≤ floor + 3 ms; CPU ≤ the service stream's",
-                        lambda: _streams(run))
-        if ros_up and "filters" in chosen:
-            run.guarded(FILTERS, "servo command → observed per servo filter", "report",
-                        lambda: _filters(run))
-        if ros_up and "sim_time" in chosen:
-            run.guarded("Simulated time (zu5 twin, real_time_factor 0)",
-                        "60 s of sim time through ROS; determinism idle vs loaded",
-                        "≤ 15 s wall; ≤ 1e-9 rad", lambda: _sim_time(run))
-        if ros_up and "force" in chosen:
-            from .force import GROUP as FORCE
-            run.guarded(FORCE, "wrench sample age, constant-force step, CPU with force "
-                        "control on", "see the table", lambda: _force(run))
-        if ros_up and "recording" in chosen:
-            from .recording import GROUP as RECORDING
-            run.guarded(RECORDING, "kept points and replay of a known path; node CPU while "
-                        "recording", "see the table", lambda: _recording(run))
-        if ros_up and "controller" in chosen:
-            run.guarded(EMU, "controller backend (emulator): rate / age / servo",
-                        "report", lambda: _emulator(run, out))
-    if {"sim", "streams", "controller"} & set(chosen):
-        from . import floor_targets
-        run.rows += floor_targets.rows(run.rows, SIM, STREAMS, EMU)
+        ros_up = False
+        for k in range(args.runs):
+            run = Run(args.quick)
+            run.t0 = t0
+            run.extra["machine_percent_before"] = before.percent
+            if args.runs > 1:
+                run.log(f"run {k + 1} of {args.runs}: {', '.join(chosen)}")
+            if k == 0:
+                ros_up = any(g in ROS_GROUPS for g in chosen) and run.guarded(
+                    "ROS", "rosmaster for the ROS benchmarks", "—",
+                    lambda: ros_session.start_ros(ros))
+            began = time.monotonic()
+            _groups(run, chosen, out, ros_up)
+            seconds.append(round(time.monotonic() - began, 1))
+            done.append(run)
+            if args.runs > 1:   # each run's own table as it ends: an interrupted series keeps it
+                _, one = write(run.rows, out / f"run-{k + 1}", ROOT, started, seconds[-1], [],
+                               run.extra, quick=args.quick)
+                run.log(f"run {k + 1} of {args.runs} took {seconds[-1]:.0f} s: {one}")
+    run = done[-1]
     try:
         plots = _plots(run, out)
     except Exception:  # noqa: BLE001 - the table matters more than the pictures
@@ -315,10 +361,16 @@ def main(argv=None) -> int:
         label: raw.get(f"machine {cond}") for label, raw in
         (("sim", run.raw.get("sim", {})), ("controller", run.raw.get("controller", {})))
         for cond in ("idle",)}
-    json_path, md_path = write(run.rows, out, ROOT, started, time.monotonic() - run.t0, plots,
-                               run.extra, quick=args.quick)
-    failed = sum(r.status == "FAIL" for r in run.rows)
-    missing = sum(r.status == NOT_RUN for r in run.rows)
+    if args.runs > 1:
+        from .runs import combine
+        rows = combine([r.rows for r in done])
+        run.extra["run_seconds"] = seconds
+    else:
+        rows = run.rows
+    json_path, md_path = write(rows, out, ROOT, started, time.monotonic() - t0, plots,
+                               run.extra, quick=args.quick, runs=args.runs)
+    failed = sum(r.status == "FAIL" for r in rows)
+    missing = sum(r.status == NOT_RUN for r in rows)
     shown = md_path.resolve()
     shown = shown.relative_to(ROOT) if ROOT in shown.parents else shown
     run.log(f"wrote {shown} and {json_path.name}: "

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from typing import Callable, Optional
 
-from .report import Row, judged, not_run
+from .report import Bound, Row, at_most, judged, not_run
 from .stats import fmt
 
 GROUP = "Tails at the floor: each against what the same run measured beside it"
@@ -56,13 +56,15 @@ def _p99(summary: dict) -> float:
     return float(value)
 
 
-def _row(metric: str, target: str, judge: Callable[[], tuple[str, bool, str]]) -> Row:
-    """``judge()`` → (value text, ok, note); a missing input row gives "not run"."""
+def _row(metric: str, target: str, judge: Callable[[], tuple[str, list[Bound], str]]) -> Row:
+    """``judge()`` → (value text, the bounds its target judges, note): it passes when every
+    bound is met; a missing input row gives "not run"."""
     try:
-        value, ok, note = judge()
+        value, bounds, note = judge()
     except _Missing as why:
         return not_run(GROUP, metric, target, str(why))
-    return Row(GROUP, metric, value, target, judged(ok), note)
+    return Row(GROUP, metric, value, target, judged(all(b.met for b in bounds)), note,
+               bounds=bounds)
 
 
 def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]:
@@ -74,7 +76,8 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
         d = _find(table, streams, "~twist_command: first twist")
         p99, floor = _p99(d["latency_ms"]), _p99(d["floor_ms"])
         return (f"p99 {fmt(p99)} ms; floor p99 {fmt(floor)} ms; the driver's part "
-                f"{fmt(p99 - floor)} ms", p99 <= floor + TWIST_ABOVE_FLOOR_MS,
+                f"{fmt(p99 - floor)} ms",
+                at_most(p99 - floor, TWIST_ABOVE_FLOOR_MS, "ms", "above the floor"),
                 "The velocity jog's per-cycle kinematics went from Python (FK, IK, two "
                 "Jacobians, two SVDs: 400 µs p50 in the physics thread) to one C call (77 µs), "
                 "and a twist no longer wakes the watchdog's thread (1.4-2.0 wake-ups a cycle "
@@ -83,8 +86,8 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
     def twist_cpu():
         row = _find(table, streams, "node CPU, ~twist_command")
         twist, service = row["cpu_percent"], row["service_cpu_percent"]
-        ok = twist <= TWIST_CPU_RATIO * service
-        return (f"{twist:.1f} % vs {service:.1f} % of one core = {twist / service:.2f}×", ok,
+        return (f"{twist:.1f} % vs {service:.1f} % of one core = {twist / service:.2f}×",
+                at_most(twist / service, TWIST_CPU_RATIO, "×", "ratio"),
                 "Removed: the Python kinematics of each cycle (above) and the watchdog's "
                 "wake-ups; start-up's objects are frozen out of full garbage collections "
                 "(host/heap.py: two full collections of 31-48 ms each in this window before). "
@@ -101,7 +104,7 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
             loop = _p99(_find(table, group, "bare 125 Hz timer loop (no ROS) inter-arrival "
                                             f"p50 / p99 / max, {LOADED}")["interarrival_ms"])
             return (f"worst topic p99 {fmt(worst)} ms; bare loop p99 {fmt(loop)} ms ({label})",
-                    worst <= loop + LOADED_ABOVE_LOOP_MS,
+                    at_most(worst - loop, LOADED_ABOVE_LOOP_MS, "ms", "above the loop"),
                     "Found: ~9 % of the cycles reached the subscribers one scheduler tick late "
                     "(sample age 3.2 ms instead of 0.5), the same in one subscriber process or "
                     "in three, so in the node: a cycle's burst (0.1–0.5 ms a thread) ran past "
@@ -118,7 +121,7 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
 
     def controller_rtt():
         p99 = _p99(_find(table, controller, "servo_j round trip")["rtt_ms"])
-        return (f"p99 {fmt(p99, 3)} ms", p99 <= CONTROLLER_RTT_P99_MS,
+        return (f"p99 {fmt(p99, 3)} ms", at_most(p99, CONTROLLER_RTT_P99_MS, "ms", "p99"),
                 "The emulator's broadcast thread held the interpreter lock ~1 ms a packet "
                 "(half of the lock's samples during a round trip); its packet is now built in "
                 "about a sixth of the time.")
@@ -129,7 +132,7 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
         if p99 is None:
             raise _Missing("a row without a p99")
         floor = _p99(d["floor_ms"])
-        ok = p99 <= floor + CONTROLLER_ABOVE_FLOOR_MS
+        bounds = at_most(p99 - floor, CONTROLLER_ABOVE_FLOOR_MS, "ms", "above the floor")
         note = ("The status thread's parse and the packet's build above, and the waiters "
                 "woken after the packet's work instead of before it. The stream starts "
                 "mid-cycle (bench.servo_latency.mid_cycle_start): at a phase within the node → "
@@ -137,13 +140,13 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
                 "at such a phase: 8.49 ms above the floor, p50 too), which the node's stamps "
                 "cannot show.")
         return (f"p99 {fmt(p99)} ms; floor p99 {fmt(floor)} ms; the driver's part "
-                f"{fmt(p99 - floor)} ms", ok, note)
+                f"{fmt(p99 - floor)} ms", bounds, note)
 
     def controller_cpu():
         ctl = _find(table, controller, "node CPU and RSS, idle")["cpu_percent"]
         twin = _find(table, sim, "node CPU and RSS, idle")["cpu_percent"]
         return (f"{ctl:.1f} % vs the twin's {twin:.1f} % of one core",
-                ctl <= twin + CONTROLLER_CPU_POINTS,
+                at_most(ctl - twin, CONTROLLER_CPU_POINTS, "points", "above the twin's"),
                 "The status thread's parse (parse_status in C's map, unchanged IO arrays "
                 "read once): 7.6 → ~5 % of a core.")
 

@@ -26,7 +26,7 @@ from jaka_driver_msgs.srv import SetAdmittance, SetComplianceType
 
 from . import ros_session, state_topics
 from .proc_meter import CpuWindow, MachineWindow
-from .report import REPORT, Row, judged
+from .report import REPORT, Row, at_most, judged
 from .stats import fmt, summary
 
 GROUP = "Force/torque sensor and force control (zu5 twin with its sensor, through ROS)"
@@ -100,7 +100,8 @@ def rows(ages: dict, step: dict, idle_cpu: dict, force_cpu: dict) -> list[Row]:
                    "" if ok else "the wrench is published right after the state topics from "
                    "the same sample: its age is the state topics' plus the time to publish "
                    "them; a tail above the floor's is the same scheduling delay", data={
-                       "wrench_age_ms": wrench_age, "joint_position_age_ms": state_age}))
+                       "wrench_age_ms": wrench_age, "joint_position_age_ms": state_age},
+                   bounds=at_most(wrench_age["p99"], AGE_P99_MS, "ms", "p99")))
     t, fz = step["t"], step["fz"]
     outside = np.flatnonzero(np.abs(fz + PRESS_N) > HOLD_N)
     settled = float(t[outside[-1] + 1]) if outside.size and outside[-1] + 1 < t.size else (
@@ -111,14 +112,15 @@ def rows(ages: dict, step: dict, idle_cpu: dict, force_cpu: dict) -> list[Row]:
                    f"{settled:.3f} s ({t.size} samples)",
                    f"≤ {SETTLE_S:g} s to within ±{HOLD_N:g} N", judged(settled <= SETTLE_S),
                    "" if settled <= SETTLE_S else "Fz did not stay within the band",
-                   data={"settle_s": settled}))
+                   data={"settle_s": settled}, bounds=at_most(settled, SETTLE_S, "s")))
     steady = float(np.mean(error)) if error.size else float("nan")
     spread = float(np.std(error)) if error.size else float("nan")
     worst = float(np.max(np.abs(error))) if error.size else float("nan")
     out.append(Row(GROUP, "constant-force step: steady error over the last second",
                    f"mean {steady:+.3f} N, std {spread:.3f} N, worst {worst:.3f} N",
                    f"worst ≤ {HOLD_N:g} N", judged(worst <= HOLD_N), "",
-                   data={"mean_n": steady, "std_n": spread, "worst_n": worst}))
+                   data={"mean_n": steady, "std_n": spread, "worst_n": worst},
+                   bounds=at_most(worst, HOLD_N, "N", "worst")))
     for label, w, target in (("sensor on, force control off", idle_cpu, None),
                              ("constant force on", force_cpu, FORCE_CPU_PERCENT)):
         status = REPORT if target is None else judged(w["cpu_percent"] <= target)
@@ -126,5 +128,6 @@ def rows(ages: dict, step: dict, idle_cpu: dict, force_cpu: dict) -> list[Row]:
                        f"{w['cpu_percent']:.1f} % of one core; machine "
                        f"{w['machine_percent']:.0f} % of 1 core over {w['window_s']:.0f} s",
                        "report (beside the next)" if target is None else
-                       f"≤ {target:g} % of one core (the servo stream's)", status, "", data=w))
+                       f"≤ {target:g} % of one core (the servo stream's)", status, "", data=w,
+                       bounds=[] if target is None else at_most(w["cpu_percent"], target, "%")))
     return out

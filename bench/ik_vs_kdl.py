@@ -34,7 +34,7 @@ from jaka_driver.kinematics.controller_dh import dh_of_model
 
 from .profiling import describe, hot_functions
 from .kdl_chain import chain_from_urdf, frame_from_matrix, jnt_array
-from .report import Row, judged
+from .report import Row, at_least, at_most, judged
 from .stats import fmt
 
 N_TARGETS = 10_000
@@ -187,12 +187,15 @@ def rows(results: list[dict], group: str = GROUP) -> list[Row]:
                        data={"ours_median_us": ours_med, "kdl_median_us": kdl_med,
                              "ours_p99_us": float(np.percentile(r["ours_us"], 99)),
                              "kdl_p99_us": float(np.percentile(r["kdl_us"], 99)),
-                             "ratio": ratio, "profile": r["profile"]}))
+                             "ratio": ratio, "profile": r["profile"]},
+                       bounds=at_most(ours_med, MEDIAN_TARGET_US, "µs", "median")
+                       + at_least(ratio, SPEEDUP_TARGET, "×", "KDL/ours")))
         out.append(Row(group, f"{r['model']}: success ours / KDL ({r['n']} targets)",
                        f"{ours_rate:.2f} % / {kdl_rate:.2f} % (ours on the seed's branch "
                        f"{100.0 * r['ours_same_branch'].mean():.1f} %)",
                        "ours ≥ KDL's", judged(ours_rate >= kdl_rate),
-                       data={"ours_percent": ours_rate, "kdl_percent": kdl_rate}))
+                       data={"ours_percent": ours_rate, "kdl_percent": kdl_rate},
+                       bounds=at_least(ours_rate - kdl_rate, 0.0, "points", "ours − KDL's")))
     return out
 
 

@@ -18,7 +18,7 @@ from jaka_driver.motion.profiles import SyncJointProfile
 
 from . import ros_session
 from .poses import HOME, PoseSampler
-from .report import Row, judged
+from .report import Row, at_most, judged
 
 N_MOVES = 8
 SPEED_RAD_S = 1.0
@@ -84,4 +84,6 @@ def rows(r: dict) -> list[Row]:
                 f"{min(m['planned_s'] for m in ok):.2f}–{max(m['planned_s'] for m in ok):.2f} s)"
                 if ratios.size else "no move succeeded",
                 f"within {TOLERANCE * 100:g} %", judged(passed), note.strip(),
-                data={"ratios": ratios, "excess_ms": excess_ms})]
+                data={"ratios": ratios, "excess_ms": excess_ms},
+                bounds=at_most(abs(worst - 1.0) * 100 if ratios.size else None,
+                               TOLERANCE * 100, "%", "off the profile"))]

@@ -2,7 +2,7 @@
 over the windows of :mod:`bench.node_suite`)."""
 from __future__ import annotations
 
-from .report import REPORT, Row, judged
+from .report import REPORT, Row, at_most, judged
 
 # % of one core: idle (the three state topics at 125 Hz, nothing else asked) and while
 # servo_j streams at 125 Hz; the loaded window is reported only.
@@ -38,5 +38,6 @@ def rows(group: str, windows: dict, judge: bool = True,
                        f"(peak {w['peak_rss_mib']:.0f} MiB); machine {w['machine_percent']:.0f} %"
                        f" of 1 core over {w['window_s']:.0f} s",
                        f"≤ {target:g} % of one core at 125 Hz; RSS reported"
-                       if judged_here else "report", status, note, data=w))
+                       if judged_here else "report", status, note, data=w,
+                       bounds=at_most(w["cpu_percent"], target, "%") if judged_here else []))
     return out

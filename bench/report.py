@@ -12,10 +12,48 @@ PASS, FAIL, REPORT, NOT_RUN = "pass", "FAIL", "report", "not run"
 
 
 @dataclass
+class Bound:
+    """One number a target judges and the limit it must keep: ``value`` ≤ ``limit``
+    (``at_most``) or ≥ it, in ``unit``; ``what`` names the number when it is not plain from the
+    row ("p99", "above the floor"). A row's several bounds must all hold."""
+
+    value: float
+    limit: float
+    unit: str = ""
+    at_most: bool = True
+    what: str = ""
+
+    @property
+    def margin(self) -> float:
+        """How far the value sits inside its limit (negative: outside), in ``unit``."""
+        return self.limit - self.value if self.at_most else self.value - self.limit
+
+    @property
+    def met(self) -> bool:
+        return self.margin >= 0
+
+    @property
+    def sense(self) -> str:
+        return "≤" if self.at_most else "≥"
+
+
+def at_most(value, limit: float, unit: str = "", what: str = "") -> list[Bound]:
+    """``[Bound]`` for "``value`` ≤ ``limit``", or ``[]`` when there is no value to judge."""
+    return [] if value is None else [Bound(float(value), float(limit), unit, True, what)]
+
+
+def at_least(value, limit: float, unit: str = "", what: str = "") -> list[Bound]:
+    """``[Bound]`` for "``value`` ≥ ``limit``", or ``[]`` when there is no value to judge."""
+    return [] if value is None else [Bound(float(value), float(limit), unit, False, what)]
+
+
+@dataclass
 class Row:
     """One line of the table. ``status`` is :data:`PASS`, :data:`FAIL`, :data:`REPORT` (no
     target: the number is the deliverable) or :data:`NOT_RUN`. ``note`` says, for a miss, why
-    and what would fix it; for a row not run, why not. ``data`` keeps the raw numbers."""
+    and what would fix it; for a row not run, why not. ``data`` keeps the raw numbers;
+    ``bounds`` the numbers its target judges, each with its limit (a run of several
+    repetitions reports their spread and margins: :mod:`bench.runs`)."""
 
     group: str
     metric: str
@@ -24,6 +62,7 @@ class Row:
     status: str
     note: str = ""
     data: dict = field(default_factory=dict)
+    bounds: list = field(default_factory=list)
 
 
 def judged(ok: bool) -> str:
@@ -62,13 +101,16 @@ def _commit(root: Path) -> str:
 
 
 def write(rows: list[Row], out_dir: Path, root: Path, started: str, duration_s: float,
-          plots: list[str], extra: dict, quick: bool = False) -> tuple[Path, Path]:
+          plots: list[str], extra: dict, quick: bool = False, runs: int = 1) -> tuple[Path, Path]:
     """Write ``latest.json`` and ``latest.md`` into ``out_dir``; returns their paths.
     ``extra`` may hold ``machine_percent_before`` / ``machine_percent_during`` (whole-machine
-    CPU, % of one core), printed in the header so a disturbed run shows it."""
+    CPU, % of one core), printed in the header so a disturbed run shows it. ``runs`` > 1:
+    ``rows`` are :func:`bench.runs.combine`'s, and the table gives each row's spread over the
+    runs, its margin in the worst run and the runs that met its target."""
     out_dir.mkdir(parents=True, exist_ok=True)
     meta = {"started": started, "duration_s": round(duration_s, 1), "commit": _commit(root),
-            "machine": _machine(), "quick": quick,
+            "machine": _machine(), "quick": quick, "runs": runs,
+            "run_seconds": extra.get("run_seconds"),
             "machine_percent_before": extra.get("machine_percent_before"),
             "machine_percent_during": extra.get("machine_percent_during", {}),
             "other_programs": extra.get("other_programs", [])}
@@ -117,8 +159,22 @@ def _cell(text: str) -> str:
 
 
 def _markdown(rows: list[Row], meta: dict, plots: list[str]) -> str:
+    from .runs import markdown_row
     m = meta["machine"]
+    runs = meta.get("runs", 1)
     counts = {s: sum(r.status == s for r in rows) for s in (PASS, FAIL, REPORT, NOT_RUN)}
+    if runs > 1:
+        took = meta.get("run_seconds") or []
+        how = (f"**{runs} runs** of the same groups, one after the other"
+               + (f" ({', '.join(f'{s:.0f}' for s in took)} s)" if took else "")
+               + ": each row's value is its judged number's min / median / max over the runs, "
+               "its margin the room left to the target in the worst run (negative: a miss), "
+               "and it passes only if it passed in every run.")
+        head = ["| metric | min / median / max | target | margin, worst run | runs met | "
+                "result |", "|---|---|---|---|---|---|"]
+    else:
+        how = ""
+        head = ["| metric | value | target | result |", "|---|---|---|---|"]
     lines = [
         "# jaka_driver benchmarks",
         "",
@@ -127,24 +183,28 @@ def _markdown(rows: list[Row], meta: dict, plots: list[str]) -> str:
         "(`make bench`).",
         "",
         *_load_lines(meta),
+        *([how, ""] if how else []),
         f"**{counts[PASS]} pass, {counts[FAIL]} fail, {counts[REPORT]} reported without a "
         f"target, {counts[NOT_RUN]} not run.** Targets are those written in `bench/` and are never "
         "moved; a miss is explained below the table.",
         "",
-        "| metric | value | target | result |",
-        "|---|---|---|---|",
+        *head,
     ]
     notes = []
     group = None
     for r in rows:
         if r.group != group:
             group = r.group
-            lines.append(f"| **{_cell(group)}** | | | |")
+            lines.append(f"| **{_cell(group)}** |" + " |" * (5 if runs > 1 else 3))
         mark = r.status
         if r.note and r.status in (FAIL, NOT_RUN):
             notes.append((r, len(notes) + 1))
             mark = f"{r.status} [{len(notes)}]"
-        lines.append(f"| {_cell(r.metric)} | {_cell(r.value)} | {_cell(r.target)} | {mark} |")
+        if runs > 1:
+            lines.append(markdown_row(r, mark, _cell))
+        else:
+            lines.append(f"| {_cell(r.metric)} | {_cell(r.value)} | {_cell(r.target)} | "
+                         f"{mark} |")
     if notes:
         lines += ["", "## Why a target is missed, and what would fix it", ""]
         for r, k in notes:

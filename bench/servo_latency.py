@@ -31,7 +31,7 @@ import rospy
 from jaka_msgs.srv import ServoMove, ServoMoveEnable
 
 from . import ros_session
-from .report import REPORT, Row, judged
+from .report import REPORT, Row, at_most, judged
 from .stats import fmt, summary
 from jaka_driver.common.constants import SERVO_CYCLE
 
@@ -226,7 +226,8 @@ def rows(group: str, condition: str, rtt: dict, stream: dict, judge: bool = True
                         and not rtt["refused"]),
                 "" if (r["p99"] is not None and r["p99"] <= ROUND_TRIP_P99_MS
                        and not rtt["refused"]) or not judge else _round_trip_note(r),
-                data={"rtt_ms": r}),
+                data={"rtt_ms": r},
+                bounds=at_most(r["p99"], ROUND_TRIP_P99_MS, "ms", "p99") if judge else []),
             observed_row(group, f"servo command → observed p50 / p99 / max, {condition}",
                          stream, judge)]
 
@@ -276,4 +277,5 @@ def observed_row(group: str, metric: str, stream: dict, judge: bool = True,
                data={"latency_ms": o, "p99_ms_with_misses": p99, "never_reached": missed,
                      "strict_hit_percent": strict, "stream_rtt_ms": s, "wait_ms": wait,
                      "after_cycle_ms": after, "shared_cycle_percent": shared,
-                     "floor_ms": floor, "driver_part_ms": driver})
+                     "floor_ms": floor, "driver_part_ms": driver},
+               bounds=at_most(p99, limit, "ms", "p99") if judge else [])

@@ -15,7 +15,7 @@ import numpy as np
 
 from .cpu_load import BusyLoad
 from .poses import HOME
-from .report import Row, judged
+from .report import Row, at_most, judged
 
 SIM_SECONDS = 60.0
 WALL_TARGET = 15.0
@@ -138,7 +138,7 @@ def rows(speed: dict | None, same: dict | None) -> list[Row]:
                        "" if speed["wall_s"] <= WALL_TARGET else
                        "the node publishes every cycle's sample and /clock and the twin waits "
                        "for it; a faster publisher (fewer topics per cycle) would lift the "
-                       "factor", data=speed))
+                       "factor", data=speed, bounds=at_most(speed["wall_s"], WALL_TARGET, "s")))
     if same is not None:
         ok = same["worst_rad"] <= 1e-9
         out.append(Row(GROUP, "same scenario twice, idle and both cores loaded: worst joint "
@@ -147,5 +147,5 @@ def rows(speed: dict | None, same: dict | None) -> list[Row]:
                        f"(wall {same['wall_s'][0]:.1f} s idle, {same['wall_s'][1]:.1f} s "
                        "loaded)", "≤ 1e-9 rad", judged(ok), "" if ok else
                        "a command reached the twin at a different sim time in the two runs",
-                       data=same))
+                       data=same, bounds=at_most(same["worst_rad"], 1e-9, "rad")))
     return out

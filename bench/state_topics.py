@@ -20,7 +20,7 @@ from sensor_msgs.msg import JointState
 from jaka_msgs.msg import RobotMsg
 
 from . import ros_session
-from .report import REPORT, Row, judged
+from .report import REPORT, Row, at_most, judged
 from .stats import fmt, summary
 
 TOPICS = (("tool_position", TwistStamped), ("joint_position", JointState),
@@ -124,7 +124,9 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
         note = once("rate", name, note)
         out.append(Row(group, f"{name} rate, {condition}", f"{rate:.2f} Hz "
                        f"({s['messages']} msgs)", f"{RATE_HZ:g} ± {RATE_TOL_HZ:g} Hz",
-                       verdict(ok), note, data=s))
+                       verdict(ok), note, data=s,
+                       bounds=at_most(abs(rate - RATE_HZ), RATE_TOL_HZ, "Hz", "off 125 Hz")
+                       if judge else []))
     for name, s in stats.items():
         ia = s["interarrival_ms"]
         ok = ia["p99"] is not None and ia["p99"] <= INTERARRIVAL_P99_MS
@@ -133,7 +135,9 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
         out.append(Row(group, f"{name} inter-arrival p50 / p99 / max, {condition}",
                        f"{fmt(ia['p50'])} / {fmt(ia['p99'])} / {fmt(ia['max'])} ms",
                        f"p99 ≤ {INTERARRIVAL_P99_MS:g} ms", verdict(ok), note,
-                       data={"interarrival_ms": ia}))
+                       data={"interarrival_ms": ia},
+                       bounds=at_most(ia["p99"], INTERARRIVAL_P99_MS, "ms", "p99")
+                       if judge else []))
     for name, s in stats.items():
         if "age_ms" not in s:
             continue
@@ -146,5 +150,6 @@ def rows(group: str, condition: str, stats: dict, judge: bool = True,
         note = once("sample age", name, note)
         out.append(Row(group, f"{name} sample age p50 / p99 / max, {condition}",
                        f"{fmt(age['p50'])} / {fmt(age['p99'])} / {fmt(age['max'])} ms",
-                       f"p99 ≤ {AGE_P99_MS:g} ms", verdict(ok), note))
+                       f"p99 ≤ {AGE_P99_MS:g} ms", verdict(ok), note,
+                       bounds=at_most(age["p99"], AGE_P99_MS, "ms", "p99") if judge else []))
     return out

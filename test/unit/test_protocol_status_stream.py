@@ -3,6 +3,7 @@ packets are skipped and counted, the buffer stays bounded, ``len`` is self-consi
 packet becomes a StatusPacket in driver units."""
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +12,8 @@ from hypothesis import strategies as st
 
 from jaka_driver.protocol import StatusPacket, StatusStreamDecoder, encode_status, parse_status
 from jaka_driver.protocol.status_stream import PACKET_START
+
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 # ---- packets -------------------------------------------------------------------------------
 
@@ -121,6 +124,63 @@ def test_nested_len_key_does_not_break_an_incomplete_packet():
     assert decoder.feed(pkt[:30]) == []
     assert decoder.feed(pkt[30:]) == [json.loads(pkt)]
     assert decoder.packets_dropped == 0
+
+
+# ---- the compiled parser's path ------------------------------------------------------------
+
+@pytest.fixture
+def no_python_parser(monkeypatch):
+    """json's parser made to fail: what still decodes went through the compiled one."""
+    from jaka_driver.protocol import wire
+
+    class Refuse:
+        def raw_decode(self, text):
+            raise AssertionError("the pure-Python parser was used")
+    monkeypatch.setattr(wire, "_STRICT", Refuse())
+
+
+def test_a_whole_packet_never_reaches_the_pure_python_parser(no_python_parser):
+    """The 8 ms packet of the default profile's size, whole or with the next one's first bytes
+    behind it, is cut at its ``len`` and parsed by the compiled parser."""
+    fields = json.loads((DATA / "status_packet.json").read_text())
+    a, b = encode_status(fields), encode_status(sample_packet(1))
+    assert len(a) > 6000
+    decoder = StatusStreamDecoder()
+    assert decoder.feed(a) == [json.loads(a)]
+    assert decoder.feed(b + a[:100]) == [json.loads(b)]
+    assert decoder.buffered == 100 and decoder.packets_dropped == 0
+
+
+@pytest.mark.parametrize("declared", [10, 500, 10**6])
+def test_a_wrong_len_costs_no_packet(declared):
+    """``len`` is a hint: too short, too long or beyond belief, the packets still come whole
+    (the careful path), in order, nothing dropped."""
+    body = json.loads(encode_status(sample_packet(0)))
+    body["len"] = declared
+    from jaka_driver.protocol.wire import encode_json_spaced
+    pkts = [encode_json_spaced(body), encode_status(sample_packet(1))]
+    decoder = StatusStreamDecoder()
+    got = decoder.feed(pkts[0]) + decoder.feed(pkts[1])
+    assert [p["joint_actual_position"][0] for p in got] == [0, 1]
+    assert (decoder.packets_dropped, decoder.bytes_dropped) == (0, 0)
+
+
+@pytest.mark.parametrize("data", [
+    b'{"a": 1} {"b": 2}', b' {"a": 1}', b'{"a": NaN}', b'{"a": "\xff"}', b'{"a": "\\ud800"}',
+    b'{"a": [1, 2}', b'{"a": ' + b"[" * 100_000 + b"]" * 100_000 + b"}", b'"text"', b"",
+    b'{"a": 1', b"[1] ", b'{"a": 1}]'])
+def test_what_is_not_exactly_one_value_is_left_to_the_careful_reader(data):
+    from jaka_driver.protocol.wire import decode_whole
+    assert decode_whole(data) is None
+
+
+@settings(max_examples=100, deadline=None)
+@given(packets)
+def test_the_compiled_parser_reads_a_packet_as_json_does(packet):
+    from jaka_driver.protocol.wire import decode_whole
+    data = encode_status(packet)
+    assert decode_whole(data) == json.loads(data) == packet
+    assert decode_whole(bytearray(data)) == packet
 
 
 # ---- encode_status -------------------------------------------------------------------------
@@ -235,7 +295,7 @@ def test_a_stream_encoder_writes_what_encode_status_writes(stream):
     """The emulator's encoder keeps the encoding of a value it is handed again (the same
     object); packet after packet its bytes are encode_status's, whether a value is new, the
     same object again, or an equal new one."""
-    from jaka_driver.protocol.status_stream import StatusEncoder
+    from jaka_driver.protocol.status_encoder import StatusEncoder
     encoder = StatusEncoder()
     kept = {"din": [0, 1] * 8, "funcdi": [[-1, -1]] * 3}
     for fields in stream:
@@ -243,3 +303,76 @@ def test_a_stream_encoder_writes_what_encode_status_writes(stream):
         assert encoder.encode(fields) == encode_status(fields)
         kept = {"din": kept["din"] if len(fields) % 2 else list(kept["din"]) + [1],
                 "funcdi": kept["funcdi"]}
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.one_of(st.floats(allow_nan=False, allow_infinity=False), st.integers(),
+                 st.booleans(), st.none(), st.text()))
+def test_a_stream_encoder_writes_every_scalar_as_json_does(value):
+    from jaka_driver.protocol.status_encoder import StatusEncoder
+    assert StatusEncoder().encode({"x": value}) == encode_status({"x": value})
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_a_stream_encoder_refuses_what_is_not_json(value):
+    from jaka_driver.protocol.status_encoder import StatusEncoder
+    with pytest.raises(ValueError):
+        StatusEncoder().encode({"x": value})
+
+
+# ---- the receiver's decoder: only the keys parse_status reads --------------------------------
+
+def _same_status(a, b, path="status"):
+    """Field by field, into the torque sensor's record; arrays NaN-equal."""
+    import dataclasses
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if dataclasses.is_dataclass(x):
+            _same_status(x, y, f"{path}.{f.name}")
+        elif isinstance(x, np.ndarray):
+            assert np.array_equal(x, y, equal_nan=True), f"{path}.{f.name}"
+        else:
+            assert x == y, f"{path}.{f.name}"
+
+
+@pytest.mark.parametrize("fixture", ["status_packet.json", "status_packet_fw1.5.14.json"])
+def test_the_receivers_decoder_reads_packets_as_parse_status_reads_json(fixture):
+    """Packet after packet — the IO arrays unchanged (read from their remembered bytes), then
+    one changed — the StatusPacket is the one parse_status makes of the whole JSON."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    fields = json.loads((DATA / fixture).read_text())
+    for i in range(3):
+        fields["joint_actual_position"][0] = 10.0 * i
+        if i == 2:
+            fields["din"] = [1] + fields["din"][1:]
+        data = encode_status(fields)
+        _same_status(parse_status(decode_read_keys(data)), parse_status(json.loads(data)))
+    (packet,) = StatusStreamDecoder(decode=decode_read_keys).feed(data)
+    assert "din" in packet and "len" not in packet   # only the keys parse_status reads
+
+
+@pytest.mark.parametrize("wrong", [b"[true, 0, 1]", b'"text"', b'{"a": 1}', b"[[1], 2]",
+                                   b'[1, "x"]', b"[1e999, 0]"])
+def test_a_malformed_io_array_is_named_as_json_s_reader_names_it(wrong):
+    """The receiver's decoder (after the good array was remembered) and the default decoder
+    read the same packet: din malformed, nothing else."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    fields = json.loads((DATA / "status_packet.json").read_text())
+    good = encode_status(fields)
+    fields["din"] = "DIN"
+    data = encode_status(fields).replace(b'"DIN"', wrong)    # len now a hint only
+    fast = StatusStreamDecoder(decode=decode_read_keys)
+    fast.feed(good)
+    (packet,) = fast.feed(data + good)[:1]
+    status = parse_status(packet)
+    assert status.malformed == ("din",) and status.din == ()
+    _same_status(status, parse_status(StatusStreamDecoder().feed(data + good)[0]))
+
+
+def test_unreadable_bytes_of_an_io_array_are_a_malformed_field_not_a_drop():
+    """The compiled parser only skims the arrays it leaves undecoded: invalid UTF-8 inside
+    one is found when it is read, and only that field is lost."""
+    from jaka_driver.protocol.status_packet import decode_read_keys
+    data = encode_status({**sample_packet(), "din": ["ERR"]}).replace(b"ERR", b"\xff\xfe")
+    status = parse_status(decode_read_keys(data))
+    assert status.malformed == ("din",) and list(status.joint_position) != []

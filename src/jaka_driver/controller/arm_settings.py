@@ -24,7 +24,7 @@ from ..common.results import Code, CommandRefused, Result
 from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import commands
 from ..protocol.fields import Field
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 from .commander import SETTLE_TIMEOUT, Commander, answers
 from .frames_by_id import TABLE_SIZE, ControllerFrames
 from .running_motion import RunningMotion

@@ -24,7 +24,7 @@ from typing import Any, Callable, Mapping, Optional, TypeVar
 from ..common.results import Code, CommandRefused, Result
 from ..protocol import errors
 from ..protocol.replies import Reply
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 from .connection import ControllerLink
 from .status_view import StatusView
 

@@ -42,7 +42,7 @@ from ..host import realtime
 from ..protocol import CommandClient, StatusPoller, StatusReceiver, errors
 from ..protocol.fields import STATUS_REQUEST_PORT
 from ..protocol.replies import Reply
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 
 log = logging.getLogger(__name__)
 

@@ -56,7 +56,7 @@ from ..kinematics import Kinematics
 from ..protocol import torque_sensor as wire
 from ..protocol.fields import Field
 from ..protocol.replies import reply_payload
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 from .arm_identity import ArmIdentity
 from .arm_settings import PACKET_CATCH_UP
 from .commander import SETTLE_TIMEOUT, Commander, answers

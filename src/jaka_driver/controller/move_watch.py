@@ -28,7 +28,7 @@ from ..backend.completion import Completion
 from ..common.constants import IN_POSITION
 from ..common.results import Code, Result
 from ..common.transforms import rotation_angle_between, rpy_to_matrix
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
 TCP_IN_POSITION_RAD = 2e-3

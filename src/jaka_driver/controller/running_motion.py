@@ -23,7 +23,7 @@ from typing import Callable, Optional, Type, TypeVar
 
 from ..backend.completion import Completion
 from ..common.results import Code, CommandRefused, Result
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 from .move_watch import MoveWatch
 from .servo_stream import TrajectoryStreamer
 from .status_view import StatusView

@@ -40,7 +40,7 @@ from ..backend.force import ForceReading, SensorPayload, gravity_wrench
 from ..backend.robot_state import IoValues, RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
 

@@ -13,7 +13,7 @@ import numpy as np
 from ..protocol import units
 from ..protocol.fields import (ERROR_CODE_EXCEPTION, Cmd, CoordMap, Field, JogMode,
                                StatusField)
-from ..protocol.status_stream import encode_status
+from ..protocol.status_encoder import encode_status
 from .replies import ERROR_REQUEST, Answer, PlainFloats, RecordedReply, Rejected, done
 from .status_packet import status_fields, wire_pose
 from .twin_controller import TwinController

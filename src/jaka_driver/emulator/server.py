@@ -32,7 +32,8 @@ from typing import Callable, Dict, Optional
 from ..common.constants import SERVO_CYCLE
 from ..host import realtime
 from ..protocol.fields import DATA_REQUEST_MAX_BYTES, ERROR_CODE_FAILED, Cmd, Field
-from ..protocol.status_stream import StatusEncoder, encode_data_reply
+from ..protocol.data_reply import encode_data_reply
+from ..protocol.status_encoder import StatusEncoder
 from ..protocol.tcp_server import TcpServer
 from .framing import RequestSplitter
 from .handlers import CommandHandlers

@@ -11,8 +11,10 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.torque_sensor` — the torque sensor and force control: requests as JAKA's SDK sends
   them, its replies, and the status packet's ``torqsensor``.
 * :mod:`.wire` — the JSON layouts (compact requests, spaced controller output) and decoding.
-* :mod:`.status_stream` — status packets (port-10000 stream, port-10004 zlib reply) and
-  :class:`StatusPacket`.
+* status packets: :mod:`.status_stream` — the port-10000 stream's framing (bytes → packets);
+  :mod:`.status_packet` — :class:`StatusPacket` and :func:`parse_status` (a packet's fields in
+  the SDK's units); :mod:`.status_encoder` — packets written as a controller writes them (the
+  emulator's side); :mod:`.data_reply` — port 10004's zlib reply to ``data_request``.
 * :mod:`.command_client` — :class:`CommandClient` (port 10001); :mod:`.status_client` —
   :class:`StatusReceiver` (port 10000) and :class:`StatusPoller` (port 10004); both connect
   with :mod:`.connect`.
@@ -37,8 +39,10 @@ from .fields import (COMMAND_PORT, COMMANDS, STATUS_PORT, STATUS_REQUEST_PORT, C
                      StatusField)
 from .replies import Reply, parse_reply
 from .status_client import StatusPoller, StatusReceiver
-from .status_stream import (StatusPacket, StatusStreamDecoder, decode_data_reply,
-                            encode_data_reply, encode_status, parse_status)
+from .data_reply import decode_data_reply, encode_data_reply
+from .status_encoder import encode_status
+from .status_packet import StatusPacket, parse_status
+from .status_stream import StatusStreamDecoder
 from .tcp_server import TcpServer
 
 __all__ = [

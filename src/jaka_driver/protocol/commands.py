@@ -134,7 +134,7 @@ def clear_error() -> Request:
 
 def get_data() -> Request:
     """Full status in one reply; its fields are those of a status packet, so decode them with
-    ``status_stream.parse_status(reply.fields)``."""
+    ``status_packet.parse_status(reply.fields)``."""
     return _cmd(Cmd.GET_DATA)
 
 

@@ -1,6 +1,6 @@
 """The names on the wire, in one table: command names, JSON keys, enum values, status fields.
 
-Client (:mod:`.commands`, :mod:`.status_stream`) and server (the emulator) both take their
+Client (:mod:`.commands`, :mod:`.status_packet`) and server (the emulator) both take their
 spelling from here, so a misspelt key cannot make them agree with each other and disagree with
 a real controller.
 

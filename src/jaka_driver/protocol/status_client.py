@@ -23,8 +23,9 @@ from .commands import data_request, encode
 from .connect import RECV_SIZE, open_connection
 from .errors import ProtocolError
 from .fields import DATA_REQUEST_MAX_BYTES, STATUS_PORT, STATUS_REQUEST_PORT
-from .status_stream import (MAX_BUFFER, StatusPacket, StatusStreamDecoder, data_reply_fields,
-                            parse_status)
+from .data_reply import data_reply_fields
+from .status_packet import StatusPacket, decode_read_keys, parse_status
+from .status_stream import MAX_BUFFER, StatusStreamDecoder
 
 _log = logging.getLogger(__name__)
 
@@ -65,8 +66,9 @@ class StatusReceiver:
         self.stall_timeout = stall_timeout
         self._clock = clock
         #: The stream decoder; its counters (packets, bytes_dropped, packets_dropped) add up over
-        #: every connection of this receiver.
-        self.decoder = StatusStreamDecoder(max_buffer)
+        #: every connection of this receiver. It decodes only the keys parse_status reads
+        #: (its packets are for parse_status alone).
+        self.decoder = StatusStreamDecoder(max_buffer, decode=decode_read_keys)
         self._lock = threading.Lock()
         self._thread: Optional[threading.Thread] = None
         self._sock: Optional[socket.socket] = None
@@ -241,7 +243,10 @@ class StatusPoller(StatusReceiver):
                         raise ProtocolError(f"the data_request reply of {reply[1]} bytes is "
                                             f"longer than the SDK's {DATA_REQUEST_MAX_BYTES} "
                                             f"or inflates past {MAX_INFLATED_BYTES} bytes")
-                    fields = data_reply_fields(*reply)
+                    # only the keys parse_status reads; the careful reader for the rest
+                    fields = decode_read_keys(reply[0])
+                    if fields is None:
+                        fields = data_reply_fields(*reply)
                 except ProtocolError as exc:
                     self.decoder.packets_dropped += 1
                     _log.debug("status reply from %s dropped: %s", self.address, exc)

@@ -12,6 +12,11 @@ a reader cannot split on newlines: it parses one value and learns where it ended
 offset back to a byte offset, which differs from it as soon as a non-ASCII character (a Chinese
 ``errmsg``) precedes the end.
 
+A value that fills its buffer exactly — one reply per read, a status packet cut at its declared
+``len`` — is parsed in one pass by msgspec's compiled parser (:func:`decode_whole`): a 7 kB status
+packet every 8 ms is the node's largest piece of work, and the compiled parser holds the
+interpreter lock a third as long as ``json`` does. Whatever it refuses goes the careful way below.
+
 Readers of the controller's output use :class:`HeadDecoder`, which is strict where it must be
 and says which of three things the head of its buffer is: a whole value, the beginning of one
 (wait for more bytes), or bytes that can never become one (:class:`~.errors.MalformedInput`:
@@ -28,6 +33,7 @@ import math
 import re
 from typing import Any, NamedTuple, Optional, Tuple
 
+import msgspec
 import numpy as np
 
 from .errors import MalformedInput, ProtocolError
@@ -128,6 +134,36 @@ _CLOSING_OF = {ord("{"): b"}", ord("["): b"]"}
 _OPENING_OF = {ord("}"): ord("{"), ord("]"): ord("[")}
 
 
+# msgspec's JSON parser, no schema: a whole buffer → one plain value (dict, list, str, int …)
+_WHOLE = msgspec.json.Decoder()
+# what it raises on a buffer that is not exactly one JSON value: not JSON or not all of it
+# (DecodeError), invalid UTF-8 (UnicodeDecodeError, a ValueError), nesting past Python's
+# recursion limit (RecursionError)
+_NOT_WHOLE = (msgspec.DecodeError, ValueError, RecursionError)
+_BRACKETS = (ord("{"), ord("["))
+_CLOSERS = (ord("}"), ord("]"))
+
+
+def decode_whole(data) -> Optional[Any]:
+    """The JSON object or array that is exactly ``data`` (bytes or bytearray: it begins with
+    ``{`` or ``[`` and ends with ``}`` or ``]``), parsed by the compiled parser; None when
+    ``data`` is anything else — unfinished, two values, not JSON, NaN, invalid UTF-8, a lone
+    surrogate escape, nested past the parser's limit —, which the caller then reads the careful
+    way (:class:`HeadDecoder`). A value is never cut at a wrong place: a buffer that parses
+    whole from a ``{`` is the object that ``{`` opens and nothing more.
+
+    The compiled parser takes integers of any length and nesting up to Python's recursion
+    limit: a whole value it accepts is read even where :class:`HeadDecoder` would have refused
+    it for nesting deeper than its ``max_depth`` (no field a reader takes nests more than 4
+    deep, and the parser reports deeper nesting as an error rather than crashing)."""
+    if not data or data[0] not in _BRACKETS or data[-1] not in _CLOSERS:
+        return None
+    try:
+        return _WHOLE.decode(data)
+    except _NOT_WHOLE:
+        return None
+
+
 class Decoded(NamedTuple):
     """A value taken from the head of a buffer."""
     value: Any
@@ -167,6 +203,10 @@ class HeadDecoder:
 
     def decode(self, buf) -> Optional[Decoded]:
         data = bytes(buf)
+        whole = decode_whole(data)   # the usual case: the buffer holds one value, all of it
+        if whole is not None:
+            self.reset()
+            return Decoded(whole, len(data), False)
         try:
             text, checked = data.decode("utf-8"), True
         except UnicodeDecodeError:
