@@ -8,6 +8,8 @@ units (:mod:`.contract`), and what travels across it.
   with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
 * :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
+* :mod:`.tool_io` — :class:`ToolIO`: the tool connector (tool power, pins, RS485 channels,
+  frames, signals; ``backend.tool_io``; :class:`NoToolIO` refuses every request);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -18,8 +20,10 @@ from .contract import Backend
 from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .programs import ProgramState, ProgramStatus, Programs, UserVariable
 from .robot_state import MotionState, RobotState
+from .tool_io import ChannelComm, NoToolIO, Signal, ToolIO, ToolIOSettings
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
            "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
-           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]
+           "ToolIO", "ToolIOSettings", "ChannelComm", "Signal", "NoToolIO", "RobotState",
+           "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]

@@ -27,6 +27,7 @@ from ..common.results import Code, Result
 from .clock import WallClock
 from .force import Force, NoForceSensor
 from .programs import Programs
+from .tool_io import NoToolIO, ToolIO
 from .robot_state import RobotState
 from .twin import Twin
 
@@ -56,6 +57,10 @@ class Backend(ABC):
     #: The flange force/torque sensor and force control on it (:class:`~.force.Force`), never
     #: None: an arm without a sensor refuses every force request and says why.
     force: Force = NoForceSensor("no force/torque sensor: this backend drives none")
+
+    #: The tool connector (:class:`~.tool_io.ToolIO`: tool power, pin modes, RS485 channels,
+    #: frames, Modbus signals), never None: a backend without one refuses with -9.
+    tool_io: ToolIO = NoToolIO("no tool connector: this backend drives none")
 
     def __init__(self, model: RobotModel):
         self.model = model
