@@ -215,3 +215,22 @@ def test_an_arm_without_a_connector_refuses_every_request_with_9():
               no.add_signal(Signal("a", 1, 3, 1)), no.delete_signal("a"), no.read_signals()):
         assert r.code == -9 and r.message == "no tool connector here"
     assert no.settings() == ToolIOSettings() and no.signals() == ()
+
+
+def test_a_device_that_raises_is_logged_and_the_cycles_go_on(tio, caplog):
+    class Broken(FakeGripper):
+        def on_cycle(self):
+            raise RuntimeError("broken state machine")
+
+        def rs485(self, channel, frame, baudrate):
+            raise IndexError("short frame")
+
+    device = Broken()
+    tio.attach(device)
+    rs485l_modbus(tio)
+    assert tio.add_signal(Signal("grip_init", 1, 3, 0x0200, frequency=10)).ok
+    cycles(tio, 3)
+    assert tio.send_frame(1, [1]).ok                      # sent: no reply travels back
+    assert tio.signals()[0].value == 1                    # polled all the same
+    assert sum("on_cycle failed" in r.message for r in caplog.records) == 1   # logged once
+    assert any("rs485 failed" in r.message for r in caplog.records)

@@ -10,7 +10,8 @@ controller was recorded answering — never an exception, never a silent close.
 
 The handlers, by subject: :mod:`.arm_commands` (power, motion, servo, kinematics, drag),
 :mod:`.setting_commands` (identity, frames, payload, speed, filters), :mod:`.io_commands`,
-:mod:`.program_commands`, :mod:`.sensor_commands` (the torque sensor's settings; on an arm
+:mod:`.program_commands`, :mod:`.tool_io_commands` (the tool connector, on the twin's),
+:mod:`.sensor_commands` (the torque sensor's settings; on an arm
 with the sensor, :mod:`.force_commands` answers from the twin's sensor), and here the
 emulator-only commands (a real controller answers them "unknown command"; they all start with
 ``emulator_`` — see :data:`EMULATOR_COMMANDS`).
@@ -30,6 +31,7 @@ from .program_commands import ProgramCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
 from .sensor_commands import SensorCommands
 from .setting_commands import SettingCommands
+from .tool_io_commands import ToolIoCommands
 from .twin_controller import TwinController
 from .wire_fields import flag, shown
 
@@ -61,6 +63,7 @@ class CommandHandlers:
             **SettingCommands(controller).table(),
             **IoCommands(controller).table(),
             **ProgramCommands(controller).table(),
+            **ToolIoCommands(controller.backend.tool_io).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             # an arm with the sensor answers what it makes a difference to from the twin's
             **(ForceCommands(controller).table() if controller.backend.force.absent is None

@@ -17,10 +17,12 @@ and the IO board, offered as ``SimBackend.tool_io``.
   Modbus RTU; a read the device does not answer leaves the latest value.
 
 Every call to the device is made in the physics thread inside a cycle, or under the physics
-loop's lock from a request: never two at once, never during a cycle's steps.
+loop's lock from a request: never two at once, never during a cycle's steps. A device that
+raises is logged (once per kind of call) and goes on: nothing it does stops the physics thread.
 """
 from __future__ import annotations
 
+import logging
 import math
 import threading
 from dataclasses import replace
@@ -32,6 +34,8 @@ from ..common.constants import SERVO_CYCLE
 from ..protocol.fields import IOType
 from .io_board import INPUT, OUTPUT, IoBoard
 from .tool_device import ToolDevice
+
+log = logging.getLogger(__name__)
 
 #: the twin's cycles per second (125)
 CYCLES_PER_SECOND = round(1.0 / SERVO_CYCLE)
@@ -62,7 +66,18 @@ class SimToolIO(ToolIO):
         self._cycle = 0
         self._device: Optional[ToolDevice] = None
         self._outputs: Tuple[float, ...] = self._tool_outputs()
+        self._failed: set = set()               # the device's calls that raised (logged once)
         io.listeners.append(self._output_written)
+
+    def _call(self, what: str, *args, default=None):
+        """``device.<what>(*args)``; an exception is logged once and answers ``default``."""
+        try:
+            return getattr(self._device, what)(*args)
+        except Exception:  # noqa: BLE001 - a device never takes the physics thread down
+            if what not in self._failed:
+                self._failed.add(what)
+                log.exception("tool connector: the device's %s failed", what)
+            return default
 
     # ---- the device -------------------------------------------------------------------------
     def attach(self, device: Optional[ToolDevice]) -> None:
@@ -71,8 +86,8 @@ class SimToolIO(ToolIO):
         with self._lock:
             self._device = device
             if device is not None:
-                device.power(self._settings.volts)
-                device.tool_outputs(self._outputs)
+                self._call("power", self._settings.volts)
+                self._call("tool_outputs", self._outputs)
 
     @property
     def device(self) -> Optional[ToolDevice]:
@@ -82,20 +97,19 @@ class SimToolIO(ToolIO):
         """The cycle's work, in the physics thread after its steps: the device's state machine,
         the tool DIs it drives into the board, then the signals that are due."""
         self._cycle += 1
-        device = self._device
-        if device is None:
+        if self._device is None:
             return
-        device.on_cycle()
-        for index, level in device.tool_inputs().items():
+        self._call("on_cycle")
+        for index, level in (self._call("tool_inputs") or {}).items():
             try:
                 if self._io.read("digital", INPUT, IOType.TOOL, index) != level:
                     self._io.write_input("digital", IOType.TOOL, index, float(level))
             except (IndexError, KeyError):
                 pass                                 # a pin this arm's connector lacks
         if self._signals:
-            self._poll(device)
+            self._poll()
 
-    def _poll(self, device: ToolDevice) -> None:
+    def _poll(self) -> None:
         settings, cycle = self._settings, self._cycle
         polled = []
         changed = False
@@ -105,8 +119,8 @@ class SimToolIO(ToolIO):
                 poll.k += 1
                 if (settings.channel_modes[signal.channel] == ChannelMode.MODBUS
                         and settings.in_rs485(signal.channel)):
-                    value = device.read_register(signal.channel, signal.sig_type,
-                                                 signal.address)
+                    value = self._call("read_register", signal.channel, signal.sig_type,
+                                       signal.address)
                     if value is not None and value != signal.value:
                         signal, changed = with_value(signal, value), True
             polled.append(signal)
@@ -120,7 +134,7 @@ class SimToolIO(ToolIO):
             self._settings = ToolIOSettings()
             self._signals, self._polls = (), {}
             if self._device is not None and powered:
-                self._device.power(0.0)
+                self._call("power", 0.0)
             self._outputs = self._tool_outputs()
 
     # ---- tool DOs -----------------------------------------------------------------------------
@@ -135,7 +149,7 @@ class SimToolIO(ToolIO):
             if outputs != self._outputs:
                 self._outputs = outputs
                 if self._device is not None:
-                    self._device.tool_outputs(outputs)
+                    self._call("tool_outputs", outputs)
 
     # ---- ToolIO --------------------------------------------------------------------------------
     def settings(self) -> ToolIOSettings:
@@ -149,7 +163,7 @@ class SimToolIO(ToolIO):
             before = self._settings.volts
             self._settings = replace(self._settings, power_on=enabled, voltage_code=voltage_code)
             if self._device is not None and self._settings.volts != before:
-                self._device.power(self._settings.volts)
+                self._call("power", self._settings.volts)
 
     def _apply_pin_mode(self, pin_type: int, mode: int) -> None:
         with self._lock:
@@ -173,7 +187,7 @@ class SimToolIO(ToolIO):
         with self._lock:
             # checked by the facet against the settings; again under the lock, as they stand
             if self._device is not None and frame_refusal(self._settings, channel) is None:
-                self._device.rs485(channel, frame, self._settings.comm[channel].baudrate)
+                self._call("rs485", channel, frame, self._settings.comm[channel].baudrate)
 
     def _apply_add_signal(self, signal: Signal) -> None:
         with self._lock:
