@@ -108,7 +108,7 @@ class ToolIOSettings:
     power_on: bool = False
     voltage_code: int = 0
     pin_modes: Tuple[int, int, int] = (0, 0, 0)
-    channel_modes: Tuple[int, int] = (ChannelMode.MODBUS, ChannelMode.MODBUS)
+    channel_modes: Tuple[int, int] = (int(ChannelMode.MODBUS), int(ChannelMode.MODBUS))
     comm: Tuple[ChannelComm, ChannelComm] = field(
         default_factory=lambda: (ChannelComm(), ChannelComm()))
 
@@ -156,6 +156,14 @@ def check_power(enabled, voltage_code) -> Tuple[bool, int]:
     voltage_code = _int("voltage", voltage_code)
     _one_of("voltage", voltage_code, tuple(VOLTAGES), " (0 = 24 V, 1 = 12 V)")
     return bool(enabled), voltage_code
+
+
+def voltage_code_of(volts) -> int:
+    """The supply's voltage code of ``volts`` (24 → 0, 12 → 1), as a ROS request gives it."""
+    for code, v in VOLTAGES.items():
+        if volts == v:
+            return code
+    raise invalid(f"voltage is {volts!r} V, expected 24 or 12 V")
 
 
 def check_pin_mode(pin_type, mode) -> Tuple[int, int]:
@@ -282,6 +290,11 @@ class ToolIO(ABC):
     @abstractmethod
     def signals(self) -> Tuple[Signal, ...]:
         """Every signal with its latest value, in the order they were added."""
+
+    @_answers
+    def read_settings(self) -> Result:
+        """The settings as the connector reports them now (a controller is asked each)."""
+        return Result.success("tool connector settings", self._read_back())
 
     # ---- the requests: rules here, transport below ----------------------------------------
     @_answers
@@ -410,7 +423,7 @@ class NoToolIO(ToolIO):
         return Result.failure(Code.WRONG_MODE, self._reason)
 
     set_power = set_pin_mode = set_channel_mode = set_channel_comm = send_frame = _refuse
-    add_signal = delete_signal = read_signals = _refuse
+    add_signal = delete_signal = read_signals = read_settings = _refuse
 
     def _apply(self, *_args) -> None:
         raise CommandRefused(Code.WRONG_MODE, self._reason)

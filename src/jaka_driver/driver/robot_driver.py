@@ -13,8 +13,9 @@ RobotDriver is assembled from parts, one per subject, each handed the door's cor
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``). What a
-request does is documented in its part.
+force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``), the
+tool connector (:mod:`.tool_io_requests`, ``driver.tool_io``). What a request does is documented
+in its part.
 """
 from __future__ import annotations
 
@@ -35,6 +36,7 @@ from .moves import MoveRequests
 from .program_requests import ProgramRequests
 from .program_steps import ProgramSteps
 from .servo_requests import ServoRequests
+from .tool_io_requests import ToolIORequests
 from .twin_requests import TwinRequests
 
 
@@ -63,6 +65,9 @@ class RobotDriver:
         self._twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
+        #: the tool connector: supply, pins, RS485 channels, frames, signals
+        #: (driver/tool_io_requests.py)
+        self.tool_io = ToolIORequests(door)
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 
