@@ -625,6 +625,7 @@ class StatusField:
     TIO_DIN = "tio_din"
     TIO_DOUT = "tio_dout"
     TIO_AIN = "tio_ain"
+    TIO_RS_SIGNALS = "tio_rs_signals"                 # rows [name, chn, type, addr, value, Hz]
     MOTION_LINE = "motion_line"
     ERR_ADD_LINE = "err_add_line"
     EXECUTING_LINE = "executing_line"
