@@ -9,40 +9,16 @@ from __future__ import annotations
 import pytest
 
 from support.emulated_arm import LINK_TIMEOUTS
+from support.fake_tool_device import FakeToolDevice
 from support.ros_harness import wait_until
 
 from jaka_driver.backend.tool_io import ChannelComm, Signal
 from jaka_driver.controller import ControllerBackend
 
 
-class Device:
-    def __init__(self):
-        self.volts, self.frames, self.position = 0.0, [], 0
-
-    def power(self, volts):
-        self.volts = volts
-
-    def rs485(self, channel, frame, baudrate):
-        self.frames.append((channel, bytes(frame), baudrate))
-        if len(frame) >= 6 and frame[:4] == bytes([1, 6, 1, 3]):
-            self.position = frame[4] << 8 | frame[5]
-
-    def read_register(self, channel, sig_type, address):
-        return self.position if self.volts and address == 0x0202 else None
-
-    def tool_outputs(self, levels):
-        pass
-
-    def tool_inputs(self):
-        return {}
-
-    def on_cycle(self):
-        pass
-
-
 @pytest.fixture(scope="module")
 def device(emu):
-    d = Device()
+    d = FakeToolDevice()
     emu.backend.tool_io.attach(d)
     yield d
     emu.backend.tool_io.attach(None)

@@ -23,6 +23,7 @@ import pytest
 
 from support.jaka_sdk_model import RC_FAILED, RC_OK, JakaSdk
 from support.jaka_sdk_tio import SDK_REQUESTS, JakaSdkTio, packet_signals
+from support.fake_tool_device import FakeToolDevice
 from support.ros_harness import wait_until
 
 from jaka_driver.emulator import Emulator
@@ -33,33 +34,6 @@ DH_500 = [0x01, 0x06, 0x01, 0x03, 0x01, 0xF4]            # DH: position 500 ‰
 DH_500_CRC = DH_500 + [0x78, 0x21]                      # the same with its CRC (lo, hi)
 
 
-class FakeDevice:
-    """Records frames; register 0x0202 answers the last position it was sent (0 before)."""
-
-    def __init__(self):
-        self.volts, self.frames, self.position = 0.0, [], 0
-
-    def power(self, volts):
-        self.volts = volts
-
-    def rs485(self, channel, frame, baudrate):
-        self.frames.append((channel, bytes(frame), baudrate))
-        if len(frame) >= 6 and frame[:4] == bytes([1, 6, 1, 3]):
-            self.position = frame[4] << 8 | frame[5]
-
-    def read_register(self, channel, sig_type, address):
-        return self.position if self.volts and address == 0x0202 else None
-
-    def tool_outputs(self, levels):
-        pass
-
-    def tool_inputs(self):
-        return {}
-
-    def on_cycle(self):
-        pass
-
-
 @pytest.fixture(scope="module")
 def emu():
     with Emulator("zu5", command_port=0, status_port=0) as emulator:
@@ -68,7 +42,7 @@ def emu():
 
 @pytest.fixture
 def device(emu):
-    device = FakeDevice()
+    device = FakeToolDevice()
     emu.backend.tool_io.reset()
     emu.backend.tool_io.attach(device)
     yield device
