@@ -208,6 +208,14 @@ def test_signals_wait_while_the_channel_is_not_modbus_or_the_device_is_unpowered
     assert r.ok and r.value == () and tio.signals() == ()
 
 
+def test_at_most_32_signals_are_kept(tio):
+    for i in range(32):
+        assert tio.add_signal(Signal(f"s{i}", 1, 3, i)).ok
+    r = tio.add_signal(Signal("s32", 1, 3, 32))
+    assert r.code == -2 and "signals: 32 already, at most 32" in r.message
+    assert len(tio.signals()) == 32
+
+
 def test_an_arm_without_a_connector_refuses_every_request_with_9():
     no = NoToolIO("no tool connector here")
     for r in (no.set_power(1, 0), no.set_pin_mode(2, 1), no.set_channel_mode(1, 0),

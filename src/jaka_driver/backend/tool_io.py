@@ -46,6 +46,9 @@ PARITIES = {78: "N", 79: "O", 69: "E"}
 MAX_SIGNAL_HZ = 10
 #: characters of a signal's name (SignInfo.sig_name[20] with its terminating zero)
 MAX_NAME = 19
+#: signals at once: the driver's own bound (none is on record for a controller); each is
+#: polled every cycle it is due and carried by every state message
+MAX_SIGNALS = 32
 #: bytes of a frame: a Modbus RTU ADU's largest size
 MAX_FRAME = 256
 #: the DO pins' mode byte with both pins RS485H; the AI pins' mode RS485L
@@ -249,6 +252,9 @@ def check_signal(signal: Signal, existing: Sequence[Signal]) -> Signal:
                       f"{MAX_NAME}")
     if any(s.name == name for s in existing):
         raise invalid(f"name {name!r} is a signal already (delete it first)")
+    if len(existing) >= MAX_SIGNALS:
+        raise invalid(f"signals: {len(existing)} already, at most {MAX_SIGNALS} (delete one "
+                      f"first)")
     channel = check_channel(signal.channel)
     sig_type = _int("sig_type", signal.sig_type)
     _one_of("sig_type", sig_type, tuple(SIGNAL_TYPES), " (3 holding register, 4 input register)")
