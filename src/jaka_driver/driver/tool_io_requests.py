@@ -32,10 +32,12 @@ class ToolIORequests(RequestPart):
 
     @answers(react=False)
     def state(self) -> Result:
-        """``value``: (settings, signals) as last read back — never refused (a backend without a
-        connector answers its defaults). A read polled by the state topic: no reaction window."""
+        """``value``: (present, settings, signals) as last read back — never refused (a backend
+        without a connector answers False and its defaults). A read polled by the state topic:
+        no reaction window."""
         tio = self.backend.tool_io
-        return Result.success("tool connector", (tio.settings(), tio.signals()))
+        return Result.success(tio.absent or "tool connector",
+                              (tio.absent is None, tio.settings(), tio.signals()))
 
     @answers
     def set_power(self, enable: bool, volts: float) -> Result:

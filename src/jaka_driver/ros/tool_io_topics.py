@@ -49,7 +49,6 @@ class ToolIOTopic:
 
     def __init__(self, driver: RobotDriver):
         self._driver = driver
-        self._present = driver.backend.tool_io.absent is None
         self._pub = rospy.Publisher("~tool_io_state", ToolIOState, queue_size=10, latch=True)
         self._lock = threading.Lock()
         self._last = None
@@ -58,16 +57,16 @@ class ToolIOTopic:
         result = self._driver.tool_io.state()
         if not result.ok:
             return
-        settings, signals = result.value
+        present, settings, signals = result.value
         io = st.io
-        key = (settings, signals, tuple(io.get(k, ()) for k in
+        key = (present, settings, signals, tuple(io.get(k, ()) for k in
                                         (("digital", TOOL, 0), ("digital", TOOL, 1),
                                          ("analog", TOOL, 0))))
         with self._lock:
             if key == self._last:
                 return
             self._last = key
-            self._pub.publish(state_message(self._present, settings, signals, io, st.stamp))
+            self._pub.publish(state_message(present, settings, signals, io, st.stamp))
 
     def refresh(self) -> None:
         self.offer(self._driver.state())
