@@ -29,7 +29,7 @@ from dataclasses import replace
 from typing import Optional, Tuple
 
 from ..backend.tool_io import (ChannelComm, ChannelMode, Signal, ToolIO, ToolIOSettings,
-                               frame_refusal, with_value)
+                               check_signal, frame_refusal, with_value)
 from ..common.constants import SERVO_CYCLE
 from ..protocol.fields import IOType
 from .io_board import INPUT, OUTPUT, IoBoard
@@ -191,6 +191,7 @@ class SimToolIO(ToolIO):
 
     def _apply_add_signal(self, signal: Signal) -> None:
         with self._lock:
+            check_signal(signal, self._signals)       # again, as the signals stand now
             self._polls[signal.name] = _Poll(self._cycle + 1)
             self._signals = self._signals + (signal,)
 
