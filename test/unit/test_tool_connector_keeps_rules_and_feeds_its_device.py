@@ -4,9 +4,12 @@ loop calls them: settings kept and read back, every refusal naming field, value 
 changing nothing, frames reaching the attached device only under the rules, tool DOs and DIs
 between the board and the device, signals polled at their frequency counted in cycles.
 """
+import math
 import threading
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from jaka_driver.backend.tool_io import (ChannelComm, NoToolIO, Signal, ToolIOSettings)
 from jaka_driver.common.models import load_model
@@ -242,3 +245,28 @@ def test_a_device_that_raises_is_logged_and_the_cycles_go_on(tio, caplog):
     assert tio.signals()[0].value == 1                    # polled all the same
     assert sum("on_cycle failed" in r.message for r in caplog.records) == 1   # logged once
     assert any("rs485 failed" in r.message for r in caplog.records)
+
+
+ANY = st.one_of(st.integers(-2 ** 40, 2 ** 40), st.sampled_from(
+    [math.nan, math.inf, -math.inf, 1.5, -0.0, True, None, "1", "", b"\x01", [1], {}]),
+    st.text(max_size=30))
+
+
+@settings(max_examples=300, deadline=None)
+@given(method=st.sampled_from(["set_power", "set_pin_mode", "set_channel_mode",
+                               "set_channel_comm", "send_frame", "add_signal",
+                               "delete_signal"]),
+       a=ANY, b=ANY, c=st.lists(ANY, max_size=6))
+def test_any_request_is_answered_with_a_code_and_a_refused_one_changes_nothing(method, a, b, c):
+    tio = SimToolIO(IoBoard(load_model("zu5").io_sizes), threading.RLock())
+    tio.attach(FakeGripper())
+    rs485l_modbus(tio)
+    before, signals = tio.settings(), tio.signals()
+    args = {"set_power": (a, b), "set_pin_mode": (a, b), "set_channel_mode": (a, b),
+            "set_channel_comm": (a, ChannelComm(*(c + [1] * 5)[:5])),
+            "send_frame": (a, c), "add_signal": (Signal(a, b, *(c + [3, 1, 0, 5])[:4]),),
+            "delete_signal": (a,)}[method]
+    r = getattr(tio, method)(*args)
+    assert r.code in (1, -2, -9), r
+    if not r.ok:
+        assert tio.settings() == before and tio.signals() == signals
