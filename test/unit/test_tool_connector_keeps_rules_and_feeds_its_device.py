@@ -174,8 +174,10 @@ def test_the_device_hears_the_supply_and_the_tool_dos_and_drives_a_tool_di(tio, 
     tio.on_cycle()
     assert board.read("digital", INPUT, TOOL, 1) == 1.0
     assert board.values()[("digital", TOOL, INPUT)] == (0.0, 1.0)     # in every sample
+    board.reset()                                                      # the twin's reset
     tio.reset()
     assert gripper.volts == 0.0 and tio.settings() == ToolIOSettings()
+    assert gripper.outputs[-1] == (0.0, 0.0)                           # DO 0 went back to 0
 
 
 def test_signals_are_polled_at_their_frequency_counted_in_cycles(tio, gripper):

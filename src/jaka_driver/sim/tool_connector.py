@@ -128,14 +128,19 @@ class SimToolIO(ToolIO):
             self._signals = tuple(polled)
 
     def reset(self) -> None:
-        """A fresh twin's connector: default settings (supply off), no signals."""
+        """A fresh twin's connector (after the board's reset): default settings (supply off),
+        no signals; the device told of the supply and the tool DOs that changed."""
         with self._lock:
             powered = self._settings.volts
             self._settings = ToolIOSettings()
             self._signals, self._polls = (), {}
             if self._device is not None and powered:
                 self._call("power", 0.0)
-            self._outputs = self._tool_outputs()
+            outputs = self._tool_outputs()
+            if outputs != self._outputs:
+                self._outputs = outputs
+                if self._device is not None:
+                    self._call("tool_outputs", outputs)
 
     # ---- tool DOs -----------------------------------------------------------------------------
     def _tool_outputs(self) -> Tuple[float, ...]:
