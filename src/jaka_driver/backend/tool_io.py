@@ -406,6 +406,7 @@ class ToolIO(ABC):
 
 
 def with_value(signal: Signal, value: int) -> Signal:
+    """``signal`` with its latest value read."""
     return replace(signal, value=int(value))
 
 
