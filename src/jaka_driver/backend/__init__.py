@@ -10,6 +10,8 @@ units (:mod:`.contract`), and what travels across it.
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
 * :mod:`.recording` — :class:`Recording`: trajectory recording and its replay programs
   (``backend.recording``; :class:`NoRecording` refuses every request), :class:`TrajConfig`;
+* :mod:`.tool_io` — :class:`ToolIO`: the tool connector (tool power, pins, RS485 channels,
+  frames, signals; ``backend.tool_io``; :class:`NoToolIO` refuses every request);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -21,8 +23,11 @@ from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .programs import ProgramState, ProgramStatus, Programs, UserVariable
 from .recording import NoRecording, Recording, TrajConfig
 from .robot_state import MotionState, RobotState
+from .tool_io import ChannelComm, NoToolIO, Signal, ToolIO, ToolIOSettings
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
-           "UserVariable", "Recording", "NoRecording", "TrajConfig", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
-           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]
+           "UserVariable", "Recording", "NoRecording", "TrajConfig", "Force", "ForceReading",
+           "ForceSettings", "NoForceSensor", "ToolIO", "ToolIOSettings", "ChannelComm", "Signal",
+           "NoToolIO", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
+           "make_clock"]

@@ -28,6 +28,7 @@ from .clock import WallClock
 from .force import Force, NoForceSensor
 from .programs import Programs
 from .recording import NoRecording, Recording
+from .tool_io import NoToolIO, ToolIO
 from .robot_state import RobotState
 from .twin import Twin
 
@@ -60,6 +61,10 @@ class Backend(ABC):
     #: Trajectory recording and its replay programs (:class:`~.recording.Recording`), never
     #: None: a backend that cannot record refuses every request and says why.
     recording: Recording = NoRecording("trajectory recording is not available on this backend")
+
+    #: The tool connector (:class:`~.tool_io.ToolIO`: tool power, pin modes, RS485 channels,
+    #: frames, Modbus signals), never None: a backend without one refuses with -9.
+    tool_io: ToolIO = NoToolIO("no tool connector: this backend drives none")
 
     def __init__(self, model: RobotModel):
         self.model = model

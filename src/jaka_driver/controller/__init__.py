@@ -11,7 +11,8 @@
   jog), :mod:`.arm_settings` (frames, payload, drag, collision, IO, errors, the speed ratio),
   :mod:`.force` (``backend.force`` when the arm carries a force/torque sensor: the sensor,
   force control, identification — polled by :mod:`.payload_identification` —; the readings
-  of every packet are :mod:`.status_view`'s).
+  of every packet are :mod:`.status_view`'s), :mod:`.tool_io` (``backend.tool_io``: JAKA's
+  TIO commands, each setting read back, signals from the packets too).
 * :mod:`.move_watch` — when an accepted move has ended, from the status stream.
 * :mod:`.servo_stream` — trajectories as a ``servo_j`` stream; :mod:`.twist_stream` — a
   velocity jog as one.

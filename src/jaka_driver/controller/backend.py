@@ -71,6 +71,7 @@ from .arm_settings import ArmSettings
 from .commander import Commander, answers
 from .connection import ControllerLink
 from .force import ControllerForce
+from .tool_io import ControllerToolIO
 from .frames_by_id import ControllerFrames
 from .moves import MoveCommands
 from .programs import ControllerPrograms
@@ -126,6 +127,8 @@ class ControllerBackend(Backend):
         self.programs = ControllerPrograms(self.send)
         #: the controller's trajectory recording (``backend.recording``)
         self.recording = ControllerRecording(self.send)
+        #: the tool connector: JAKA's TIO commands, each setting read back (controller/tool_io.py)
+        self.tool_io = ControllerToolIO(self.send)
         sensor = model.force_sensor.mounted_as(force_sensor)
         self._force_part = None
         if sensor.mounted:
@@ -212,6 +215,7 @@ class ControllerBackend(Backend):
         if status.emergency_stop or status.protective_stop or not status.enabled:
             self.motion.servo_mode = False   # the controller leaves servo mode on any of these
         self.frames_by_id.on_active(status.current_tool_id, status.current_user_id)
+        self.tool_io.on_packet(status)
         self.motion.on_status(status, received)
         self.view.announce()       # last: the status thread blocks on its socket right after
 
@@ -228,6 +232,7 @@ class ControllerBackend(Backend):
             self.programs.refresh()
             if self._force_part is not None:
                 self._force_part.read_all()
+            self.tool_io.read_all()
             if first:
                 self._bring_up()
         finally:

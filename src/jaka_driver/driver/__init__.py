@@ -13,6 +13,8 @@
 * :mod:`.force_requests` — the force/torque sensor and force control, offered as
   ``driver.force`` (:class:`~.force_requests.ForceRequests`); their field checks
   :mod:`.force_checks`;
+* :mod:`.tool_io_requests` — the tool connector (supply, pins, RS485 channels, frames,
+  signals), offered as ``driver.tool_io`` (:class:`~.tool_io_requests.ToolIORequests`);
 * :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
 
 How requests are read where JAKA's document and JAKA's driver code differ (servo increments,

@@ -14,8 +14,8 @@ passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), 
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
 force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``),
-trajectory recording (:mod:`.recording_requests`, ``driver.recording``). What a
-request does is documented in its part.
+trajectory recording (:mod:`.recording_requests`, ``driver.recording``), the tool connector
+(:mod:`.tool_io_requests`, ``driver.tool_io``). What a request does is documented in its part.
 """
 from __future__ import annotations
 
@@ -37,6 +37,7 @@ from .program_requests import ProgramRequests
 from .program_steps import ProgramSteps
 from .recording_requests import RecordingRequests
 from .servo_requests import ServoRequests
+from .tool_io_requests import ToolIORequests
 from .twin_requests import TwinRequests
 
 
@@ -67,6 +68,9 @@ class RobotDriver:
         self.force = ForceRequests(door, self._moves.run_move)
         #: trajectory recording and its replay programs (driver/recording_requests.py)
         self.recording = RecordingRequests(door)
+        #: the tool connector: supply, pins, RS485 channels, frames, signals
+        #: (driver/tool_io_requests.py)
+        self.tool_io = ToolIORequests(door)
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 

@@ -11,6 +11,7 @@ controller was recorded answering — never an exception, never a silent close.
 The handlers, by subject: :mod:`.arm_commands` (power, motion, servo, kinematics, drag),
 :mod:`.setting_commands` (identity, frames, payload, speed, filters), :mod:`.io_commands`,
 :mod:`.program_commands`, :mod:`.recording_commands` (trajectory recording, from the twin's),
+:mod:`.tool_io_commands` (the tool connector, on the twin's),
 :mod:`.sensor_commands` (the torque sensor's settings; on an arm
 with the sensor, :mod:`.force_commands` answers from the twin's sensor), and here the
 emulator-only commands (a real controller answers them "unknown command"; they all start with
@@ -32,6 +33,7 @@ from .recording_commands import RecordingCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
 from .sensor_commands import SensorCommands
 from .setting_commands import SettingCommands
+from .tool_io_commands import ToolIoCommands
 from .twin_controller import TwinController
 from .wire_fields import flag, shown
 
@@ -64,6 +66,7 @@ class CommandHandlers:
             **IoCommands(controller).table(),
             **ProgramCommands(controller).table(),
             **RecordingCommands(controller.backend.recording).table(),
+            **ToolIoCommands(controller.backend.tool_io).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             # an arm with the sensor answers what it makes a difference to from the twin's
             **(ForceCommands(controller).table() if controller.backend.force.absent is None

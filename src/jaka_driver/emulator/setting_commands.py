@@ -1,5 +1,5 @@
 """The controller's settings: identity and kinematic parameters, tool and user frames (a table
-of 11 slots read back by id), payload, speed ratio, collision level, tool power output, servo
+of 11 slots read back by id), payload, speed ratio, collision level, servo
 filters (``set_servo_move_filter`` in the wire's units — Hz, deg/s…, mm/s…, buffer counts —
 mapped to the twin's filter, :func:`wire_filter`, and applied to its servo stream). Every set is visible to the very next get, on any connection (JAKA's SDK polls the
 get after the set; docs/protocol.md, "Settings read back").
@@ -35,8 +35,6 @@ SERVO_FILTERS: Dict[int, tuple] = {
 #: parameters that must be > 0 (limits, a cut-off); the gains may be 0
 _POSITIVE = {Field.LPF_CF, Field.NLF_MAX_VR, Field.NLF_MAX_AR, Field.NLF_MAX_JR,
              Field.NLF_MAX_VP, Field.NLF_MAX_AP, Field.NLF_MAX_JP}
-#: the SDK's keys for the tool power output, and the spelling some clients send
-_TIO_VOUT_KEYS = ((Field.TIO_VOUT_ENA, "tio_vout_enable"), (Field.TIO_VOUT_VOL, "tio_vout_voltage"))
 
 
 class SettingCommands:
@@ -71,9 +69,6 @@ class SettingCommands:
             Cmd.GET_CLSN_SENSITIVITY: lambda r: Answer(
                 {Field.SENSITIVITY_LEVEL: c.collision_level,
                  Field.SENSITIVITY_VAL: c.collision_level}),
-            Cmd.SET_TIO_VOUT_PARAM: self._set_tio_vout,
-            Cmd.GET_TIO_VOUT_PARAM: lambda r: Answer(
-                {Field.TIO_VOUT_ENA: c.tio_vout[0], Field.TIO_VOUT_VOL: c.tio_vout[1]}),
             Cmd.SET_SERVO_MOVE_FILTER: self._set_servo_filter,
         }
 
@@ -101,7 +96,7 @@ class SettingCommands:
         self.c.set_user_offset(self._settable(req), pose(req, key))
         return Answer()
 
-    # ---- payload, speed, tool power, servo filter -----------------------------------------------
+    # ---- payload, speed, servo filter -----------------------------------------------
     def _set_payload(self, req) -> Answer:
         mass = number(req, Field.MASS, lo=0.0, hi=self.model.max_payload_kg)
         self.c.set_payload(mass, vector(req, Field.CENTROID, 3))
@@ -109,18 +104,6 @@ class SettingCommands:
 
     def _rapid_rate(self, req) -> Answer:
         self.c.rapid_rate = number(req, Field.RATE_VALUE, lo=0.0, hi=1.0, positive=True)
-        return Answer()
-
-    def _set_tio_vout(self, req) -> Answer:
-        """Either value may be left out: it keeps its value."""
-        if not any(k in req for pair in _TIO_VOUT_KEYS for k in pair):
-            raise Rejected(f"set_tio_vout_param: missing field {Field.TIO_VOUT_ENA!r} or "
-                           f"{Field.TIO_VOUT_VOL!r}", ERROR_REQUEST)
-        values = []
-        for (key, other), current in zip(_TIO_VOUT_KEYS, self.c.tio_vout):
-            spelt = key if key in req else other
-            values.append(integer(req, spelt, 0, 1) if spelt in req else current)
-        self.c.tio_vout = tuple(values)
         return Answer()
 
     def _set_servo_filter(self, req) -> Answer:

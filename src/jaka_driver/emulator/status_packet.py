@@ -36,6 +36,7 @@ from ..backend import ProgramState
 from ..common.transforms import matrix_to_pose_mm_rpy
 from ..protocol import units
 from ..protocol.fields import InterpState, IOType, StatusField as S, TaskState
+from .tool_io_commands import signal_rows
 from .twin_controller import TwinController
 
 ERRCODE_COLLISION = 0xE001
@@ -206,7 +207,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         fields[name] = values
         if name == S.TIO_AIN:
             fields["tio_key"] = _IDLE_VALUES["tio_key"]
-            fields["tio_rs_signals"] = _IDLE_VALUES["tio_rs_signals"]
+            fields["tio_rs_signals"] = signal_rows(controller.backend.tool_io)
     fields[S.HOMED] = _homed(controller.profile.homed_count)
     for key in ("drag_near_limit", "funcdi", "point_key", "netState"):
         fields[key] = _IDLE_VALUES[key]

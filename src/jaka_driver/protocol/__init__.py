@@ -10,6 +10,8 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.replies` — reply decoding and typed accessors (re-exported by :mod:`.commands`).
 * :mod:`.torque_sensor` — the torque sensor and force control: requests as JAKA's SDK sends
   them, its replies, and the status packet's ``torqsensor``.
+* :mod:`.tool_io` — the tool connector (TIO): JAKA's twelve requests as its SDK sends them,
+  their replies, and the status packet's ``tio_rs_signals`` rows.
 * :mod:`.wire` — the JSON layouts (compact requests, spaced controller output) and decoding.
 * status packets: :mod:`.status_stream` — the port-10000 stream's framing (bytes → packets);
   :mod:`.status_packet` — :class:`StatusPacket` and :func:`parse_status` (a packet's fields in
@@ -30,7 +32,7 @@ Typical use::
         reply = client.call(commands.get_joint_pos())
         q = commands.reply_joint_pos(reply)          # rad
 """
-from . import commands, fields, replies, torque_sensor, units
+from . import commands, fields, replies, tool_io, torque_sensor, units
 from .command_client import CommandClient
 from .commands import encode
 from .errors import (CommandRejected, ConnectFailed, ConnectionLost, InvalidArgument,
@@ -46,7 +48,7 @@ from .status_stream import StatusStreamDecoder
 from .tcp_server import TcpServer
 
 __all__ = [
-    "commands", "fields", "replies", "torque_sensor", "units",
+    "commands", "fields", "replies", "tool_io", "torque_sensor", "units",
     "CommandClient", "StatusReceiver", "StatusPoller",
     "Reply", "encode", "parse_reply",
     "JakaProtocolError", "ProtocolError", "ConnectFailed", "ConnectionLost", "TimeoutError",

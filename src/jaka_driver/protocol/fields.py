@@ -116,6 +116,24 @@ class Field:
                                           # joint_homeoff deg
     TIO_VOUT_ENA = "tio_vout_ena"         # get/set_tio_vout_param: 0/1
     TIO_VOUT_VOL = "tio_vout_vol"         # voltage code
+    # the tool connector (TIO) and its RS485 channels, as JAKA's SDK spells them
+    PIN_TYPE = "pinType"                  # set/get_tio_pin_mode: 0 DI, 1 DO, 2 AI
+    PIN_MODE = "pinMode"
+    CHN_ID = "chnId"                      # set/get_rs485_chn_mode
+    CHN_MODE = "chnMode"                  # 0 Modbus RTU, 1 raw RS485, 2 torque sensor
+    CHN_ID_COMM = "chn_id"                # set/get_rs485_chn_comm, send_tio_rs_command
+    SLAVE_ID = "slaveId"
+    BAUDRATE = "baudrate"
+    DATABIT = "databit"
+    STOPBIT = "stopbit"
+    PARITY = "parity"                     # 78 'N', 79 'O', 69 'E'
+    CMD_BUF = "cmdBuf"                    # send_tio_rs_command: the frame's bytes
+    SIGNAL_NAME = "tio_signal_name"       # add/del_tio_rs_signal
+    SIGNAL_CHN_ID = "tio_signal_chnId"
+    SIGNAL_SIG_TYPE = "tio_signal_sigType"
+    SIGNAL_SIG_ADDR = "tio_signal_sigAddr"
+    FREQUENCY = "frequency"               # Hz
+    SIGNALS = "signals"                   # get_tio_signals: [[name, chn, type, addr, value, Hz]]
     ORI_VEL = "ori_vel"                   # moveL orientation speed, deg/s
     ORI_ACC = "ori_acc"                   # moveL orientation acceleration, deg/s²
     EXECUTING_LINE_ID = "executing_line_id"   # the SDK adds it to every move; ignored
@@ -273,6 +291,16 @@ class Cmd:
     MODIFY_USER_DEFINED_VARIABLE = "modify_user_defined_variable"
     SET_TIO_VOUT_PARAM = "set_tio_vout_param"
     GET_TIO_VOUT_PARAM = "get_tio_vout_param"
+    SET_TIO_PIN_MODE = "set_tio_pin_mode"
+    GET_TIO_PIN_MODE = "get_tio_pin_mode"
+    SET_RS485_CHN_MODE = "set_rs485_chn_mode"
+    GET_RS485_CHN_MODE = "get_rs485_chn_mode"
+    SET_RS485_CHN_COMM = "set_rs485_chn_comm"
+    GET_RS485_CHN_COMM = "get_rs485_chn_comm"
+    ADD_TIO_RS_SIGNAL = "add_tio_rs_signal"
+    DEL_TIO_RS_SIGNAL = "del_tio_rs_signal"
+    SEND_TIO_RS_COMMAND = "send_tio_rs_command"
+    GET_TIO_SIGNALS = "get_tio_signals"
     GET_CURRENT_LINE = "get_current_line"
     GET_DH_PARAM = "get_dh_param"
     MOVC = "movc"                         # circular move
@@ -632,6 +660,7 @@ class StatusField:
     TIO_DIN = "tio_din"
     TIO_DOUT = "tio_dout"
     TIO_AIN = "tio_ain"
+    TIO_RS_SIGNALS = "tio_rs_signals"                 # rows [name, chn, type, addr, value, Hz]
     MOTION_LINE = "motion_line"
     ERR_ADD_LINE = "err_add_line"
     EXECUTING_LINE = "executing_line"

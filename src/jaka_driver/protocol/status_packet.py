@@ -19,6 +19,7 @@ import numpy as np
 
 from .errors import ProtocolError
 from .fields import FIELDBUS_SLAVES, IO_ARRAYS, StatusField as S
+from .tool_io import SignalRow, signal_rows
 from .torque_sensor import TorqueSensorStatus, parse_torqsensor
 from .wire import as_flag, clean_text
 
@@ -92,6 +93,9 @@ class StatusPacket:
     tio_din: Tuple[float, ...] = ()
     tio_dout: Tuple[float, ...] = ()
     tio_ain: Tuple[float, ...] = ()
+    tio_rs_signals: Optional[Tuple[SignalRow, ...]] = None
+    """the tool connector's signals with their latest values (``tio_rs_signals``, later
+    firmware); None when the packet has none"""
     relay_io: Tuple[float, ...] = ()
     """the relay outputs (IO type 3), ``relay_io``; () when the packet has none"""
     extio: Tuple[Tuple[float, ...], ...] = ()
@@ -298,6 +302,7 @@ _FIELDS = (
         S.DIN, S.DOUT, S.AIN, S.AOUT, S.TIO_DIN, S.TIO_DOUT, S.TIO_AIN)),
     ("relay_io", S.RELAY_IO, _RepeatedNumbers(), True),
     ("extio", S.EXTIO, _extio, True),
+    ("tio_rs_signals", S.TIO_RS_SIGNALS, signal_rows, True),
 )
 #: the fieldbus slaves' keys, each with its reader
 _FIELDBUS = tuple((f"{prefix}_{array}", _RepeatedNumbers())

@@ -67,6 +67,7 @@ from .circular_move import advertise_circular_move
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
+from .tool_io_services import advertise_tool_io
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
 from .recording_services import advertise_recording
@@ -269,6 +270,7 @@ def main() -> int:
     TwistInput(driver, status)
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
+    advertise_tool_io(driver, publisher.also_publish)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

@@ -17,9 +17,14 @@ what only a twin can do) and ``backend.force``. The rest is how it works inside:
 * the flange force/torque sensor and force control (``backend.force``): :mod:`.ft_sensor` (the
   sensor in the model and its readings), :mod:`.force` (:class:`~.force.SimForce`, the facet),
   :mod:`.force_control` (admittance, constant force, tool drive), :mod:`.payload_identification`,
-  :mod:`.tool_push` (a hand on the tool).
+  :mod:`.tool_push` (a hand on the tool);
+* the tool connector (``backend.tool_io``): :mod:`.tool_connector` (:class:`SimToolIO`: settings,
+  frames and signals, a device attached to it), :mod:`.tool_device` (:class:`ToolDevice`, what
+  a gripper or suction cup on it answers).
 """
 from .backend import SimBackend
+from .tool_connector import SimToolIO
+from .tool_device import ToolDevice
 from .twin import SimTwin
 
-__all__ = ["SimBackend", "SimTwin"]
+__all__ = ["SimBackend", "SimTwin", "SimToolIO", "ToolDevice"]

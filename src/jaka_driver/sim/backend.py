@@ -46,6 +46,7 @@ from .collisions import CollisionMonitor
 from .force import SimForce
 from .ft_sensor import TOOL_BODY
 from .io_board import IoBoard
+from .tool_connector import SimToolIO
 from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, servo_target,
                       stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
@@ -101,6 +102,8 @@ class SimBackend(Backend):
         else:
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
+        self.tool_io = SimToolIO(self._io, self._physics.lock)
+        self._physics.on_cycle.append(self.tool_io.on_cycle)
         self._defaults()
         # trajectory recording: the tool's pose offered every cycle, after the checks
         self.recording = SimRecording(self.programs.folder, self._kin, self.frames,
@@ -140,6 +143,7 @@ class SimBackend(Backend):
                 self._push.start(self._physics.d, np.zeros(6), 0)
             self._overload.rearm()
             self._io.reset()
+            self.tool_io.reset()
             self._defaults()
             self._cache = None
 

@@ -26,10 +26,27 @@ GEOM_TYPES = {"box": mujoco.mjtGeom.mjGEOM_BOX, "sphere": mujoco.mjtGeom.mjGEOM_
               "capsule": mujoco.mjtGeom.mjGEOM_CAPSULE}
 
 
+# Contact bits (MuJoCo: two geoms touch when contype of one & conaffinity of the other ≠ 0).
+# Everything keeps MuJoCo's default (contype 1, conaffinity 1) except the base mount and the two
+# first links, which sit on it by construction: each has a contype bit of its own and
+# conaffinity 1, so the mount and link_1/link_2 never meet, while each of them still meets the
+# floor, every obstacle and part, and every other link.
+BASE_MOUNT_CONTYPE = 2
+FIRST_LINKS_CONTYPE = 4
+FIRST_LINKS = ("link_1", "link_2")
+
+
 def add_environment(spec: mujoco.MjSpec, scene: Optional[str]) -> None:
-    """Floor at z = 0 (the base's mounting plane), scene obstacles, and the contact pairs the
-    arm's own geometry must ignore: neighbours along the chain touch by construction, and the
-    wrist (link_4 … link_6) is too compact for capsules not to overlap."""
+    """Floor at z = 0 (the base's mounting plane), scene obstacles, and the contacts the arm's
+    own geometry must ignore: the base mount against link_1 and link_2 (contact bits above),
+    neighbours along the chain, which touch by construction, and the wrist (link_4 … link_6),
+    too compact for its cylinders not to overlap. The world body itself (floor, obstacles) is
+    excluded against nothing: every link meets every obstacle."""
+    for geom in _base_mount_geoms(spec.worldbody):      # before the floor is added
+        geom.contype, geom.conaffinity = BASE_MOUNT_CONTYPE, 1
+    for name in FIRST_LINKS:
+        for geom in spec.body(name).geoms:
+            geom.contype, geom.conaffinity = FIRST_LINKS_CONTYPE, 1
     floor = spec.worldbody.add_geom()
     floor.name = "floor"
     floor.type = mujoco.mjtGeom.mjGEOM_PLANE
@@ -37,13 +54,21 @@ def add_environment(spec: mujoco.MjSpec, scene: Optional[str]) -> None:
     floor.rgba = [0.85, 0.85, 0.85, 1.0]
     if scene:
         _add_scene(spec, Path(scene))
-    chain = ["world"] + ARM_BODIES
-    pairs = set(zip(chain, chain[1:]))
-    pairs |= {("world", "link_2"), ("link_1", "link_3"), ("link_4", "link_6"),
-              ("link_3", "link_5")}
+    pairs = set(zip(ARM_BODIES, ARM_BODIES[1:]))
+    pairs |= {("link_1", "link_3"), ("link_4", "link_6"), ("link_3", "link_5")}
     for a, b in sorted(pairs):
         exclude = spec.add_exclude()
         exclude.bodyname1, exclude.bodyname2 = a, b
+
+
+def _base_mount_geoms(body) -> list:
+    """The URDF's geometry below joint_1 (link_0 and base_link, fused into the world body when
+    the model compiles): every geom of ``body`` and its children down to, not into, link_1."""
+    geoms = list(body.geoms)
+    for child in body.bodies:
+        if child.name not in ARM_BODIES:
+            geoms += _base_mount_geoms(child)
+    return geoms
 
 
 def _add_scene(spec: mujoco.MjSpec, path: Path) -> None:

@@ -20,6 +20,9 @@ class IoBoard:
         self._points = {key: np.zeros(count) for key, count in sizes.items()}
         self.loopback = loopback
         self._values = None             # the read-only copy values() hands out, until a write
+        #: called ``(signal, io_type)`` after each output write, outside the lock (the tool
+        #: connector hands the tool DOs to its device: sim/tool_connector.py)
+        self.listeners: list = []
 
     def read(self, signal: str, path: int, io_type: int, index: int) -> float:
         with self._lock:
@@ -33,6 +36,8 @@ class IoBoard:
                 inputs = self._points.get((signal, io_type, INPUT))
                 if inputs is not None and index < len(inputs):
                     inputs[index] = value
+        for listener in self.listeners:
+            listener(signal, io_type)
 
     def write_input(self, signal: str, io_type: int, index: int, value: float) -> None:
         with self._lock:
