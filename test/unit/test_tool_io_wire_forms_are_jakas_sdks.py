@@ -10,7 +10,7 @@ from jaka_driver.protocol import tool_io as wire
 from jaka_driver.protocol.commands import encode
 from jaka_driver.protocol.errors import CommandRejected, InvalidArgument, ProtocolError
 from jaka_driver.protocol.replies import parse_reply
-from jaka_driver.protocol.status_stream import parse_status
+from jaka_driver.protocol.status_packet import parse_status
 
 #: the SDK's function → this library's encoder (get_rs485_signal_info sends get_tio_signals)
 ENCODERS = {"set_tio_vout_param": wire.set_tio_vout_param,

@@ -24,7 +24,7 @@ from typing import Tuple
 from ..backend.tool_io import ChannelComm, PinType, Signal, ToolIO, ToolIOSettings
 from ..common.results import CommandRefused, Result
 from ..protocol import tool_io as wire
-from ..protocol.status_stream import StatusPacket
+from ..protocol.status_packet import StatusPacket
 from .commander import Commander, answers
 
 log = logging.getLogger(__name__)
