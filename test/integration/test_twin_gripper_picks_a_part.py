@@ -1,4 +1,4 @@
-"""The twin's grippers really hold parts (issue 40's "How it is checked", on the twin): a Zu 5
+"""The twin's grippers really hold parts (docs/twin.md, "Grippers and parts"), on the twin: a Zu 5
 with its flange force/torque sensor, the DH gripper after it and config/scenes/pick.yaml (a
 0.3 kg box 57 mm wide, 60 % of the 95 mm opening, on a table), in simulated time as fast as
 the machine steps, the gripper driven only by Modbus frames.
@@ -10,7 +10,8 @@ the machine steps, the gripper driven only by Modbus frames.
   stays there.
 - A close with nothing between the fingers reaches the commanded opening, grip state 1.
 - The suction cup, switched by tool DO 0, lifts the same box; its vacuum reads on tool DI 0;
-  closing the valve puts it down.
+  closing the valve puts it down; the twin's reset puts the box back where the scene placed
+  it.
 
 The tool connector (``backend.tool_io``, another branch) is stood in for by :class:`FakeToolIo`:
 the supply, frames on a channel, the tool DOs and the per-cycle hook, exactly the calls of
@@ -241,3 +242,6 @@ def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cu
         driver.clock.sleep(0.5)
         assert tool.device.tool_inputs() == {0: 0.0}
         assert watch.position()[2] == pytest.approx(TABLE_TOP + BOX_HALF, abs=0.001)
+        assert watch.position()[1] == pytest.approx(0.114 + 0.3, abs=0.003)
+    assert driver.reset_twin().ok                             # ~sim/reset: the box back
+    assert np.allclose(watch.position(), [0.482, 0.114, TABLE_TOP + BOX_HALF], atol=0.001)
