@@ -13,8 +13,8 @@ the machine steps, the gripper driven only by Modbus frames.
   closing the valve puts it down; the twin's reset puts the box back where the scene placed
   it.
 
-The tool connector (``backend.tool_io``, another branch) is stood in for by :class:`FakeToolIo`:
-the supply, frames on a channel, the tool DOs and the per-cycle hook, exactly the calls of
+The tool connector (``backend.tool_io``) is stood in for by support/fake_tool_io.py: the supply,
+frames on a channel, the tool DOs and the per-cycle hook, exactly the calls of
 sim/tool_device.py's ToolDevice. Positions are read from MuJoCo's data between cycles (the
 twin's own test)."""
 from pathlib import Path
@@ -29,6 +29,7 @@ from jaka_driver.devices.modbus_frames import write_register
 from jaka_driver.devices.register_maps import DH_PGI, GripState
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
+from support.fake_tool_io import FakeToolIo
 
 MODEL = load_model("zu5")
 SCENE = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "pick.yaml")
@@ -40,28 +41,25 @@ GRIP_STATE, OPENING = DH_PGI.reads["grip_state"], DH_PGI.reads["position"]
 CHANNEL = 1                       # RS485L, as JAKA's demos wire a DH gripper
 
 
-class FakeToolIo:
-    """The tool connector's calls into its device, as the facet makes them: the supply, a
-    frame on a channel, the tool DOs, a register read, and the device's cycle hook (the facet
-    calls it from the physics loop's per-cycle hook)."""
+class ToolLine:
+    """The test's hand on the tool connector's stand-in: frames on the gripper's channel, a
+    register read as the connector's poll makes it, the supply and tool DOs."""
 
     def __init__(self, backend: SimBackend):
+        self.io = backend.tool_io
         self.device = backend.tool_device
-        backend._physics.on_cycle.append(lambda d: self.device.on_cycle())
-        self.outputs = [0.0, 0.0]
 
     def set_power(self, volts: float):
-        self.device.power(volts)
+        self.io.set_power(volts > 0, volts)
 
     def send(self, frame: bytes):
-        self.device.rs485(CHANNEL, frame, 115200)
+        assert self.io.send(CHANNEL, frame).ok
 
     def read(self, address: int):
         return self.device.read_register(CHANNEL, 3, address)
 
     def set_output(self, index: int, level: float):
-        self.outputs[index] = level
-        self.device.tool_outputs(list(self.outputs))
+        self.io.set_output(index, level)
 
 
 class BoxWatch:
@@ -96,8 +94,9 @@ class BoxWatch:
 def dh():
     backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
                          force_sensor=True, gripper="dh_pgi")
-    driver = RobotDriver(backend)
-    tool, watch = FakeToolIo(backend), BoxWatch(backend, "gripper_grasp")
+    backend.tool_io = FakeToolIo(backend)
+    tool, watch = ToolLine(backend), BoxWatch(backend, "gripper_grasp")
+    driver = RobotDriver(backend, gripper="dh_pgi")
     driver.start()
     try:
         yield driver, tool, watch
@@ -107,14 +106,15 @@ def dh():
 
 @pytest.fixture
 def gripper(dh):
-    """The DH twin fresh at home, powered and initialised (open), time held."""
+    """The DH twin fresh at home, the tool connector set up for it by ``driver.gripper`` (24 V,
+    the AI pins RS485L, channel 1 Modbus RTU, three signals), initialised (open), time held."""
     driver, tool, watch = dh
     assert driver.reset_twin().ok
     with driver.clock.hold():
-        tool.set_power(24.0)
-        tool.send(write_register(1, INIT, 1))
+        assert driver.gripper.set_up().ok
+        assert driver.gripper.initialise().ok
         driver.clock.sleep(1.0)
-        assert tool.read(DH_PGI.reads["init_state"]) == 1
+        assert driver.gripper.state().initialised
         yield driver, tool, watch
         watch.on = False
 
@@ -145,10 +145,11 @@ def test_the_dh_gripper_catches_lifts_carries_and_drops_the_box_with_its_weight_
     driver.clock.sleep(0.1)
     assert driver.force.zero_sensor().ok                 # the gripper open and empty
     move_by(driver, dz=-(0.4431 - GRASP_Z - (TABLE_TOP + BOX_HALF)) * 1000)
-    tool.send(write_register(1, POSITION, 0))            # close on it
+    assert driver.gripper.move(0.0, 100.0).ok            # close on it, 100 N per jaw
     driver.clock.sleep(0.8)
-    assert tool.read(GRIP_STATE) == GripState.CAUGHT
-    assert 540 <= tool.read(OPENING) <= 610              # 57 mm of 95: 600 ‰, pads pressed in
+    state = driver.gripper.state()                       # the signals, polled at 10 Hz
+    assert state.grip_state == GripState.CAUGHT and state.object_held
+    assert 0.056 <= state.opening <= 0.0575              # the box's 57 mm, pads pressed in
     grasped = watch.offset()
     assert np.linalg.norm(grasped) < 0.002               # the grasp point is the box's centre
     watch.on = True
@@ -164,9 +165,9 @@ def test_the_dh_gripper_catches_lifts_carries_and_drops_the_box_with_its_weight_
     driver.clock.sleep(0.3)
     assert np.linalg.norm(mean_force(driver)) == pytest.approx(BOX_MASS * 9.81, rel=0.03)
     move_by(driver, dz=-145.0)                            # 5 mm above the table
-    tool.send(write_register(1, POSITION, 1000))
+    assert driver.gripper.move(0.095).ok
     driver.clock.sleep(1.0)
-    assert tool.read(GRIP_STATE) == GripState.REACHED
+    assert driver.gripper.state().grip_state == GripState.REACHED
     resting = watch.position()
     assert resting[2] == pytest.approx(TABLE_TOP + BOX_HALF, abs=0.001)   # on the table
     assert resting[1] == pytest.approx(0.114 + 0.3, abs=0.003)            # 300 mm further
@@ -183,19 +184,35 @@ def test_an_empty_close_reaches_the_commanded_opening_with_grip_state_1(gripper)
     driver.clock.sleep(0.8)
     assert tool.read(GRIP_STATE) == GripState.REACHED
     assert tool.read(OPENING) == pytest.approx(300, abs=11)   # within 1 mm of 28.5 mm
+    assert driver.gripper.move(0.02).ok                       # through the door: 20 mm
+    driver.clock.sleep(0.5)
+    state = driver.gripper.state()
+    assert state.grip_state == GripState.REACHED and not state.object_held
+    assert state.opening == pytest.approx(0.02, abs=0.001)
 
 
 def test_the_gripper_ignores_frames_until_initialised_and_everything_unpowered(dh):
     driver, tool, _ = dh
     assert driver.reset_twin().ok
     with driver.clock.hold():
+        assert driver.gripper.set_up().ok
         tool.set_power(0.0)
         tool.send(write_register(1, INIT, 1))
         assert tool.read(GRIP_STATE) is None                 # unpowered: no answer
+        driver.clock.sleep(0.2)
+        refused = driver.gripper.move(0.05)                  # the door: not powered
+        assert refused.code == -9 and "not powered" in refused.message
         tool.set_power(24.0)
         tool.send(write_register(1, POSITION, 1000))         # not initialised: no move
         driver.clock.sleep(0.5)
         assert tool.read(DH_PGI.reads["init_state"]) == 0 and tool.read(OPENING) == 0
+        refused = driver.gripper.move(0.05)
+        assert refused.code == -9 and "not initialised" in refused.message
+        for request, field in ((lambda: driver.gripper.move(0.1), "position 0.1 m"),
+                               (lambda: driver.gripper.set_force(10), "force 10 %"),
+                               (lambda: driver.gripper.set_speed(101), "speed 101 %")):
+            result = request()
+            assert result.code == -2 and field in result.message, result.message
         bad = bytearray(write_register(1, INIT, 1, crc=True))
         bad[-1] ^= 0xFF
         tool.send(bytes(bad))                                # a wrong CRC: ignored
@@ -210,8 +227,9 @@ def test_the_gripper_ignores_frames_until_initialised_and_everything_unpowered(d
 def cup():
     backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
                          force_sensor=True, gripper="suction")
+    backend.tool_io = FakeToolIo(backend)
+    tool, watch = ToolLine(backend), BoxWatch(backend, "suction_grasp")
     driver = RobotDriver(backend)
-    tool, watch = FakeToolIo(backend), BoxWatch(backend, "suction_grasp")
     driver.start()
     try:
         yield driver, tool, watch

@@ -63,4 +63,33 @@ DH_PGI = RegisterMap(
     defaults={"force": 100, "speed": 100, "position": 1000},
 )
 
+@dataclass(frozen=True)
+class GripperFigures:
+    """A gripper's published figures, what turns the registers' ‰ and % into m and N."""
+
+    stroke: float          # m, both fingers together
+    force_min: float       # N per jaw at the lowest force setting
+    force_max: float       # N per jaw at 100 %
+    stroke_time: float     # s, open → closed at 100 % speed
+    mass: float            # kg
+
+    def force(self, percent: float, force_range: tuple[int, int] = (20, 100)) -> float:
+        """N per jaw at ``percent``: linear from the lowest setting's minimum to 100 %'s
+        maximum."""
+        lo, hi = force_range
+        return self.force_min + (self.force_max - self.force_min) * (percent - lo) / (hi - lo)
+
+    def percent(self, newtons: float, force_range: tuple[int, int] = (20, 100)) -> int:
+        """The force setting (%) nearest ``newtons`` per jaw, within ``force_range``."""
+        lo, hi = force_range
+        pct = lo + (newtons - self.force_min) * (hi - lo) / (self.force_max - self.force_min)
+        return int(round(min(max(pct, lo), hi)))
+
+
+#: DH-Robotics AG-95's datasheet: stroke 95 mm, gripping force 45–160 N, opening / closing
+#: 0.7 s, 1 kg (docs/twin.md cites it). The twin's parallel gripper carries these figures.
+DH_FIGURES = GripperFigures(stroke=0.095, force_min=45.0, force_max=160.0, stroke_time=0.7,
+                            mass=1.0)
+
 MAPS = {DH_PGI.model: DH_PGI}
+FIGURES = {DH_PGI.model: DH_FIGURES}

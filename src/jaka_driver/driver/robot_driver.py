@@ -13,7 +13,8 @@ RobotDriver is assembled from parts, one per subject, each handed the door's cor
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``). What a
+force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``), the
+gripper on the tool connector (:mod:`.gripper_requests`, ``driver.gripper``). What a
 request does is documented in its part.
 """
 from __future__ import annotations
@@ -26,10 +27,12 @@ from ..backend import Backend, Camera, ProgramStatus
 from ..backend.robot_state import RobotState
 from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
+from ..devices import ConnectorSetup
 from ..programs.executor import MoveHold
 from .arm_settings import SettingRequests
 from .door import Door
 from .force_requests import ForceRequests
+from .gripper_requests import GripperRequests, NoGripper
 from .jogs import JogRequests
 from .moves import MoveRequests
 from .program_requests import ProgramRequests
@@ -43,11 +46,14 @@ class RobotDriver:
 
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1,
                  servo_increment: bool = False, conventions: Conventions = DOCUMENT,
-                 twist_timeout: float = 0.1):
+                 twist_timeout: float = 0.1, gripper: str = "none",
+                 gripper_setup=None):
         """``conventions``: how requests are read where JAKA's document and JAKA's driver code
         differ (jaka_driver.conventions); ``servo_increment`` adds servo increments to them
         (servo_j / servo_p take increments, as JAKA's driver code sends them).
-        ``twist_timeout``: s after the last twist before a velocity jog stops."""
+        ``twist_timeout``: s after the last twist before a velocity jog stops.
+        ``gripper``: the gripper on the tool connector (driver/gripper_requests.py: ``none``
+        or ``dh_pgi``), hung on it as ``gripper_setup`` (a devices.ConnectorSetup) says."""
         self.backend = backend
         self.model = backend.model
         #: every timeout runs on the backend's time (wall, or the twin's sim time)
@@ -63,6 +69,9 @@ class RobotDriver:
         self._twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
+        #: the gripper on the tool connector (driver/gripper_requests.py)
+        self.gripper = NoGripper() if gripper == "none" else GripperRequests(
+            door, gripper, gripper_setup or ConnectorSetup())
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 

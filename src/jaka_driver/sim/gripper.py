@@ -30,7 +30,8 @@ import mujoco
 import numpy as np
 
 from ..devices.modbus_frames import read_request
-from ..devices.register_maps import DH_PGI, GripState, RegisterMap
+from ..devices.register_maps import (DH_FIGURES, DH_PGI, GripperFigures, GripState,
+                                     RegisterMap)
 
 BASE = "gripper_base"
 FINGERS = ("gripper_finger_left", "gripper_finger_right")
@@ -40,13 +41,9 @@ GRASP_SITE = "gripper_grasp"
 
 @dataclass(frozen=True)
 class GripperSpec:
-    """A parallel gripper's published figures and the twin's shapes (m, kg, N, s)."""
+    """The twin's parallel gripper: the published figures (m, N, s, kg) and its shapes."""
 
-    stroke: float = 0.095            # m, both fingers together (AG-95: 95 mm)
-    force_min: float = 45.0          # N per jaw at 20 % (AG-95: 45–160 N)
-    force_max: float = 160.0         # N per jaw at 100 %
-    stroke_time: float = 0.7         # s, open → closed at 100 % speed (AG-95: 0.7 s)
-    mass: float = 1.0                # kg, all of it (AG-95: 1 kg)
+    figures: GripperFigures = DH_FIGURES
     finger_mass: float = 0.05        # kg, each finger with its pad
     housing: tuple = (0.035, 0.065, 0.045)    # half-sizes, flange x y z; its base on the flange
     pad: tuple = (0.012, 0.002, 0.018)        # half-sizes; the inner face is the grip
@@ -56,6 +53,18 @@ class GripperSpec:
     armature: float = 0.5            # kg, the drive's inertia reflected to a finger
 
     @property
+    def stroke(self) -> float:
+        return self.figures.stroke
+
+    @property
+    def mass(self) -> float:
+        return self.figures.mass
+
+    @property
+    def force_max(self) -> float:
+        return self.figures.force_max
+
+    @property
     def travel(self) -> float:
         """One finger's travel (m)."""
         return self.stroke / 2.0
@@ -63,21 +72,23 @@ class GripperSpec:
     @property
     def max_speed(self) -> float:
         """One finger's speed at 100 % (m/s)."""
-        return self.travel / self.stroke_time
+        return self.travel / self.figures.stroke_time
 
     def force(self, percent: float) -> float:
-        """N per jaw at ``percent`` (20–100 %, the register's range): linear between the
-        datasheet's minimum and maximum."""
-        return self.force_min + (self.force_max - self.force_min) * (percent - 20.0) / 80.0
+        """N per jaw at ``percent`` (20–100 %, the register's range)."""
+        return self.figures.force(percent)
 
 
 SPEC = GripperSpec()
 #: a finger at rest is within this of its reference (m); the registers' ‰ are 0.095 mm
 AT_TARGET = 0.001
+#: a stopped finger this far behind its reference is blocked (m)
+BLOCKED = 0.002
 #: slower than this a finger has stopped (m/s)
 STOPPED = 0.002
-#: the pads' contact stiffness (N/m) and damping (N·s/m)
-PAD_STIFFNESS, PAD_DAMPING = 5.0e5, 500.0
+#: the pads' contact: time constant (s) and damping ratio; impedance from, to, over (m)
+PAD_SOLREF = (0.002, 1.0)
+PAD_SOLIMP = (0.99, 0.999, 0.001)
 #: the wrist bodies the housing may overlap where it leaves the flange
 _NEIGHBOURS = ("link_4", "link_5", "link_6")
 
@@ -128,9 +139,10 @@ def add_gripper(spec: mujoco.MjSpec, parent: str, gs: GripperSpec = SPEC) -> lis
         pad.friction = [gs.pad_friction, 0.005, 0.0001]
         pad.condim = 4                  # torsional friction: a held part does not turn
         pad.priority = 1                # the pad's friction, condim and solref win
-        # stiffness and damping given directly (N/m, N·s/m): a light part squeezed by 160 N
-        # would sink millimetres into a mass-scaled soft contact; here 0.3 mm
-        pad.solref = [-PAD_STIFFNESS, -PAD_DAMPING]
+        # a stiff contact (2 ms time constant, the shortest the 1 ms step takes; impedance
+        # near 1): a light part squeezed by 160 N would sink millimetres into MuJoCo's default
+        pad.solref = list(PAD_SOLREF)
+        pad.solimp = list(PAD_SOLIMP) + [0.5, 2.0]
         pad.rgba = [0.1, 0.1, 0.1, 1.0]
         act = spec.add_actuator()
         act.name = name
@@ -287,7 +299,7 @@ class DhGripper:
         step = self.spec.max_speed * self.speed_pct / 100.0 * cycle
         delta = self._target - self._reference
         self._reference += float(np.clip(delta, -step, step))
-        force = self.spec.force(self.force_pct)
+        force = self.spec.figures.force(self.force_pct, self.registers.force_range)
         for a in self._acts:
             self._d.ctrl[a] = self._reference
             self._m.actuator_forcerange[a] = (-force, force)
@@ -302,9 +314,13 @@ class DhGripper:
                 self.initialising, self.initialised = False, True
                 self.grip_state = GripState.REACHED
             return
+        # stopped while the reference has run on past them: something is between the pads
+        blocked = speed < STOPPED and abs(self._reference - fingers.mean()) > BLOCKED
         if self.grip_state == GripState.MOVING:
-            if not ramping and speed < STOPPED:
-                self.grip_state = GripState.REACHED if at_target else GripState.CAUGHT
+            if blocked:
+                self.grip_state = GripState.CAUGHT
+            elif not ramping and speed < STOPPED and at_target:
+                self.grip_state = GripState.REACHED
         elif self.grip_state == GripState.CAUGHT and at_target:
             self.grip_state = GripState.DROPPED     # closed on past where the part was
 
