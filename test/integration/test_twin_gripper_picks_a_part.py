@@ -261,5 +261,6 @@ def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cu
         assert tool.device.tool_inputs() == {0: 0.0}
         assert watch.position()[2] == pytest.approx(TABLE_TOP + BOX_HALF, abs=0.001)
         assert watch.position()[1] == pytest.approx(0.114 + 0.3, abs=0.003)
+    assert driver.twin_parts()["box"][1, 3] == pytest.approx(0.414, abs=0.003)
     assert driver.reset_twin().ok                             # ~sim/reset: the box back
-    assert np.allclose(watch.position(), [0.482, 0.114, TABLE_TOP + BOX_HALF], atol=0.001)
+    assert np.allclose(driver.twin_parts()["box"][:3, 3], [0.482, 0.114, 0.2305], atol=1e-9)

@@ -258,3 +258,7 @@ class RobotDriver:
 
     def camera(self, width: int, height: int) -> Camera:
         return self._twin.camera(width, height)
+
+    def twin_parts(self) -> dict:
+        """The twin's parts: name → 4x4 pose (m, base frame); {} on a controller."""
+        return self._twin.parts()

@@ -49,6 +49,7 @@ from .io_board import IoBoard
 from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, servo_target,
                       stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
+from .parts import PartPoses, part_names
 from .physics import PhysicsLoop
 from .servo import JointServo
 from .suction import SuctionCup
@@ -113,7 +114,7 @@ class SimBackend(Backend):
         self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
                             self._collisions, self._push, self._kin, self.frames, self._reset,
-                            scene=scene)
+                            scene=scene, parts=PartPoses(self._mj_model, part_names(scene)))
 
     def _defaults(self) -> None:
         """The controller's state of a fresh twin: powered, enabled, no error (the flags'),

@@ -23,15 +23,15 @@ Units: m, N, s; positions and openings on the registers in ‰ of the stroke.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Optional, Sequence
 
 import mujoco
 import numpy as np
 
 from ..devices.modbus_frames import read_request
-from ..devices.register_maps import (DH_FIGURES, DH_PGI, GripperFigures, GripState,
-                                     RegisterMap)
+from ..common.tool_shapes import GRIPPER as SPEC
+from ..common.tool_shapes import GripperSpec
+from ..devices.register_maps import DH_PGI, GripState, RegisterMap
 
 BASE = "gripper_base"
 FINGERS = ("gripper_finger_left", "gripper_finger_right")
@@ -39,47 +39,6 @@ PADS = ("gripper_pad_left", "gripper_pad_right")
 GRASP_SITE = "gripper_grasp"
 
 
-@dataclass(frozen=True)
-class GripperSpec:
-    """The twin's parallel gripper: the published figures (m, N, s, kg) and its shapes."""
-
-    figures: GripperFigures = DH_FIGURES
-    finger_mass: float = 0.05        # kg, each finger with its pad
-    housing: tuple = (0.035, 0.065, 0.045)    # half-sizes, flange x y z; its base on the flange
-    pad: tuple = (0.012, 0.002, 0.018)        # half-sizes; the inner face is the grip
-    grasp_z: float = 0.125           # m along the flange's z: the pads' centre, the grasp point
-    pad_friction: float = 1.0
-    kp: float = 20000.0              # N/m, a finger's position loop (a stall pushes with the limit)
-    armature: float = 0.5            # kg, the drive's inertia reflected to a finger
-
-    @property
-    def stroke(self) -> float:
-        return self.figures.stroke
-
-    @property
-    def mass(self) -> float:
-        return self.figures.mass
-
-    @property
-    def force_max(self) -> float:
-        return self.figures.force_max
-
-    @property
-    def travel(self) -> float:
-        """One finger's travel (m)."""
-        return self.stroke / 2.0
-
-    @property
-    def max_speed(self) -> float:
-        """One finger's speed at 100 % (m/s)."""
-        return self.travel / self.figures.stroke_time
-
-    def force(self, percent: float) -> float:
-        """N per jaw at ``percent`` (20–100 %, the register's range)."""
-        return self.figures.force(percent)
-
-
-SPEC = GripperSpec()
 #: a finger at rest is within this of its reference (m); the registers' ‰ are 0.095 mm
 AT_TARGET = 0.001
 #: a stopped finger this far behind its reference is blocked (m)

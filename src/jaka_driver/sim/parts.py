@@ -7,7 +7,7 @@ collides with the floor, the obstacles, the arm and the gripper, and can be held
 scene places it is its pose in MuJoCo's reference configuration, so the twin's reset
 (``mj_resetData``) puts every part back there.
 
-:class:`PartPoses` reads where they are now (m, quaternion x y z w, base frame).
+:class:`PartPoses` reads where they are now (4x4 poses, m, base frame).
 """
 from __future__ import annotations
 
@@ -50,6 +50,11 @@ def scene_parts(scene: Optional[str]) -> list[dict]:
     return parts
 
 
+def part_names(scene: Optional[str]) -> list[str]:
+    """The names of the scene's parts (its bodies in the twin)."""
+    return [part["name"] for part in scene_parts(scene)]
+
+
 def add_parts(spec: mujoco.MjSpec, parts: list[dict]) -> list[str]:
     """A free body per part (added after the arm: the arm's degrees of freedom stay the
     first six); returns their names."""
@@ -83,10 +88,12 @@ class PartPoses:
         self.names = list(names)
         self._bodies = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
 
-    def poses(self, d: mujoco.MjData) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """name → (position m, quaternion x y z w), base frame."""
+    def poses(self, d: mujoco.MjData) -> dict[str, np.ndarray]:
+        """name → 4x4 pose (m, base frame)."""
         out = {}
         for name, b in zip(self.names, self._bodies):
-            w, x, y, z = d.xquat[b]
-            out[name] = (d.xpos[b].copy(), np.array([x, y, z, w]))
+            pose = np.eye(4)
+            pose[:3, :3] = d.xmat[b].reshape(3, 3)
+            pose[:3, 3] = d.xpos[b]
+            out[name] = pose
         return out

@@ -22,12 +22,12 @@ from typing import Optional, Sequence
 import mujoco
 import numpy as np
 
+from ..common.tool_shapes import SUCTION
+
 BODY = "suction_cup"
 CUP = "suction_cup_face"
 GRASP_SITE = "suction_grasp"
-MASS = 0.3                    # kg, the cup, its stem and the vacuum generator
-STEM = (0.02, 0.04)           # m, radius and half-length along the flange's z
-CUP_SIZE = (0.025, 0.005)     # m, radius and half-height of the cup
+MASS, STEM, CUP_SIZE = SUCTION.mass, SUCTION.stem, SUCTION.cup
 _NEIGHBOURS = ("link_4", "link_5", "link_6")
 
 
@@ -50,7 +50,7 @@ def add_suction_cup(spec: mujoco.MjSpec, parent: str, parts: Sequence[str]) -> l
     cup.rgba = [0.1, 0.1, 0.1, 1.0]
     site = body.add_site()
     site.name = GRASP_SITE
-    site.pos = [0.0, 0.0, 2 * (STEM[1] + CUP_SIZE[1])]
+    site.pos = [0.0, 0.0, SUCTION.grasp_z]
     for part in parts:
         weld = spec.add_equality()
         weld.name = f"{BODY}_{part}"
