@@ -263,4 +263,4 @@ def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cu
         assert watch.position()[1] == pytest.approx(0.114 + 0.3, abs=0.003)
     assert driver.twin_parts()["box"][1, 3] == pytest.approx(0.414, abs=0.003)
     assert driver.reset_twin().ok                             # ~sim/reset: the box back
-    assert np.allclose(driver.twin_parts()["box"][:3, 3], [0.482, 0.114, 0.2305], atol=1e-9)
+    assert np.allclose(driver.twin_parts()["box"][:3, 3], [0.482, 0.114, 0.23], atol=1e-9)

@@ -16,6 +16,9 @@ calling ``driver.gripper`` only:
   ``~gripper/set_speed`` (jaka_driver_msgs/SetGripperPercent): ``ret`` 1 or the door's
   refusal.
 
+Both are served on every node: without a gripper every request is refused (-9, saying how to
+mount one) and every goal aborted with that reason.
+
 Times run on the driver's clock (sim time on a twin in sim time).
 """
 from __future__ import annotations
@@ -47,10 +50,10 @@ class GripperActionServer:
                                                     execute_cb=self._execute, auto_start=False)
         self._server.start()
 
-    def _figures(self):
-        return self.driver.gripper.device.figures
-
     def _effort(self) -> float:
+        """N per jaw at the force setting (0 without a gripper)."""
+        if self.driver.gripper.absent is not None:
+            return 0.0
         device = self.driver.gripper.device
         return float(device.figures.force(device.force_pct, device.registers.force_range))
 

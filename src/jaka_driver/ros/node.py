@@ -304,11 +304,11 @@ def main() -> int:
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
     if driver.gripper.absent is None:
-        # the tool connector set up as the launch arguments say, then the action
+        # the tool connector set up as the launch arguments say, before the action serves
         rospy.loginfo(f"gripper: {driver.gripper.set_up().message}")
-        advertise_gripper_services(driver)
         GripperTopics(driver, publisher.also_publish)
-        GripperActionServer(driver, rospy.get_param("~gripper_action", "~gripper/gripper_action"))
+    advertise_gripper_services(driver)            # without a gripper: -9, how to mount one
+    GripperActionServer(driver, rospy.get_param("~gripper_action", "~gripper/gripper_action"))
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
