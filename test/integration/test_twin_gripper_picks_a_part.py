@@ -88,20 +88,24 @@ class BoxWatch:
         return float(np.linalg.norm(self.d.cvel[self.box][3:]))
 
 
+def twin_with(tool: str, site: str, door: str):
+    """A started driver on the zu5 twin with ``tool`` mounted and the fake tool connector,
+    its gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
+    backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
+                         force_sensor=True, gripper=tool)
+    backend.tool_io = FakeToolIo(backend)
+    line, watch = ToolLine(backend), BoxWatch(backend, site)
+    driver = RobotDriver(backend, gripper=door)
+    driver.start()
+    try:
+        yield driver, line, watch
+    finally:
+        driver.shutdown()
 
 
 @pytest.fixture(scope="module")
 def dh():
-    backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
-                         force_sensor=True, gripper="dh_pgi")
-    backend.tool_io = FakeToolIo(backend)
-    tool, watch = ToolLine(backend), BoxWatch(backend, "gripper_grasp")
-    driver = RobotDriver(backend, gripper="dh_pgi")
-    driver.start()
-    try:
-        yield driver, tool, watch
-    finally:
-        driver.shutdown()
+    yield from twin_with("dh_pgi", "gripper_grasp", "dh_pgi")
 
 
 @pytest.fixture
@@ -225,16 +229,7 @@ def test_the_gripper_ignores_frames_until_initialised_and_everything_unpowered(d
 
 @pytest.fixture(scope="module")
 def cup():
-    backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
-                         force_sensor=True, gripper="suction")
-    backend.tool_io = FakeToolIo(backend)
-    tool, watch = ToolLine(backend), BoxWatch(backend, "suction_grasp")
-    driver = RobotDriver(backend)
-    driver.start()
-    try:
-        yield driver, tool, watch
-    finally:
-        driver.shutdown()
+    yield from twin_with("suction", "suction_grasp", "none")
 
 
 def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cup):

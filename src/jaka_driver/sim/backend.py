@@ -158,7 +158,8 @@ class SimBackend(Backend):
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
                     timestep_s=self._mj_model.opt.timestep,
                     servo_filter=self._servo_filter.describe(),
-                    force_sensor="none" if self.force.absent else "flange")
+                    force_sensor="none" if self.force.absent else "flange",
+                    tool=self.gripper)
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")
