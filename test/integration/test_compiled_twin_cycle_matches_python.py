@@ -16,8 +16,8 @@ from jaka_driver.sim import SimBackend
 from jaka_driver.sim.motions import ServoTarget
 
 
-def _twin(compiled: bool) -> SimBackend:
-    twin = SimBackend(load_model("zu5"))
+def _twin(compiled: bool, **backend) -> SimBackend:
+    twin = SimBackend(load_model("zu5"), **backend)
     if not compiled:
         twin._physics.servo._native = None
     return twin
@@ -68,6 +68,16 @@ def test_compiled_and_numpy_cycles_agree_to_the_last_bit():
     assert moved > 0.05, f"the trace barely moves the arm ({moved:.3f} rad): it proves nothing"
     lags = [row[-1] for row in compiled]
     assert max(lags) > 0.01, "the jump never opened a following error"
+    for k, (c, p) in enumerate(zip(compiled, python)):
+        assert np.array_equal(c, p), f"cycle {k}: largest difference {np.max(np.abs(c - p))}"
+
+
+def test_with_a_grippers_fingers_the_cycles_still_agree_to_the_last_bit():
+    """The DH gripper's two finger joints make MuJoCo's model 8 degrees of freedom: the
+    feed-forward takes the arm's rows of M·(q̈, 0) in both paths."""
+    compiled = _trace(_twin(True, gripper="dh_pgi"))
+    python = _trace(_twin(False, gripper="dh_pgi"))
+    assert _twin(True, gripper="dh_pgi")._mj_model.nv == 8
     for k, (c, p) in enumerate(zip(compiled, python)):
         assert np.array_equal(c, p), f"cycle {k}: largest difference {np.max(np.abs(c - p))}"
 

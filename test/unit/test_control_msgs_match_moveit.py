@@ -1,5 +1,6 @@
-"""The FollowJointTrajectory types the action server speaks have control_msgs 1.5's md5 sums
-(follow_joint_trajectory.md), so MoveIt's trajectory execution talks to it unchanged."""
+"""The FollowJointTrajectory and GripperCommand types the action servers speak have control_msgs
+1.5's md5 sums (follow_joint_trajectory.md), so MoveIt's trajectory execution and its gripper
+controller talk to them unchanged."""
 import pytest
 
 import control_msgs.msg as cm
@@ -13,6 +14,8 @@ MD5 = {
     "FollowJointTrajectoryActionResult": "c4fb3b000dc9da4fd99699380efcc5d9",
     "FollowJointTrajectoryActionFeedback": "d8920dc4eae9fc107e00999cce4be641",
     "FollowJointTrajectoryAction": "bc4f9b743838566551c0390c65f1a248",
+    "GripperCommand": "680acaff79486f017132a7f198d40f08",
+    "GripperCommandAction": "950b2a6ebe831f5d4f4ceaba3d8be01e",
 }
 
 

@@ -127,5 +127,10 @@ class Twin(ABC):
         """The collision sensitivity level the twin runs with (0 off, 1–4)."""
 
     @abstractmethod
+    def parts(self) -> Dict[str, np.ndarray]:
+        """Where the scene's parts are now: name → 4x4 pose (m, base frame); empty without
+        parts."""
+
+    @abstractmethod
     def tcp_speed(self, state: RobotState) -> float:
         """Speed (m/s) of the active tool's origin in ``state`` (a sample of this twin)."""

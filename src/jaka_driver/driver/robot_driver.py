@@ -15,7 +15,8 @@ the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), 
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
 force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``),
 trajectory recording (:mod:`.recording_requests`, ``driver.recording``), the tool connector
-(:mod:`.tool_io_requests`, ``driver.tool_io``). What a request does is documented in its part.
+(:mod:`.tool_io_requests`, ``driver.tool_io``) and the gripper on it (:mod:`.gripper_requests`,
+``driver.gripper``). What a request does is documented in its part.
 """
 from __future__ import annotations
 
@@ -27,10 +28,12 @@ from ..backend import Backend, Camera, ProgramStatus
 from ..backend.robot_state import RobotState
 from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
+from ..devices import ConnectorSetup
 from ..programs.executor import MoveHold
 from .arm_settings import SettingRequests
 from .door import Door
 from .force_requests import ForceRequests
+from .gripper_requests import GripperRequests, NoGripper
 from .jogs import JogRequests
 from .moves import MoveRequests
 from .program_requests import ProgramRequests
@@ -46,11 +49,14 @@ class RobotDriver:
 
     def __init__(self, backend: Backend, *, jog_timeout: float = 3.0, servo_timeout: float = 0.1,
                  servo_increment: bool = False, conventions: Conventions = DOCUMENT,
-                 twist_timeout: float = 0.1):
+                 twist_timeout: float = 0.1, gripper: str = "none",
+                 gripper_setup=None):
         """``conventions``: how requests are read where JAKA's document and JAKA's driver code
         differ (jaka_driver.conventions); ``servo_increment`` adds servo increments to them
         (servo_j / servo_p take increments, as JAKA's driver code sends them).
-        ``twist_timeout``: s after the last twist before a velocity jog stops."""
+        ``twist_timeout``: s after the last twist before a velocity jog stops.
+        ``gripper``: the gripper on the tool connector (driver/gripper_requests.py: ``none``
+        or ``dh_pgi``), hung on it as ``gripper_setup`` (a devices.ConnectorSetup) says."""
         self.backend = backend
         self.model = backend.model
         #: every timeout runs on the backend's time (wall, or the twin's sim time)
@@ -71,6 +77,9 @@ class RobotDriver:
         #: the tool connector: supply, pins, RS485 channels, frames, signals
         #: (driver/tool_io_requests.py)
         self.tool_io = ToolIORequests(door)
+        #: the gripper on the tool connector (driver/gripper_requests.py)
+        self.gripper = NoGripper() if gripper == "none" else GripperRequests(
+            door, gripper, gripper_setup or ConnectorSetup())
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 
@@ -257,3 +266,7 @@ class RobotDriver:
 
     def camera(self, width: int, height: int) -> Camera:
         return self._twin.camera(width, height)
+
+    def twin_parts(self) -> dict:
+        """The twin's parts: name → 4x4 pose (m, base frame); {} on a controller."""
+        return self._twin.parts()

@@ -42,6 +42,12 @@ class TwinRequests(RequestPart):
             raise CommandRefused(Code.WRONG_MODE, refusal)
         return twin
 
+    def parts(self) -> dict:
+        """Where the twin's parts are: name → 4x4 pose (m, base frame); empty without a twin
+        or parts. A read: it holds no time."""
+        twin = self.backend.twin
+        return {} if twin is None else twin.parts()
+
     @answers
     def emergency_stop(self, pressed: bool) -> Result:
         """Press (True) or release (False) the twin's emergency stop. In sim time it happens

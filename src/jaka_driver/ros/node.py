@@ -45,6 +45,14 @@ Parameters (private, ``~name``):
                      so; not in sim time (host/realtime.py)
   ``trajectory_action``  name of the FollowJointTrajectory action (default
                      ``~follow_joint_trajectory``; e.g. ``/jaka_zu5_controller/follow_joint_trajectory``)
+  ``gripper``        the tool on the tool connector: ``none`` (default), ``dh_pgi`` (a DH-Robotics
+                     gripper: the twin mounts one; on a controller the driver sets the tool
+                     connector up for it) or ``suction`` (the twin's suction cup, tool DO 0)
+  ``gripper_channel``, ``gripper_slave``, ``gripper_baud``, ``gripper_volts``, ``gripper_crc``
+                     how the gripper hangs on the tool connector: RS485 channel (1 = RS485L,
+                     default), slave id (1), baud (115200), tool supply V (24), frames with
+                     their CRC (false: 6 bytes, as JAKA's demos)
+  ``gripper_action`` name of the GripperCommand action (default ``~gripper/gripper_action``)
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
@@ -69,6 +77,8 @@ from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .tool_io_services import advertise_tool_io
 from .frames_tf import FrameBroadcaster
+from .gripper_action import GripperActionServer, advertise_gripper_services
+from .gripper_topics import GripperTopics
 from .programs import advertise_programs
 from .recording_services import advertise_recording
 from .services import advertise, advertise_faults
@@ -79,6 +89,7 @@ from .speed_ratio import SpeedRatio
 from .state_publisher import DEFAULT_RATE_HZ, StatePublisher
 from .trajectory_action import TrajectoryActionServer
 from .twin_control import advertise_twin_control
+from .twin_parts import PartsPublisher
 from .twist_input import TwistInput
 
 
@@ -92,7 +103,8 @@ def make_backend(kind: str, model_name: str, params: dict):
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
                           programs=params.get("programs") or None,
-                          force_sensor=force_sensor_param(params.get("force_sensor", "")))
+                          force_sensor=force_sensor_param(params.get("force_sensor", "")),
+                          gripper=str(params.get("gripper") or "none"))
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
@@ -103,6 +115,21 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  force_sensor=force_sensor_param(params.get("force_sensor", "")),
                                  stall_timeout=params["stall_timeout"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
+
+
+def gripper_arguments(p: dict) -> dict:
+    """RobotDriver's gripper arguments from the parameters: a register-map gripper driven over
+    the tool connector (the suction cup is switched by a tool DO: no gripper door)."""
+    from ..devices import MAPS, ConnectorSetup
+    kind = p.get("gripper", "none")
+    if kind not in ("none", "suction") + tuple(MAPS):
+        raise ValueError(f"~gripper is {kind!r}; expected none, suction or "
+                         f"{', '.join(MAPS)}")
+    if kind not in MAPS:
+        return {"gripper": "none"}
+    return {"gripper": kind, "gripper_setup": ConnectorSetup(
+        volts=p["gripper_volts"], channel=p["gripper_channel"], slave=p["gripper_slave"],
+        baudrate=p["gripper_baud"], crc=p["gripper_crc"])}
 
 
 def force_sensor_param(value) -> bool | None:
@@ -165,6 +192,12 @@ def _params() -> dict:
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
         "force_sensor": rospy.get_param("~force_sensor", ""),
+        "gripper": str(rospy.get_param("~gripper", "none") or "none").lower(),
+        "gripper_channel": int(rospy.get_param("~gripper_channel", 1)),
+        "gripper_slave": int(rospy.get_param("~gripper_slave", 1)),
+        "gripper_baud": int(rospy.get_param("~gripper_baud", 115200)),
+        "gripper_volts": float(rospy.get_param("~gripper_volts", 24.0)),
+        "gripper_crc": bool(rospy.get_param("~gripper_crc", False)),
         "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
@@ -242,12 +275,14 @@ def main() -> int:
         rospy.logfatal(f"~conventions: {exc}")
         return 2
     try:
+        gripper_args = gripper_arguments(p)
         backend = make_backend(p["backend"], p["model"], p)
     except ValueError as exc:
         rospy.logfatal(str(exc))
         return 2
     driver = RobotDriver(backend, jog_timeout=p["jog_timeout"], servo_timeout=p["servo_timeout"],
-                         conventions=conventions, twist_timeout=p["twist_timeout"])
+                         conventions=conventions, twist_timeout=p["twist_timeout"],
+                         **gripper_args)
     rospy.loginfo(f"conventions {conventions.describe()}")
     publisher = StatePublisher(driver, p["rate"])       # before the twin's time starts
     _settled(*heap.settle())           # before the backend's threads run (host/heap.py)
@@ -262,6 +297,7 @@ def main() -> int:
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)
         advertise_snapshot(driver)
+        PartsPublisher(driver, publisher.also_publish)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
@@ -271,6 +307,12 @@ def main() -> int:
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
     advertise_tool_io(driver, publisher.also_publish)
+    if driver.gripper.absent is None:
+        # the tool connector set up as the launch arguments say, before the action serves
+        rospy.loginfo(f"gripper: {driver.gripper.set_up().message}")
+        GripperTopics(driver, publisher.also_publish)
+    advertise_gripper_services(driver)            # without a gripper: -9, how to mount one
+    GripperActionServer(driver, rospy.get_param("~gripper_action", "~gripper/gripper_action"))
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

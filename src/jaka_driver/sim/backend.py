@@ -45,14 +45,17 @@ from .arm_flags import ArmFlags
 from .collisions import CollisionMonitor
 from .force import SimForce
 from .ft_sensor import TOOL_BODY
+from .gripper import DhGripper
 from .io_board import IoBoard
 from .tool_connector import SimToolIO
 from .motions import (Hold, Jog, ServoTarget, Stopping, TrajectoryRun, TwistRun, servo_target,
                       stopped)
 from .overload import HOLDING_SHARE, FollowingErrorMonitor, holding_torque, worst_joint
+from .parts import PartPoses, part_names
 from .physics import PhysicsLoop
 from .recording import SimRecording
 from .servo import JointServo
+from .suction import SuctionCup
 from .tool_push import ToolPush
 from .twin import SimTwin
 from .twin_model import FLANGE_BODY, Payload, build_twin_model
@@ -64,12 +67,15 @@ class SimBackend(Backend):
     """The MuJoCo twin of ``model`` (see the module); ``scene`` a workcell file, ``q0`` the
     start joints (rad; default the model's home), ``io_loopback`` wires each output to the
     input of the same index, ``force_sensor`` mounts (True) or removes (False) the flange
-    force/torque sensor of the model's configuration (None: as configured)."""
+    force/torque sensor of the model's configuration (None: as configured), ``gripper`` mounts
+    a tool after it: ``none``, ``dh_pgi`` (the DH gripper, :mod:`.gripper`) or ``suction``
+    (:mod:`.suction`), a device on the tool connector (``tool_device``)."""
 
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0,
-                 programs: Optional[str] = None, force_sensor: Optional[bool] = None):
+                 programs: Optional[str] = None, force_sensor: Optional[bool] = None,
+                 gripper: str = "none"):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
         ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
@@ -78,7 +84,7 @@ class SimBackend(Backend):
         self.programs = FolderPrograms(programs)
         self._kin = Kinematics(model)
         sensor = model.force_sensor.mounted_as(force_sensor)
-        self._mj_model = build_twin_model(model, scene, force_sensor=sensor)
+        self._mj_model = build_twin_model(model, scene, force_sensor=sensor, gripper=gripper)
         # JAKA's pose_1, unless told otherwise
         q_start = model.home.copy() if q0 is None else np.asarray(q0, float)
         servo = JointServo(self._mj_model, model.servo_kp, model.servo_kd, SERVO_CYCLE,
@@ -86,6 +92,10 @@ class SimBackend(Backend):
         self._physics = PhysicsLoop(self._mj_model, servo, q_start, cycle=SERVO_CYCLE,
                                    clock=self.clock if sim_time else None)
         self._flags = ArmFlags(self._physics)
+        #: the tool on the tool connector (None: no tool), a ToolDevice (sim/tool_device.py)
+        self.tool_device = {"none": lambda m, d: None, "dh_pgi": DhGripper,
+                            "suction": SuctionCup}[gripper](self._mj_model, self._physics.d)
+        self.gripper = gripper
         self._lock = self._flags.lock       # the flags, and the motion a mode allows, together
         tool_body = TOOL_BODY if sensor.mounted else FLANGE_BODY
         self._payload = Payload(self._mj_model, tool_body)
@@ -115,7 +125,7 @@ class SimBackend(Backend):
         self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
                             self._collisions, self._push, self._kin, self.frames, self._reset,
-                            scene=scene)
+                            scene=scene, parts=PartPoses(self._mj_model, part_names(scene)))
 
     def _defaults(self) -> None:
         """The controller's state of a fresh twin: powered, enabled, no error (the flags'),
@@ -141,6 +151,8 @@ class SimBackend(Backend):
                     self.force.reset()          # before the reset's sample: no reading yet
                 self._physics.reset(q).abort(stopped("stopped: the twin was reset"))
                 self._push.start(self._physics.d, np.zeros(6), 0)
+                if self.tool_device is not None:
+                    self.tool_device.reset()    # as mounted: the fingers limp, nothing held
             self._overload.rearm()
             self._io.reset()
             self.tool_io.reset()
@@ -159,7 +171,8 @@ class SimBackend(Backend):
         info.update(physics_steps=self._physics.steps_total, overruns=self._physics.overruns,
                     timestep_s=self._mj_model.opt.timestep,
                     servo_filter=self._servo_filter.describe(),
-                    force_sensor="none" if self.force.absent else "flange")
+                    force_sensor="none" if self.force.absent else "flange",
+                    tool=self.gripper)
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")

@@ -42,24 +42,25 @@ ZERO_SAMPLES = 16
 NOISE_SEED = 31
 
 
-def add_sensor(spec: mujoco.MjSpec, sensor: ForceSensorSpec) -> None:
-    """Add the tool side of the sensor, its probe, its site and MuJoCo's force and torque
-    sensors to ``spec`` (before the drives: ``ft_tool`` is an arm body for gravity
-    compensation)."""
+def add_sensor(spec: mujoco.MjSpec, sensor: ForceSensorSpec, probe: bool = True) -> None:
+    """Add the tool side of the sensor, its probe (``probe``: none when a tool is mounted on
+    it), its site and MuJoCo's force and torque sensors to ``spec`` (before the drives:
+    ``ft_tool`` is an arm body for gravity compensation)."""
     tool = spec.body(FLANGE_BODY).add_body()
     tool.name = TOOL_BODY
     # mass and inertia as a payload sets them (twin_model.Payload); none yet: a weightless tool
     tool.mass = 0.0
     tool.inertia = [0.0, 0.0, 0.0]
     tool.explicitinertial = True
-    probe = tool.add_geom()
-    probe.name = PROBE
-    probe.type = mujoco.mjtGeom.mjGEOM_CAPSULE
-    length, radius = sensor.probe_length_mm / 1000.0, sensor.probe_radius_mm / 1000.0
-    probe.fromto = [0.0, 0.0, radius, 0.0, 0.0, length]
-    probe.size = [radius, 0.0, 0.0]
-    probe.mass = 0.0
-    probe.rgba = [0.3, 0.3, 0.35, 1.0]
+    if probe:
+        geom = tool.add_geom()
+        geom.name = PROBE
+        geom.type = mujoco.mjtGeom.mjGEOM_CAPSULE
+        length, radius = sensor.probe_length_mm / 1000.0, sensor.probe_radius_mm / 1000.0
+        geom.fromto = [0.0, 0.0, radius, 0.0, 0.0, length]
+        geom.size = [radius, 0.0, 0.0]
+        geom.mass = 0.0
+        geom.rgba = [0.3, 0.3, 0.35, 1.0]
     site = tool.add_site()
     site.name = SITE
     for kind, suffix in ((mujoco.mjtSensor.mjSENS_FORCE, "force"),

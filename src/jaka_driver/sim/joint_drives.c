@@ -82,7 +82,20 @@ void jd_cycle(mjModel* m, mjData* d, jd_drives* s) {
       kv[i] = s->kd[i] * inertia;
       bias[i * mjNBIAS + 2] = -kv[i];
     }
-    mj_mulM(m, d, ff, s->accel);    /* M(q)·q̈_sp; nv is 6, the arm's joints */
+    if (m->nv == JD_JOINTS) {
+      mj_mulM(m, d, ff, s->accel);    /* M(q)·q̈_sp; nv is 6, the arm's joints */
+    } else {
+      /* a tool's fingers or the scene's parts add degrees of freedom after the arm's: the
+       * arm's rows of M·(q̈_sp, 0) */
+      mj_markStack(d);
+      mjtNum* accel = mj_stackAllocNum(d, m->nv);
+      mjtNum* full = mj_stackAllocNum(d, m->nv);
+      mju_zero(accel, m->nv);
+      mju_copy(accel, s->accel, JD_JOINTS);
+      mj_mulM(m, d, full, accel);
+      mju_copy(ff, full, JD_JOINTS);
+      mj_freeStack(d);
+    }
     /* + the damping's and the joint friction's share of the setpoint velocity, and the
      * Coriolis and centrifugal torques (the bias less the gravity MuJoCo compensates) */
     for (int i = 0; i < JD_JOINTS; i++)

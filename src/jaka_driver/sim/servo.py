@@ -85,8 +85,9 @@ class JointServo:
 
     def __init__(self, m: mujoco.MjModel, kp: np.ndarray, kd: np.ndarray, cycle: float,
                  native: Optional[NativeDrives] = None):
-        if m.nu != 12:
-            raise ValueError(f"the twin has {m.nu} actuators, expected 12 (see add_drives)")
+        if m.nu < 12:
+            raise ValueError(f"the twin has {m.nu} actuators, expected the arm's 12 first "
+                             "(see add_drives)")
         self._m = m
         self.cycle = cycle
         s = self._drives = Drives()
@@ -218,7 +219,16 @@ class JointServo:
             np.negative(gain, out=bias_p)
             np.multiply(self._kd, inertia, out=kv)
             np.negative(kv, out=bias_v)
-            mujoco.mj_mulM(self._m, d, ctrl_ff, self._accel)
+            if self._m.nv == 6:
+                mujoco.mj_mulM(self._m, d, ctrl_ff, self._accel)
+            else:
+                # a tool's fingers or the scene's parts add degrees of freedom after the
+                # arm's: the arm's rows of M·(q̈_sp, 0)
+                full = np.zeros(self._m.nv)
+                accel = np.zeros(self._m.nv)
+                accel[:6] = self._accel
+                mujoco.mj_mulM(self._m, d, full, accel)
+                ctrl_ff[:] = full[:6]
             # + the damping's and the joint friction's share of the setpoint velocity, and the
             # Coriolis and centrifugal torques (the bias less the gravity MuJoCo compensates)
             ctrl_ff += (kv + self._damping) * self._velocity + bias - gravity

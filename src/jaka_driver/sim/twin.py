@@ -23,6 +23,7 @@ from .arm_flags import ArmFlags
 from .collisions import CollisionMonitor
 from .io_board import IoBoard
 from .motions import servo_target
+from .parts import PartPoses
 from .physics import PhysicsLoop
 from .tool_push import ToolPush
 
@@ -42,7 +43,8 @@ class SimTwin(Twin):
     def __init__(self, model: RobotModel, clock: SimClock | WallClock, physics: PhysicsLoop,
                  flags: ArmFlags, io: IoBoard, collisions: CollisionMonitor, push: ToolPush,
                  kinematics: Kinematics, frames: Frames,
-                 reset: Callable[[np.ndarray], None], *, scene: Optional[str] = None):
+                 reset: Callable[[np.ndarray], None], *, scene: Optional[str] = None,
+                 parts: Optional[PartPoses] = None):
         self._model = model
         self._clock = clock
         self._physics = physics
@@ -54,6 +56,7 @@ class SimTwin(Twin):
         self._frames = frames
         self._reset = reset
         self._scene = scene
+        self._parts = parts
 
     # ---- the world acting on the arm ---------------------------------------------------------
     def press_emergency_stop(self) -> Result:
@@ -152,6 +155,12 @@ class SimTwin(Twin):
     @property
     def collision_level(self) -> int:
         return self._collisions.level
+
+    def parts(self) -> dict[str, np.ndarray]:
+        if self._parts is None or not self._parts.names:
+            return {}
+        with self._physics.lock:
+            return self._parts.poses(self._physics.d)
 
     def tcp_speed(self, state: RobotState) -> float:
         tool, _ = self._frames()

@@ -5,7 +5,10 @@ joint damping and rotor inertia (armature), the floor and workcell, a flange for
 sensor when the arm carries one (:mod:`ft_sensor`), the payload (mass folded into link_6, the
 flange body — or into the sensor's tool side, ``ft_tool``, so the sensor feels it), and the
 joint drives (:mod:`servo`: MuJoCo actuators with gravity compensation and the URDF's torque
-limits).
+limits); a tool on the flange when one is mounted (``gripper``: the DH gripper,
+:mod:`gripper`, or the suction cup, :mod:`suction`, after the sensor's tool side when there
+is one), and the scene's parts (:mod:`parts`, free bodies after the arm: the arm's joints stay
+MuJoCo's first six degrees of freedom and its first twelve actuators).
 """
 from __future__ import annotations
 
@@ -21,19 +24,26 @@ from ..common.models import RobotModel
 from ..common.sensor_spec import ForceSensorSpec
 from .collisions import ARM_BODIES, add_environment
 from .ft_sensor import TOOL_BODY, add_sensor
+from .gripper import add_gripper, grasp_options
+from .parts import add_parts, scene_parts
 from .servo import add_drives
+from .suction import add_suction_cup
 
 TIMESTEP = 0.001          # s; 1 kHz physics under an 8 ms controller cycle
 JOINT_DAMPING = 2.0       # N·m·s/rad, gearbox viscous friction
 ARMATURE = 0.05           # kg·m², reflected rotor inertia; also steadies the integrator
 FLANGE_BODY = "link_6"
+#: the tools a twin can carry on its flange (``gripper``)
+GRIPPERS = ("none", "dh_pgi", "suction")
 
 
 def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
                      visual: bool = False,
-                     force_sensor: Optional[ForceSensorSpec] = None) -> mujoco.MjModel:
+                     force_sensor: Optional[ForceSensorSpec] = None,
+                     gripper: str = "none") -> mujoco.MjModel:
     """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
-    (see :mod:`collisions`), and ``force_sensor`` on the flange when it is mounted.
+    (see :mod:`collisions`; its ``parts:`` as free bodies), ``force_sensor`` on the flange
+    when it is mounted, and ``gripper`` (one of :data:`GRIPPERS`) after it.
 
     ``visual=True`` keeps the URDF's ``<visual>`` shapes as well (geom group 1, no contacts) for
     pictures (:mod:`snapshot`); the physics twin leaves it off, it only needs collision shapes.
@@ -41,16 +51,35 @@ def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
     xml = _keep_visual(model.urdf_xml) if visual else model.urdf_xml
     spec = mujoco.MjSpec.from_string(xml)
     spec.compiler.discardvisual = not visual
+    if gripper not in GRIPPERS:
+        raise ValueError(f"gripper is {gripper!r}, expected one of {', '.join(GRIPPERS)}")
     add_environment(spec, scene)
     bodies = list(ARM_BODIES)
+    parent = FLANGE_BODY
     if force_sensor is not None and force_sensor.mounted:
-        add_sensor(spec, force_sensor)
+        # a tool on the sensor replaces its probe: the tool is what touches the scene
+        add_sensor(spec, force_sensor, probe=gripper == "none")
         bodies.append(TOOL_BODY)
+        parent = TOOL_BODY
+    parts = add_parts(spec, scene_parts(scene))
     add_drives(spec, model.joint_names, model.max_effort, bodies)
+    # after the arm's drives: the tool's actuators come after the arm's twelve
+    tool = []
+    if gripper == "dh_pgi":
+        tool = add_gripper(spec, parent)
+    elif gripper == "suction":
+        tool = add_suction_cup(spec, parent, parts)
+    for name in tool:
+        spec.body(name).gravcomp = 1.0      # carried by the drives as a payload they know
     m = spec.compile()
-    if m.nv != 6:
-        raise ValueError(f"{model.urdf_path} compiles to {m.nv} degrees of freedom, expected 6")
+    arm_dofs = [int(m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j)])
+                for j in model.joint_names]
+    if arm_dofs != list(range(6)):
+        raise ValueError(f"{model.urdf_path}: the arm's joints are degrees of freedom "
+                         f"{arm_dofs} of the twin, expected the first six")
     m.opt.timestep = TIMESTEP
+    if gripper != "none":
+        grasp_options(m)
     # The drives' damping (kv) and the joint damping are integrated implicitly: stiff
     # velocity loops stay stable at the 1 ms step.
     m.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
