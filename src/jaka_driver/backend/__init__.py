@@ -8,10 +8,13 @@ units (:mod:`.contract`), and what travels across it.
   with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
 * :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
+* :mod:`.cameras` — :class:`Cameras`: the twin's cameras (``backend.cameras``; :class:`NoCameras`
+  refuses every request), their frames (:class:`CameraFrame`);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
 """
+from .cameras import CameraFrame, Cameras, NoCameras
 from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
@@ -21,5 +24,5 @@ from .robot_state import MotionState, RobotState
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
-           "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
+           "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor", "Cameras", "CameraFrame", "NoCameras",
            "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]

@@ -25,6 +25,7 @@ import numpy as np
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from .clock import WallClock
+from .cameras import HOW_TO_ADD, Cameras, NoCameras
 from .force import Force, NoForceSensor
 from .programs import Programs
 from .robot_state import RobotState
@@ -56,6 +57,9 @@ class Backend(ABC):
     #: The flange force/torque sensor and force control on it (:class:`~.force.Force`), never
     #: None: an arm without a sensor refuses every force request and says why.
     force: Force = NoForceSensor("no force/torque sensor: this backend drives none")
+    #: The cameras (:class:`~.cameras.Cameras`), never None: a backend without any refuses
+    #: every camera request and says why.
+    cameras: Cameras = NoCameras(f"no camera on this backend ({HOW_TO_ADD})")
 
     def __init__(self, model: RobotModel):
         self.model = model

@@ -13,7 +13,8 @@ RobotDriver is assembled from parts, one per subject, each handed the door's cor
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
 kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``). What a
+force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``), the
+cameras (:mod:`.camera_requests`, ``driver.cameras``). What a
 request does is documented in its part.
 """
 from __future__ import annotations
@@ -28,6 +29,7 @@ from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
 from ..programs.executor import MoveHold
 from .arm_settings import SettingRequests
+from .camera_requests import CameraRequests
 from .door import Door
 from .force_requests import ForceRequests
 from .jogs import JogRequests
@@ -63,6 +65,8 @@ class RobotDriver:
         self._twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
+        #: the twin's cameras (driver/camera_requests.py)
+        self.cameras = CameraRequests(door)
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 

@@ -19,10 +19,12 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..backend.cameras import HOW_TO_ADD, NoCameras
 from ..backend.clock import make_clock
 from ..backend.completion import Completion
 from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
+from ..common.camera_spec import cameras_of_scene
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.joint_limits import fastest_step, outside_limits
@@ -41,6 +43,7 @@ from ..motion.velocity_jog import VelocityJog
 from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .arm_flags import ArmFlags
+from .cameras import SimCameras
 from .collisions import CollisionMonitor
 from .force import SimForce
 from .ft_sensor import TOOL_BODY
@@ -66,10 +69,14 @@ class SimBackend(Backend):
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0,
-                 programs: Optional[str] = None, force_sensor: Optional[bool] = None):
+                 programs: Optional[str] = None, force_sensor: Optional[bool] = None,
+                 wrist_camera: bool = False):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
-        ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
+        ``programs``: the folder of the programs the twin runs (docs/programs.md).
+        Cameras: the ``scene`` file's ``cameras:`` and, with ``wrist_camera``, the default
+        wrist camera (jaka_driver.common.camera_spec; ValueError if one is wrong)."""
+        cameras = cameras_of_scene(scene, wrist_camera)     # refused before anything is built
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.programs = FolderPrograms(programs)
@@ -98,6 +105,10 @@ class SimBackend(Backend):
             self._physics.force_reading = lambda: self.force.readings.latest
         else:
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
+        if cameras:
+            self.cameras = SimCameras(cameras, model, scene, self._physics, sensor)
+        else:
+            self.cameras = NoCameras(f"no camera on this twin ({HOW_TO_ADD})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
@@ -140,6 +151,8 @@ class SimBackend(Backend):
 
     def shutdown(self) -> None:
         self._physics.stop()
+        if isinstance(self.cameras, SimCameras):
+            self.cameras.close()
 
     def describe(self) -> dict:
         info = {"backend": "sim", **super().describe()}

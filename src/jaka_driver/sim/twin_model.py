@@ -12,13 +12,15 @@ from __future__ import annotations
 import copy
 
 import xml.etree.ElementTree as ET
-from typing import Optional
+from typing import Optional, Sequence
 
 import mujoco
 import numpy as np
 
+from ..common.camera_spec import CameraSpec
 from ..common.models import RobotModel
 from ..common.sensor_spec import ForceSensorSpec
+from .camera_mounts import FLANGE_BODY, add_cameras
 from .collisions import ARM_BODIES, add_environment
 from .ft_sensor import TOOL_BODY, add_sensor
 from .servo import add_drives
@@ -26,17 +28,19 @@ from .servo import add_drives
 TIMESTEP = 0.001          # s; 1 kHz physics under an 8 ms controller cycle
 JOINT_DAMPING = 2.0       # N·m·s/rad, gearbox viscous friction
 ARMATURE = 0.05           # kg·m², reflected rotor inertia; also steadies the integrator
-FLANGE_BODY = "link_6"
 
 
 def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
                      visual: bool = False,
-                     force_sensor: Optional[ForceSensorSpec] = None) -> mujoco.MjModel:
+                     force_sensor: Optional[ForceSensorSpec] = None,
+                     cameras: Sequence[CameraSpec] = ()) -> mujoco.MjModel:
     """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
     (see :mod:`collisions`), and ``force_sensor`` on the flange when it is mounted.
 
     ``visual=True`` keeps the URDF's ``<visual>`` shapes as well (geom group 1, no contacts) for
     pictures (:mod:`snapshot`); the physics twin leaves it off, it only needs collision shapes.
+    ``cameras`` become MuJoCo cameras (:mod:`camera_mounts`), for the model they are rendered
+    from (:mod:`camera_render`).
     """
     xml = _keep_visual(model.urdf_xml) if visual else model.urdf_xml
     spec = mujoco.MjSpec.from_string(xml)
@@ -47,6 +51,7 @@ def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
         add_sensor(spec, force_sensor)
         bodies.append(TOOL_BODY)
     add_drives(spec, model.joint_names, model.max_effort, bodies)
+    add_cameras(spec, cameras)
     m = spec.compile()
     if m.nv != 6:
         raise ValueError(f"{model.urdf_path} compiles to {m.nv} degrees of freedom, expected 6")
