@@ -20,7 +20,10 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
-  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional; a YAML scene's
+                     ``cameras:`` are rendered and published (ros/camera_topics.py)
+  ``wrist_camera``   sim: a camera on the flange (jaka_driver.common.camera_spec's
+                     ``WRIST_CAMERA``; default false)
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
                      this package's config/programs)
   ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
@@ -64,6 +67,7 @@ from ..driver import RobotDriver
 from ..host import heap, latency_hint, realtime
 from . import sim_time
 from .circular_move import advertise_circular_move
+from .camera_topics import CameraTopics
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
@@ -90,7 +94,8 @@ def make_backend(kind: str, model_name: str, params: dict):
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
                           programs=params.get("programs") or None,
-                          force_sensor=force_sensor_param(params.get("force_sensor", "")))
+                          force_sensor=force_sensor_param(params.get("force_sensor", "")),
+                          wrist_camera=bool(params.get("wrist_camera", False)))
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
@@ -163,6 +168,7 @@ def _params() -> dict:
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
         "force_sensor": rospy.get_param("~force_sensor", ""),
+        "wrist_camera": bool(rospy.get_param("~wrist_camera", False)),
         "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
@@ -268,6 +274,8 @@ def main() -> int:
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
+    if driver.cameras.specs():
+        CameraTopics(driver)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     _settled(*heap.settle())
