@@ -82,6 +82,7 @@ def test_the_ball_is_where_camera_info_and_tf_put_it(node, cell):
     frames = {t.child_frame_id: t for _, m in tf.samples for t in m.transforms}
     assert frames["top_link"].header.frame_id == "base_link"
     assert frames["top_optical_frame"].header.frame_id == "top_link"
+    assert frames["wrist_link"].header.frame_id == "flange"
     T = np.eye(4)
     for child in ("top_link", "top_optical_frame"):
         tr = frames[child].transform
