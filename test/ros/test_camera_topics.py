@@ -98,13 +98,17 @@ def test_the_ball_is_where_camera_info_and_tf_put_it(node, cell):
     ball = (np.hypot(uu - u, vv - v) < 12) & (depth < np.nanmedian(depth) - 0.005)
     assert ball.sum() > 10
     assert abs(uu[ball].mean() - u) < 1.0 and abs(vv[ball].mean() - v) < 1.0
+    # the cloud is the depth of its frame taken back through K (the depth of that frame may
+    # come after the cloud)
+    assert wait_until(lambda: rec["points"].latest() is not None, 30.0)
     cloud = rec["points"].latest()
     assert [f.name for f in cloud.fields] == ["x", "y", "z", "rgb"]
     xyz = np.frombuffer(cloud.data, "<f4").reshape(cloud.height, cloud.width, 4)[..., :3]
-    assert np.allclose(xyz[..., 2], np.frombuffer(
-        next(m for _, m in reversed(rec["depth"].samples)
-             if m.header.stamp == cloud.header.stamp).data, "<f4").reshape(120, 160),
-        equal_nan=True)
+    same = wait_until(lambda: next((m for _, m in reversed(rec["depth"].samples)
+                                    if m.header.stamp == cloud.header.stamp), None), 30.0)
+    assert same, "no depth image of the cloud's frame"
+    assert np.allclose(xyz[..., 2], np.frombuffer(same.data, "<f4").reshape(120, 160),
+                       equal_nan=True)
 
 
 def test_a_paused_twin_publishes_no_frame_and_a_stepped_one_its_frames(node, call):
