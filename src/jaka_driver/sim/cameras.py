@@ -40,6 +40,7 @@ log = logging.getLogger(__name__)
 MAX_PENDING = 2             # frames per camera waiting for the renderer before one is dropped
 DROP_LOG_PERIOD = 5.0       # s wall between two log lines about dropped frames
 RENDER_NICE = 10            # nice increment of the rendering thread (Linux: per thread)
+RASTER_THREADS = 1          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
 START_TIMEOUT = 30.0        # s wall the first stream waits for the renderer to exist
 RENDER_TIMES_KEPT = 1000    # recent render times per camera, for stats
 
@@ -154,6 +155,10 @@ class SimCameras(Cameras):
             os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), RENDER_NICE)
         except (OSError, AttributeError):
             pass     # not Linux, or not allowed: frames still come, at full priority
+        # Mesa's software rasteriser renders in one thread of its own (made with the GL
+        # context, so it inherits the nice value) rather than one per core: a frame's burst
+        # then leaves a core to the physics loop and the state publisher. A GPU ignores it.
+        os.environ.setdefault("LP_NUM_THREADS", str(RASTER_THREADS))
         try:
             from .camera_render import CameraRenderer      # EGL: only when a camera streams
             renderer = CameraRenderer(self._model, self._specs, self._scene, self._sensor)
