@@ -6,8 +6,9 @@ MuJoCo computed. Kinematics (FK for the TCP, IK for linear moves, jogs and servo
 Pinocchio on the same URDF.
 
 Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
-what the emulator reads and drives) and ``force`` (:class:`.force.SimForce` when the arm
-carries a force/torque sensor); everything else is private. The motion that runs now has one
+what the emulator reads and drives), ``force`` (:class:`.force.SimForce` when the arm
+carries a force/torque sensor) and ``cameras`` (:class:`.cameras.SimCameras` when the scene
+or ``wrist_camera`` gives it any); everything else is private. The motion that runs now has one
 owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted, stopped
 there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults and the
 force sensor's stops use too.
