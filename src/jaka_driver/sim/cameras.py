@@ -12,7 +12,9 @@ and the rendering thread renders from that copy, never from a half-stepped state
 runs at a lower priority (nice +10, Mesa's threads inherit it). Where the machine cannot
 render at the asked rate, frames wait at most :data:`MAX_PENDING` deep per camera: the oldest
 is dropped, counted (:meth:`SimCameras.stats`) and logged (at most every
-:data:`DROP_LOG_PERIOD` s). Only streaming cameras render (the node streams one while
+:data:`DROP_LOG_PERIOD` s). While a paused twin is stepped (sim time) every frame its steps
+produce is kept (up to :data:`MAX_PENDING_STEPPED`) and rendered: a test that steps and then
+waits gets them all, the same in every run. Only streaming cameras render (the node streams one while
 somebody subscribes); the renderer (a GL context) is made at the first stream.
 """
 from __future__ import annotations
@@ -38,6 +40,7 @@ from .physics import PhysicsLoop
 log = logging.getLogger(__name__)
 
 MAX_PENDING = 2             # frames per camera waiting for the renderer before one is dropped
+MAX_PENDING_STEPPED = 1000  # the same while a paused twin is stepped: every frame is kept
 DROP_LOG_PERIOD = 5.0       # s wall between two log lines about dropped frames
 RENDER_NICE = 10            # nice increment of the rendering thread (Linux: per thread)
 RASTER_THREADS = 1          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
@@ -128,10 +131,12 @@ class SimCameras(Cameras):
             return
         stamp = self._physics.wall0 + d.time        # the sample's stamp of this cycle
         q = d.qpos.copy()
+        clock = self._physics.clock
+        deep = MAX_PENDING_STEPPED if clock is not None and clock.paused else MAX_PENDING
         with self._cond:
             for name in names:
                 waiting = [p for p in self._pending if p[0] == name]
-                if len(waiting) >= MAX_PENDING:
+                if len(waiting) >= deep:
                     self._pending.remove(waiting[0])
                     self._dropped[name] += 1
                     self._dropped_since_log += 1
