@@ -237,3 +237,48 @@ def test_a_twin_without_cameras_refuses_with_how_to_get_one():
     result = driver.cameras.stream("top", True)
     assert result.code == -9 and "cameras:" in result.message
     assert driver.cameras.specs() == ()
+
+
+def test_a_camera_nobody_streams_renders_nothing(twin):
+    driver, frames = twin
+    assert driver.pause_twin(True).ok
+    try:
+        _drain(frames)
+        assert driver.step_twin(50).ok
+        time.sleep(0.3)
+        assert frames.empty()
+    finally:
+        driver.pause_twin(False)
+
+
+def test_on_the_wall_clock_frames_carry_their_cycle_s_wall_time(tmp_path):
+    """The twin on the wall clock (as a user runs it by default): a frame's stamp is the
+    sample's of its cycle, on the wall clock, on the camera's cycle grid."""
+    driver = RobotDriver(SimBackend(MODEL, scene=SCENE))
+    got: queue.Queue = queue.Queue()
+    assert driver.cameras.listen(got.put).ok
+    driver.start()
+    try:
+        t0 = time.time()
+        assert driver.cameras.stream("wrist", True).ok
+        f = _frames(got, 2, "wrist")
+        assert driver.cameras.stream("wrist", False).ok
+        t1 = time.time()
+        # stamps: wall time within the window, on the 10 Hz boundaries of the cycles (a frame
+        # the loaded machine dropped leaves 25 cycles between two)
+        assert t0 - 0.1 < f[0].stamp < f[1].stamp <= t1
+        assert all(due(x.cycle, 0.008, 10.0) for x in f)
+        assert f[1].stamp - f[0].stamp == pytest.approx((f[1].cycle - f[0].cycle) * 0.008,
+                                                        abs=1e-6)
+    finally:
+        driver.shutdown()
+
+
+def test_a_wrong_camera_stops_the_twin_before_it_is_built(tmp_path):
+    scene = tmp_path / "cell.yaml"
+    scene.write_text("cameras:\n  - {name: top, mount: elbow}\n")
+    with pytest.raises(ValueError, match="mount is 'elbow', expected one of world, flange"):
+        SimBackend(MODEL, scene=str(scene))
+    scene.write_text("cameras:\n  - {name: top, rate: 500}\n")
+    with pytest.raises(ValueError, match="rate is 500, outside 0.1–60"):
+        SimBackend(MODEL, scene=str(scene))
