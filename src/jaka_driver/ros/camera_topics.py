@@ -29,7 +29,7 @@ from ..backend.cameras import CameraFrame
 from ..common.camera_spec import LINK_TO_OPTICAL, CameraSpec
 from ..common.pinhole import intrinsics, projection, unproject
 from ..driver import RobotDriver
-from .frames_tf import _transform
+from .frames_tf import transform_stamped
 
 WATCH_PERIOD = 0.2          # s (wall) between looks at who subscribes
 QUEUE = 2                   # frames a publisher keeps for a slow subscriber
@@ -110,8 +110,8 @@ def camera_transforms(specs, stamp) -> list:
     """TF of every camera: parent → ``<name>_link`` → ``<name>_optical_frame``."""
     out = []
     for s in specs:
-        out.append(_transform(s.parent_frame, s.link_frame, s.link_pose(), stamp))
-        out.append(_transform(s.link_frame, s.optical_frame, LINK_TO_OPTICAL, stamp))
+        out.append(transform_stamped(s.parent_frame, s.link_frame, s.link_pose(), stamp))
+        out.append(transform_stamped(s.link_frame, s.optical_frame, LINK_TO_OPTICAL, stamp))
     return out
 
 
