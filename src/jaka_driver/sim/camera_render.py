@@ -24,7 +24,7 @@ from ..common.models import RobotModel
 from ..common.sensor_spec import ForceSensorSpec
 from .collisions import ARM_BODIES
 from .ft_sensor import TOOL_BODY
-from .snapshot import VISUAL_GROUP, _gl_context
+from .snapshot import VISUAL_GROUP, gl_context
 from .twin_model import build_twin_model
 
 HIDDEN_GROUP = 3            # the arm's collision capsules are moved here: not what it looks like
@@ -62,7 +62,7 @@ class CameraRenderer:
         self._camera.type = mujoco.mjtCamera.mjCAMERA_FIXED
         self._ids = {name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_CAMERA, name)
                      for name in self._specs}
-        self._gl = _gl_context(m.vis.global_.offwidth, m.vis.global_.offheight)
+        self._gl = gl_context(m.vis.global_.offwidth, m.vis.global_.offheight)
         self._gl.make_current()
         self._context = mujoco.MjrContext(m, mujoco.mjtFontScale.mjFONTSCALE_100)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
