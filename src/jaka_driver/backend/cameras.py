@@ -66,8 +66,9 @@ class Cameras(ABC):
 
     @abstractmethod
     def stream(self, name: str, on: bool) -> Result:
-        """Render camera ``name`` at its rate from the next due cycle on (True) or stop (False);
-        the name already checked against :meth:`specs`."""
+        """Render camera ``name`` at its rate from the next due cycle on (True) or stop (False:
+        no frame of it reaches a listener once this has answered); the name already checked
+        against :meth:`specs`."""
 
     @abstractmethod
     def listen(self, listener: Listener) -> Result:

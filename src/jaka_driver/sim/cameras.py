@@ -45,6 +45,7 @@ DROP_LOG_PERIOD = 5.0       # s wall between two log lines about dropped frames
 RENDER_NICE = 10            # nice increment of the rendering thread (Linux: per thread)
 RASTER_THREADS = 1          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
 START_TIMEOUT = 30.0        # s wall the first stream waits for the renderer to exist
+STOP_TIMEOUT = 5.0          # s wall a stop waits for the frame being rendered to be handed over
 RENDER_TIMES_KEPT = 1000    # recent render times per camera, for stats
 
 
@@ -75,6 +76,7 @@ class SimCameras(Cameras):
         self._times = {c.name: deque(maxlen=RENDER_TIMES_KEPT) for c in cameras}
         self._dropped_since_log = 0
         self._last_drop_log = 0.0
+        self._rendering: Optional[str] = None       # the camera whose frame is being made
         self._thread: Optional[threading.Thread] = None
         self._ready = threading.Event()
         self._failure: Optional[str] = None
@@ -92,8 +94,13 @@ class SimCameras(Cameras):
     def stream(self, name: str, on: bool) -> Result:
         spec = next(c for c in self._specs if c.name == name)
         if not on:
+            # Stopped means no frame of it from the answer on: those waiting are forgotten,
+            # the one being rendered is handed over first.
             with self._cond:
                 self._streaming.pop(name, None)
+                for waiting in [p for p in self._pending if p[0] == name]:
+                    self._pending.remove(waiting)
+                self._cond.wait_for(lambda: self._rendering != name, STOP_TIMEOUT)
             return Result.success(f"camera {name} stopped")
         failure = self._start_renderer()
         if failure is not None:
@@ -183,6 +190,7 @@ class SimCameras(Cameras):
                         return
                     name, stamp, n, q = self._pending.popleft()
                     listeners = list(self._listeners)
+                    self._rendering = name
                 self._log_drops()
                 t0 = time.perf_counter()
                 rgb, depth = renderer.render(name, q)
@@ -196,6 +204,9 @@ class SimCameras(Cameras):
                         listener(frame)
                     except Exception:  # noqa: BLE001 — a listener must not stop the cameras
                         log.exception("camera listener failed")
+                with self._cond:
+                    self._rendering = None
+                    self._cond.notify_all()
         finally:
             renderer.close()
 
