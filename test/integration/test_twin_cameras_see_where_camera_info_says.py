@@ -270,6 +270,10 @@ def test_on_the_wall_clock_frames_carry_their_cycle_s_wall_time(tmp_path):
         assert all(due(x.cycle, 0.008, 10.0) for x in f)
         assert f[1].stamp - f[0].stamp == pytest.approx((f[1].cycle - f[0].cycle) * 0.008,
                                                         abs=1e-6)
+        # what diagnostics say of the cameras
+        said = driver.describe()["cameras"]
+        assert said.startswith("top 640x480 10 Hz: 0 rendered, 0 dropped; wrist 160x120 10 Hz: ")
+        assert driver.cameras.stats("wrist").rendered >= 2
     finally:
         driver.shutdown()
 

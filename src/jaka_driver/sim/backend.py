@@ -161,6 +161,8 @@ class SimBackend(Backend):
                     timestep_s=self._mj_model.opt.timestep,
                     servo_filter=self._servo_filter.describe(),
                     force_sensor="none" if self.force.absent else "flange")
+        if isinstance(self.cameras, SimCameras):
+            info.update(cameras=self.cameras.describe())
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")

@@ -120,6 +120,15 @@ class SimCameras(Cameras):
             return CameraStats(name, self._rendered.get(name, 0), self._dropped.get(name, 0),
                                tuple(self._times.get(name, ())))
 
+    def describe(self) -> str:
+        """Each camera, what it is asked for and what it did (diagnostics)."""
+        with self._cond:
+            return "; ".join(
+                f"{c.name} {c.width}x{c.height} {c.rate:g} Hz"
+                f"{' streaming' if c.name in self._streaming else ''}: "
+                f"{self._rendered[c.name]} rendered, {self._dropped[c.name]} dropped"
+                for c in self._specs)
+
     def close(self) -> None:
         self._quit.set()
         with self._cond:
