@@ -2,7 +2,8 @@
 
 Order: the pure-CPU measurements first, while no node runs (IK against KDL, twin physics);
 then, on a private rosmaster, start-up via roslaunch, the node on the zu5 twin (state topics
-idle and loaded, servo, CPU, joint_move, linear_move), the topic inputs beside the servo_j
+idle and loaded, servo, CPU, joint_move, linear_move), the twin's cameras beside the state
+topics (:mod:`bench.cameras`), the topic inputs beside the servo_j
 service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
 (:mod:`bench.servo_filters`), simulated time, the force/torque sensor and force control
 (:mod:`bench.force`), trajectory recording (:mod:`bench.recording`), and the node on the
@@ -44,10 +45,10 @@ OUT = ROOT / "bench" / "results"
 SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
-GROUPS = ("ik", "twin", "startup", "sim", "streams", "filters", "sim_time", "force",
-          "recording", "controller")
+GROUPS = ("ik", "twin", "startup", "sim", "cameras", "streams", "filters", "sim_time",
+          "force", "recording", "controller")
 #: the groups that need a rosmaster
-ROS_GROUPS = ("startup", "sim", "streams", "filters", "sim_time", "force", "recording",
+ROS_GROUPS = ("startup", "sim", "cameras", "streams", "filters", "sim_time", "force", "recording",
               "controller")
 STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
 FILTERS = "Servo filters beside the unfiltered stream (zu5 twin through ROS), report only"
@@ -138,6 +139,12 @@ def _sim(run: Run) -> None:
                                          4 if run.quick else linear_move_accuracy.N_LINES)
         run.rows += linear_move_accuracy.rows(lines)
         run.raw["lines"] = lines["lines"]
+
+
+def _cameras(run: Run) -> None:
+    from . import cameras
+    with ExitStack() as stack:
+        run.rows += cameras.measure(stack, 3 if run.quick else 30, log=run.log)
 
 
 def _on_a_twin_node(run: Run, name: str, measure) -> None:
@@ -254,6 +261,11 @@ def _groups(run: Run, chosen: list[str], out: Path, ros_up: bool) -> None:
     if ros_up and "sim" in chosen:
         run.guarded(SIM, "state topics, servo, CPU, joint_move, linear_move on the twin",
                     "see the table", lambda: _sim(run))
+    if ros_up and "cameras" in chosen:
+        from .cameras import GROUP as CAMERAS
+        run.guarded(CAMERAS, "render time, frame rate and age, state topics and CPU with "
+                    "a camera subscribed beside none", "see the table",
+                    lambda: _cameras(run))
     if ros_up and "streams" in chosen:
         run.guarded(STREAMS, "joint stream and twist topics beside the servo_j service",
                     "topic p99 ≤ floor + 3 ms; CPU ≤ the service stream's",

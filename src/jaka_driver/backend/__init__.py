@@ -12,10 +12,13 @@ units (:mod:`.contract`), and what travels across it.
   (``backend.recording``; :class:`NoRecording` refuses every request), :class:`TrajConfig`;
 * :mod:`.tool_io` — :class:`ToolIO`: the tool connector (tool power, pins, RS485 channels,
   frames, signals; ``backend.tool_io``; :class:`NoToolIO` refuses every request);
+* :mod:`.cameras` — :class:`Cameras`: the twin's cameras (``backend.cameras``; :class:`NoCameras`
+  refuses every request), their frames (:class:`CameraFrame`);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
 """
+from .cameras import CameraFrame, Cameras, NoCameras
 from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
@@ -29,5 +32,5 @@ from .twin import Camera, Twin
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
            "UserVariable", "Recording", "NoRecording", "TrajConfig", "Force", "ForceReading",
            "ForceSettings", "NoForceSensor", "ToolIO", "ToolIOSettings", "ChannelComm", "Signal",
-           "NoToolIO", "RobotState", "MotionState", "Completion", "WallClock", "SimClock",
-           "make_clock"]
+           "NoToolIO", "Cameras", "CameraFrame", "NoCameras", "RobotState", "MotionState",
+           "Completion", "WallClock", "SimClock", "make_clock"]

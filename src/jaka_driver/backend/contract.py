@@ -25,6 +25,7 @@ import numpy as np
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from .clock import WallClock
+from .cameras import HOW_TO_ADD, Cameras, NoCameras
 from .force import Force, NoForceSensor
 from .programs import Programs
 from .recording import NoRecording, Recording
@@ -65,6 +66,10 @@ class Backend(ABC):
     #: The tool connector (:class:`~.tool_io.ToolIO`: tool power, pin modes, RS485 channels,
     #: frames, Modbus signals), never None: a backend without one refuses with -9.
     tool_io: ToolIO = NoToolIO("no tool connector: this backend drives none")
+
+    #: The cameras (:class:`~.cameras.Cameras`), never None: a backend without any refuses
+    #: every camera request and says why.
+    cameras: Cameras = NoCameras(f"no camera on this backend ({HOW_TO_ADD})")
 
     def __init__(self, model: RobotModel):
         self.model = model

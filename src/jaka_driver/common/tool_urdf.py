@@ -3,8 +3,8 @@ robot_state_publisher, MoveIt): the DH gripper (housing ``gripper_base``, prisma
 joints ``gripper_finger_left`` / ``_right`` along the flange's ±y, 0 closed … half the stroke
 each, as the node publishes them on ``joint_states``) or the suction cup (``suction_cup``),
 each with a frame at its grasp point (``gripper_grasp`` / ``suction_grasp``). The shapes and
-masses are the twin's (:mod:`.tool_shapes`). ``scripts/robot_description.py MODEL GRIPPER``
-prints it for the launch file.
+masses are the twin's (:mod:`.tool_shapes`). ``scripts/robot_description MODEL
+--tool TOOL`` prints it for the launch file (:mod:`.robot_description`, with the cameras).
 """
 from __future__ import annotations
 
@@ -87,14 +87,3 @@ def with_tool(urdf_xml: str, tool: str) -> str:
                xyz=(0, 0, s.grasp_z))
     return ET.tostring(robot, encoding="unicode")
 
-
-def main(argv=None) -> int:
-    import sys
-
-    from .models import load_model
-    args = sys.argv[1:] if argv is None else argv
-    if len(args) != 2:
-        print("usage: robot_description.py MODEL TOOL (none, dh_pgi, suction)", file=sys.stderr)
-        return 2
-    print(with_tool(load_model(args[0]).urdf_xml, args[1]))
-    return 0

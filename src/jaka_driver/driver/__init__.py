@@ -15,6 +15,7 @@
   :mod:`.force_checks`;
 * :mod:`.tool_io_requests` — the tool connector (supply, pins, RS485 channels, frames,
   signals), offered as ``driver.tool_io`` (:class:`~.tool_io_requests.ToolIORequests`);
+* :mod:`.camera_requests` — the cameras, offered as ``driver.cameras``;
 * :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
 
 How requests are read where JAKA's document and JAKA's driver code differ (servo increments,

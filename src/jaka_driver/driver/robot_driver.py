@@ -16,7 +16,8 @@ kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests
 force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``),
 trajectory recording (:mod:`.recording_requests`, ``driver.recording``), the tool connector
 (:mod:`.tool_io_requests`, ``driver.tool_io``) and the gripper on it (:mod:`.gripper_requests`,
-``driver.gripper``). What a request does is documented in its part.
+``driver.gripper``), the cameras (:mod:`.camera_requests`, ``driver.cameras``). What a request
+does is documented in its part.
 """
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ from ..conventions import DOCUMENT, Conventions
 from ..devices import ConnectorSetup
 from ..programs.executor import MoveHold
 from .arm_settings import SettingRequests
+from .camera_requests import CameraRequests
 from .door import Door
 from .force_requests import ForceRequests
 from .gripper_requests import GripperRequests, NoGripper
@@ -80,6 +82,8 @@ class RobotDriver:
         #: the gripper on the tool connector (driver/gripper_requests.py)
         self.gripper = NoGripper() if gripper == "none" else GripperRequests(
             door, gripper, gripper_setup or ConnectorSetup())
+        #: the twin's cameras (driver/camera_requests.py)
+        self.cameras = CameraRequests(door)
         if backend.programs is not None:     # a program's steps come through this door
             backend.programs.bind(ProgramSteps(self))
 

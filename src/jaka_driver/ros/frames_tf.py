@@ -14,7 +14,8 @@ from ..driver import RobotDriver
 from ..host import realtime
 
 
-def _transform(parent: str, child: str, pose, stamp) -> TransformStamped:
+def transform_stamped(parent: str, child: str, pose, stamp) -> TransformStamped:
+    """``pose`` (4×4, m) of ``child`` in ``parent`` as a TF message stamped ``stamp``."""
     t = TransformStamped()
     t.header.stamp = stamp
     t.header.frame_id = parent
@@ -45,10 +46,10 @@ class FrameBroadcaster:
                 tool, user = self._driver.frames()
                 stamp = rospy.Time.now()
                 p = self._prefix
-                out = [_transform(f"{p}flange", f"{p}tool_{st.tool_id}", tool, stamp)]
+                out = [transform_stamped(f"{p}flange", f"{p}tool_{st.tool_id}", tool, stamp)]
                 if st.user_id:
-                    out.append(_transform(f"{p}base_link", f"{p}user_frame_{st.user_id}", user,
-                                          stamp))
+                    out.append(transform_stamped(f"{p}base_link", f"{p}user_frame_{st.user_id}",
+                                                 user, stamp))
                 self._tf.sendTransform(out)
             except Exception as exc:  # noqa: BLE001 — TF must not take the node down
                 rospy.logerr_throttle(10.0, f"frame TF failed: {exc!r}")

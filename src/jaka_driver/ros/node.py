@@ -20,7 +20,10 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
-  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional; a YAML scene's
+                     ``cameras:`` are rendered and published (ros/camera_topics.py)
+  ``wrist_camera``   sim: a camera on the flange (jaka_driver.common.camera_spec's
+                     ``WRIST_CAMERA``; default false)
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
                      this package's config/programs), and of its recordings (``track/``)
   ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
@@ -72,6 +75,7 @@ from ..driver import RobotDriver
 from ..host import heap, latency_hint, realtime
 from . import sim_time
 from .circular_move import advertise_circular_move
+from .camera_topics import CameraTopics
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
@@ -104,7 +108,8 @@ def make_backend(kind: str, model_name: str, params: dict):
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
                           programs=params.get("programs") or None,
                           force_sensor=force_sensor_param(params.get("force_sensor", "")),
-                          gripper=str(params.get("gripper") or "none"))
+                          gripper=str(params.get("gripper") or "none"),
+                          wrist_camera=bool(params.get("wrist_camera", False)))
     if kind == "controller":
         from ..controller import ControllerBackend
         return ControllerBackend(model, host=params["ip"], command_port=params["command_port"],
@@ -198,6 +203,7 @@ def _params() -> dict:
         "gripper_baud": int(rospy.get_param("~gripper_baud", 115200)),
         "gripper_volts": float(rospy.get_param("~gripper_volts", 24.0)),
         "gripper_crc": bool(rospy.get_param("~gripper_crc", False)),
+        "wrist_camera": bool(rospy.get_param("~wrist_camera", False)),
         "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
@@ -314,6 +320,8 @@ def main() -> int:
     advertise_gripper_services(driver)            # without a gripper: -9, how to mount one
     GripperActionServer(driver, rospy.get_param("~gripper_action", "~gripper/gripper_action"))
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
+    if driver.cameras.specs():
+        CameraTopics(driver)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")
     _settled(*heap.settle())

@@ -1,7 +1,8 @@
 """The ``sim`` backend: the MuJoCo twin of the arm.
 
 Its face is :class:`SimBackend` — the backend contract, ``backend.twin`` (:class:`SimTwin`:
-what only a twin can do) and ``backend.force``. The rest is how it works inside:
+what only a twin can do), ``backend.force`` and ``backend.cameras``. The rest is how it works
+inside:
 
 * :mod:`.twin_model` — the MuJoCo model from the URDF, with floor, workcell and payload;
 * :mod:`.physics` — :class:`~.physics.PhysicsLoop`, the real-time loop and its samples, and
@@ -14,6 +15,10 @@ what only a twin can do) and ``backend.force``. The rest is how it works inside:
 * :mod:`.collisions` — contact force → protective stop; :mod:`.overload` — torque limits and
   following error → brakes; :mod:`.io_board` — the twin's IO;
 * :mod:`.snapshot` — offscreen pictures (also ``scripts/snapshot``);
+* the cameras (``backend.cameras``): :mod:`.cameras` (:class:`~.cameras.SimCameras`, the facet:
+  a copy of each due cycle's state, the rendering thread), :mod:`.camera_render` (colour and
+  depth offscreen, depth linearised), :mod:`.camera_mounts` (MuJoCo cameras in the cell or on
+  the flange);
 * the flange force/torque sensor and force control (``backend.force``): :mod:`.ft_sensor` (the
   sensor in the model and its readings), :mod:`.force` (:class:`~.force.SimForce`, the facet),
   :mod:`.force_control` (admittance, constant force, tool drive), :mod:`.payload_identification`,

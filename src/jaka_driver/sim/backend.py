@@ -7,8 +7,10 @@ Pinocchio on the same URDF.
 
 Its face is the contract, ``twin`` (:class:`.twin.SimTwin`: faults, inputs, the camera,
 what the emulator reads and drives), ``force`` (:class:`.force.SimForce` when the arm
-carries a force/torque sensor), ``programs`` and ``recording`` (:class:`.recording.
-SimRecording`, trajectory recording into the programs folder); everything else is private. The motion that runs now has one
+carries a force/torque sensor), ``programs``, ``recording`` (:class:`.recording.
+SimRecording`, trajectory recording into the programs folder) and ``cameras``
+(:class:`.cameras.SimCameras` when the scene or ``wrist_camera`` gives it any); everything else
+is private. The motion that runs now has one
 owner, the physics loop's slot (:attr:`.physics.PhysicsLoop.motion`: switched, aborted, stopped
 there); the arm's flags have one, :class:`.arm_flags.ArmFlags`, which the twin's faults and the
 force sensor's stops use too.
@@ -20,10 +22,12 @@ from typing import Optional
 import numpy as np
 
 from ..backend import Backend
+from ..backend.cameras import HOW_TO_ADD, NoCameras
 from ..backend.clock import make_clock
 from ..backend.completion import Completion
 from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
+from ..common.camera_spec import cameras_of_scene
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.joint_limits import fastest_step, outside_limits
@@ -42,6 +46,7 @@ from ..motion.velocity_jog import VelocityJog
 from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .arm_flags import ArmFlags
+from .cameras import SimCameras
 from .collisions import CollisionMonitor
 from .force import SimForce
 from .ft_sensor import TOOL_BODY
@@ -75,10 +80,13 @@ class SimBackend(Backend):
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0,
                  programs: Optional[str] = None, force_sensor: Optional[bool] = None,
-                 gripper: str = "none"):
+                 gripper: str = "none", wrist_camera: bool = False):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
-        ``programs``: the folder of the programs the twin runs (docs/programs.md)."""
+        ``programs``: the folder of the programs the twin runs (docs/programs.md).
+        Cameras: the ``scene`` file's ``cameras:`` and, with ``wrist_camera``, the default
+        wrist camera (jaka_driver.common.camera_spec; ValueError if one is wrong)."""
+        cameras = cameras_of_scene(scene, wrist_camera)     # refused before anything is built
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
         self.programs = FolderPrograms(programs)
@@ -111,6 +119,10 @@ class SimBackend(Backend):
             self._physics.force_reading = lambda: self.force.readings.latest
         else:
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
+        if cameras:
+            self.cameras = SimCameras(cameras, model, scene, self._physics, sensor, gripper)
+        else:
+            self.cameras = NoCameras(f"no camera on this twin ({HOW_TO_ADD})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self.tool_io = SimToolIO(self._io, self._physics.lock)
         self._physics.on_cycle.append(self.tool_io.on_cycle)
@@ -165,6 +177,8 @@ class SimBackend(Backend):
 
     def shutdown(self) -> None:
         self._physics.stop()
+        if isinstance(self.cameras, SimCameras):
+            self.cameras.close()
 
     def describe(self) -> dict:
         info = {"backend": "sim", **super().describe()}
@@ -173,6 +187,8 @@ class SimBackend(Backend):
                     servo_filter=self._servo_filter.describe(),
                     force_sensor="none" if self.force.absent else "flange",
                     tool=self.gripper)
+        if isinstance(self.cameras, SimCameras):
+            info.update(cameras=self.cameras.describe())
         if self.clock.simulated:
             info.update(sim_time_s=f"{self.clock.now():.3f}",
                         real_time_factor=self.clock.real_time_factor or "as fast as possible")

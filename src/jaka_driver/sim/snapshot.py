@@ -46,7 +46,7 @@ class View:
     height: float = 0.4
 
 
-def _gl_context(width: int, height: int):
+def gl_context(width: int, height: int):
     """An EGL context: headless, and on a machine without a GPU Mesa's llvmpipe renders on the
     CPU. (MuJoCo's OSMesa and GLFW contexts were not used: Debian's OSMesa is not installed by
     default and GLFW needs an X display.)"""
@@ -91,7 +91,7 @@ class TwinCamera:
         self._world_option.geomgroup[:] = 0
         self._world_option.geomgroup[0] = 1
         self._scene = mujoco.MjvScene(m, maxgeom=1000)
-        self._gl = _gl_context(width, height)
+        self._gl = gl_context(width, height)
         with self._gl.as_current():
             self._context = mujoco.MjrContext(m, mujoco.mjtFontScale.mjFONTSCALE_100)
             mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)

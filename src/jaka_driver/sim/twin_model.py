@@ -15,13 +15,15 @@ from __future__ import annotations
 import copy
 
 import xml.etree.ElementTree as ET
-from typing import Optional
+from typing import Optional, Sequence
 
 import mujoco
 import numpy as np
 
+from ..common.camera_spec import CameraSpec
 from ..common.models import RobotModel
 from ..common.sensor_spec import ForceSensorSpec
+from .camera_mounts import FLANGE_BODY, add_cameras
 from .collisions import ARM_BODIES, add_environment
 from .ft_sensor import TOOL_BODY, add_sensor
 from .gripper import add_gripper, grasp_options
@@ -32,7 +34,6 @@ from .suction import add_suction_cup
 TIMESTEP = 0.001          # s; 1 kHz physics under an 8 ms controller cycle
 JOINT_DAMPING = 2.0       # N·m·s/rad, gearbox viscous friction
 ARMATURE = 0.05           # kg·m², reflected rotor inertia; also steadies the integrator
-FLANGE_BODY = "link_6"
 #: the tools a twin can carry on its flange (``gripper``)
 GRIPPERS = ("none", "dh_pgi", "suction")
 
@@ -40,13 +41,16 @@ GRIPPERS = ("none", "dh_pgi", "suction")
 def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
                      visual: bool = False,
                      force_sensor: Optional[ForceSensorSpec] = None,
-                     gripper: str = "none") -> mujoco.MjModel:
+                     gripper: str = "none",
+                     cameras: Sequence[CameraSpec] = ()) -> mujoco.MjModel:
     """Compile the MuJoCo model of ``model`` with a floor and the optional workcell ``scene``
     (see :mod:`collisions`; its ``parts:`` as free bodies), ``force_sensor`` on the flange
     when it is mounted, and ``gripper`` (one of :data:`GRIPPERS`) after it.
 
     ``visual=True`` keeps the URDF's ``<visual>`` shapes as well (geom group 1, no contacts) for
     pictures (:mod:`snapshot`); the physics twin leaves it off, it only needs collision shapes.
+    ``cameras`` become MuJoCo cameras (:mod:`camera_mounts`), for the model they are rendered
+    from (:mod:`camera_render`).
     """
     xml = _keep_visual(model.urdf_xml) if visual else model.urdf_xml
     spec = mujoco.MjSpec.from_string(xml)
@@ -71,6 +75,7 @@ def build_twin_model(model: RobotModel, scene: Optional[str] = None, *,
         tool = add_suction_cup(spec, parent, parts)
     for name in tool:
         spec.body(name).gravcomp = 1.0      # carried by the drives as a payload they know
+    add_cameras(spec, cameras)
     m = spec.compile()
     arm_dofs = [int(m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j)])
                 for j in model.joint_names]
