@@ -61,6 +61,8 @@ def with_tool(urdf_xml: str, tool: str) -> str:
     """``urdf_xml`` with ``tool`` (one of :data:`TOOLS`) on its ``flange`` link."""
     if tool not in TOOLS:
         raise ValueError(f"tool {tool!r}; expected one of {', '.join(TOOLS)}")
+    if tool == "none":
+        return urdf_xml                 # served as generated
     robot = ET.fromstring(urdf_xml)
     if tool == "dh_pgi":
         g = GRIPPER
