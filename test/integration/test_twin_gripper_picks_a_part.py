@@ -13,10 +13,10 @@ the machine steps, the gripper driven only by Modbus frames.
   closing the valve puts it down; the twin's reset puts the box back where the scene placed
   it.
 
-The tool connector (``backend.tool_io``) is stood in for by support/fake_tool_io.py: the supply,
-frames on a channel, the tool DOs and the per-cycle hook, exactly the calls of
-sim/tool_device.py's ToolDevice. Positions are read from MuJoCo's data between cycles (the
-twin's own test)."""
+Everything goes through the twin's real tool connector (``backend.tool_io``, SimToolIO): frames
+sent on its channel 1 reach the DhGripper, the gripper door's state is the connector's signals
+polled at 10 Hz in the twin's cycles, the suction cup's valve is tool DO 0 on the IO board.
+Positions are read from MuJoCo's data between cycles (the twin's own test)."""
 from pathlib import Path
 
 import mujoco
@@ -29,7 +29,6 @@ from jaka_driver.devices.modbus_frames import write_register
 from jaka_driver.devices.register_maps import DH_PGI, GripState
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
-from support.fake_tool_io import FakeToolIo
 
 MODEL = load_model("zu5")
 SCENE = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "pick.yaml")
@@ -42,24 +41,26 @@ CHANNEL = 1                       # RS485L, as JAKA's demos wire a DH gripper
 
 
 class ToolLine:
-    """The test's hand on the tool connector's stand-in: frames on the gripper's channel, a
-    register read as the connector's poll makes it, the supply and tool DOs."""
+    """The test's hand on the tool connector: frames on the gripper's channel, a register read
+    as the connector's poll makes it, the supply, and tool DOs through the driver."""
 
-    def __init__(self, backend: SimBackend):
+    def __init__(self, backend: SimBackend, driver: RobotDriver):
         self.io = backend.tool_io
         self.device = backend.tool_device
+        self.driver = driver
 
     def set_power(self, volts: float):
-        self.io.set_power(volts > 0, volts)
+        assert self.io.set_power(int(volts > 0), 0 if volts in (0.0, 24.0) else 1).ok
 
     def send(self, frame: bytes):
-        assert self.io.send(CHANNEL, frame).ok
+        result = self.io.send_frame(CHANNEL, frame)
+        assert result.ok, result.message
 
     def read(self, address: int):
         return self.device.read_register(CHANNEL, 3, address)
 
     def set_output(self, index: int, level: float):
-        self.io.set_output(index, level)
+        assert self.driver.set_io("digital", 1, index, level).ok       # IO type 1: the tool
 
 
 class BoxWatch:
@@ -89,13 +90,13 @@ class BoxWatch:
 
 
 def twin_with(tool: str, site: str, door: str):
-    """A started driver on the zu5 twin with ``tool`` mounted and the fake tool connector,
-    its gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
+    """A started driver on the zu5 twin with ``tool`` mounted on its tool connector, its
+    gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
     backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
                          force_sensor=True, gripper=tool)
-    backend.tool_io = FakeToolIo(backend)
-    line, watch = ToolLine(backend), BoxWatch(backend, site)
+    watch = BoxWatch(backend, site)
     driver = RobotDriver(backend, gripper=door)
+    line = ToolLine(backend, driver)
     driver.start()
     try:
         yield driver, line, watch
