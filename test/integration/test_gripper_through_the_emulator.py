@@ -5,8 +5,8 @@ reached only through JAKA's TIO commands.
 - JAKA's demo sequence, sent as JAKA's SDK writes it (the requests below are its literal bytes,
   docs/protocol.md "Tool connector"): 24 V, the AI pins to RS485L, channel 1 Modbus RTU at
   115200 8N1 for slave 1, then DH's frames initialise (seen done on a TIO signal on 0x0200)
-  and go to 500 ‰ — the twin's fingers open, then stop at half the stroke; an 8-byte frame with a wrong CRC moves nothing, one
-  carrying its right CRC closes them.
+  and go to 500 ‰ — the twin's fingers open, then stop at half the stroke; an 8-byte frame
+  with a wrong CRC moves nothing, one carrying its right CRC closes them.
 - The driver on the controller backend does the twin's pick (test_twin_gripper_picks_a_part)
   with the same ``driver.gripper`` calls and the same results: the close on the box ends with
   grip state 2 at the box's 57 mm, the box stays within 2 mm of the grasp through the lift and

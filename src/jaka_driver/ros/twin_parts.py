@@ -11,7 +11,7 @@ from tf2_msgs.msg import TFMessage
 
 from ..backend.robot_state import RobotState
 from ..driver import RobotDriver
-from .frames_tf import _transform
+from .frames_tf import transform_stamped
 
 EVERY = 5                 # samples between two publications (40 ms)
 
@@ -37,7 +37,7 @@ class PartsPublisher:
             return
         stamp = rospy.Time.from_sec(st.stamp)
         p = self._prefix
-        transforms = [_transform(f"{p}base_link", f"{p}{name}", pose, stamp)
+        transforms = [transform_stamped(f"{p}base_link", f"{p}{name}", pose, stamp)
                       for name, pose in parts.items()]
         self._topic.publish(TFMessage(transforms=transforms))
         self._tf.sendTransform(transforms)
