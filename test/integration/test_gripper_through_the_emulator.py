@@ -177,7 +177,7 @@ def test_the_driver_on_the_controller_backend_picks_the_box_as_on_the_twin(emu, 
     assert wait_until(lambda: gripper.state().initialised, 3.0)
     assert grip_state_after(driver, GripState.REACHED, STROKE).position == 1000
     watch = BoxWatch(emu.backend)
-    move_by(driver, dz=-(0.4431 - GRASP_Z - (TABLE_TOP + BOX_HALF)) * 1000)
+    move_by(driver, dz=-(0.4431 - GRASP_Z - (TABLE_TOP + BOX_HALF)) * 1000, speed=400.0)
     assert gripper.move(0.0, 100.0).ok
     state = grip_state_after(driver, GripState.CAUGHT)
     assert state.grip_state == GripState.CAUGHT and state.object_held
@@ -185,19 +185,19 @@ def test_the_driver_on_the_controller_backend_picks_the_box_as_on_the_twin(emu, 
     grasped = watch.offset()
     assert np.linalg.norm(grasped) < 0.002
     watch.on = True
-    move_by(driver, dz=150.0)
-    move_by(driver, dy=300.0)
+    move_by(driver, dz=150.0, speed=250.0)
+    move_by(driver, dy=300.0, speed=250.0)
     watch.on = False
     drift = np.linalg.norm(np.array(watch.offsets) - grasped, axis=1)
     assert len(drift) > 100 and drift.max() < 0.002, f"the box moved {drift.max() * 1000:.2f} mm"
     assert gripper.state().grip_state == GripState.CAUGHT
-    move_by(driver, dz=-145.0)                               # 5 mm above the table
+    move_by(driver, dz=-145.0, speed=400.0)                  # 5 mm above the table
     assert gripper.move(STROKE).ok
     assert grip_state_after(driver, GripState.REACHED, STROKE).grip_state == GripState.REACHED
     resting = watch.position()
     assert resting[2] == pytest.approx(TABLE_TOP + BOX_HALF, abs=0.001)
     assert resting[1] == pytest.approx(0.114 + 0.3, abs=0.003)
-    move_by(driver, dz=100.0)                                # clear of the box
+    move_by(driver, dz=70.0, speed=400.0)                    # the pads clear of the box
     assert gripper.move(0.02).ok                             # an empty close: 20 mm
     state = grip_state_after(driver, GripState.REACHED, 0.02)
     assert state.grip_state == GripState.REACHED and not state.object_held
