@@ -21,11 +21,9 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import pytest
 
-from jaka_driver.common.transforms import matrix_to_pose_mm
 from jaka_driver.controller import ControllerBackend
 from jaka_driver.devices.modbus_frames import write_register
 from jaka_driver.devices.register_maps import DH_PGI, GripState
@@ -34,6 +32,7 @@ from jaka_driver.emulator import Emulator
 from support.emulated_arm import LINK_TIMEOUTS
 from support.jaka_sdk_model import RC_OK, JakaSdk
 from support.jaka_sdk_tio import JakaSdkTio
+from support.part_watch import PartWatch, move_by
 from support.ros_harness import wait_until
 
 SCENE = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "pick.yaml")
@@ -112,35 +111,6 @@ def test_jakas_demo_sequence_moves_the_twins_fingers_with_6_and_8_byte_frames(em
         sdk.close()
 
 
-class BoxWatch:
-    """The box in the emulator twin's grasp frame (m), recorded in its cycles while on."""
-
-    def __init__(self, backend):
-        m = backend._mj_model
-        self.physics = backend._physics
-        self.d = backend._physics.d
-        self.box = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "box")
-        self.site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "gripper_grasp")
-        self.on, self.offsets = False, []
-        backend._physics.on_cycle.append(self._record)
-
-    def offset(self) -> np.ndarray:
-        with self.physics.lock:
-            return self._offset()
-
-    def _offset(self) -> np.ndarray:
-        d = self.d
-        return d.site_xmat[self.site].reshape(3, 3).T @ (d.xpos[self.box] - d.site_xpos[self.site])
-
-    def _record(self, d):
-        if self.on:
-            self.offsets.append(self._offset())
-
-    def position(self) -> np.ndarray:
-        with self.physics.lock:
-            return self.d.xpos[self.box].copy()
-
-
 @pytest.fixture(scope="module")
 def driver(emu):
     backend = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
@@ -149,13 +119,6 @@ def driver(emu):
     driver.start()
     yield driver
     driver.shutdown()
-
-
-def move_by(driver, dx=0.0, dy=0.0, dz=0.0, speed=250.0):
-    pose = matrix_to_pose_mm(driver.state().tcp_pose)
-    pose[:3] += (dx, dy, dz)
-    result = driver.linear_move(list(pose), speed, 2500.0, coord_mode=1)
-    assert result.ok, result.message
 
 
 def grip_state_after(driver, wanted: GripState, near: float | None = None,
@@ -176,7 +139,7 @@ def test_the_driver_on_the_controller_backend_picks_the_box_as_on_the_twin(emu, 
     assert gripper.initialise().ok
     assert wait_until(lambda: gripper.state().initialised, 3.0)
     assert grip_state_after(driver, GripState.REACHED, STROKE).position == 1000
-    watch = BoxWatch(emu.backend)
+    watch = PartWatch(emu.backend, "gripper_grasp", locked=True)
     move_by(driver, dz=-(0.4431 - GRASP_Z - (TABLE_TOP + BOX_HALF)) * 1000, speed=400.0)
     assert gripper.move(0.0, 100.0).ok
     state = grip_state_after(driver, GripState.CAUGHT)

@@ -19,16 +19,15 @@ polled at 10 Hz in the twin's cycles, the suction cup's valve is tool DO 0 on th
 Positions are read from MuJoCo's data between cycles (the twin's own test)."""
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import pytest
 
 from jaka_driver.common.models import load_model
-from jaka_driver.common.transforms import matrix_to_pose_mm
 from jaka_driver.devices.modbus_frames import write_register
 from jaka_driver.devices.register_maps import DH_PGI, GripState
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
+from support.part_watch import PartWatch, move_by
 
 MODEL = load_model("zu5")
 SCENE = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "pick.yaml")
@@ -63,38 +62,12 @@ class ToolLine:
         assert self.driver.set_io("digital", 1, index, level).ok       # IO type 1: the tool
 
 
-class BoxWatch:
-    """Where the box is in the grasp frame (m), recorded at the end of every cycle while on."""
-
-    def __init__(self, backend: SimBackend, site: str):
-        m = backend._mj_model
-        self.d = backend._physics.d
-        self.box = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "box")
-        self.site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, site)
-        self.on, self.offsets = False, []
-        backend._physics.on_cycle.append(self._record)
-
-    def offset(self) -> np.ndarray:
-        d = self.d
-        return d.site_xmat[self.site].reshape(3, 3).T @ (d.xpos[self.box] - d.site_xpos[self.site])
-
-    def _record(self, d):
-        if self.on:
-            self.offsets.append(self.offset())
-
-    def position(self) -> np.ndarray:
-        return self.d.xpos[self.box].copy()
-
-    def speed(self) -> float:
-        return float(np.linalg.norm(self.d.cvel[self.box][3:]))
-
-
 def twin_with(tool: str, site: str, door: str):
     """A started driver on the zu5 twin with ``tool`` mounted on its tool connector, its
     gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
     backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
                          force_sensor=True, gripper=tool)
-    watch = BoxWatch(backend, site)
+    watch = PartWatch(backend, site)
     driver = RobotDriver(backend, gripper=door)
     line = ToolLine(backend, driver)
     driver.start()
@@ -122,14 +95,6 @@ def gripper(dh):
         assert driver.gripper.state().initialised
         yield driver, tool, watch
         watch.on = False
-
-
-def move_by(driver, dx=0.0, dy=0.0, dz=0.0, speed=100.0):
-    """A straight move of the flange by (dx, dy, dz) mm in the base frame at ``speed`` mm/s."""
-    pose = matrix_to_pose_mm(driver.state().tcp_pose)
-    pose[:3] += (dx, dy, dz)
-    result = driver.linear_move(list(pose), speed, 2500.0, coord_mode=1)
-    assert result.ok, result.message
 
 
 def mean_force(driver, seconds=0.25) -> np.ndarray:

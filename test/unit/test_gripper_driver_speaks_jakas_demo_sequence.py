@@ -12,32 +12,19 @@ from jaka_driver.common.models import load_model
 from jaka_driver.devices import DH_FIGURES, DH_PGI, ConnectorSetup, GripState, ModbusGripper
 from jaka_driver.sim.io_board import IoBoard
 from jaka_driver.sim.tool_connector import SimToolIO
+from support.fake_tool_device import FakeToolDevice
 
 
-class Registers:
-    """A device on the connector: records the frames it hears; answers ``values`` while
+class Registers(FakeToolDevice):
+    """A device on the connector that records the frames it hears and answers ``values`` while
     powered, as a Modbus slave answers its holding registers."""
 
     def __init__(self, values=None):
-        self.volts, self.frames, self.values = 0.0, [], dict(values or {})
-
-    def power(self, volts):
-        self.volts = volts
-
-    def rs485(self, channel, frame, baudrate):
-        self.frames.append((channel, bytes(frame), baudrate))
+        super().__init__()
+        self.values = dict(values or {})
 
     def read_register(self, channel, sig_type, address):
         return self.values.get(address) if self.volts else None
-
-    def tool_outputs(self, levels):
-        pass
-
-    def tool_inputs(self):
-        return {}
-
-    def on_cycle(self):
-        pass
 
 
 def connector(device=None) -> SimToolIO:
