@@ -6,8 +6,9 @@ idle and loaded, servo, CPU, joint_move, linear_move), the twin's cameras beside
 topics (:mod:`bench.cameras`), the topic inputs beside the servo_j
 service (:mod:`bench.stream_inputs`), the servo stream through each servo filter
 (:mod:`bench.servo_filters`), simulated time, the force/torque sensor and force control
-(:mod:`bench.force`), trajectory recording (:mod:`bench.recording`), and the node on the
-controller backend through the emulator; then the
+(:mod:`bench.force`), trajectory recording (:mod:`bench.recording`), the gripper on the tool
+connector (:mod:`bench.gripper`), and the node on the controller backend through the emulator;
+then the
 rows that judge the tails against the floors the same run measured (:mod:`bench.floor_targets`).
 Writes ``bench/results/latest.json``, ``latest.md`` and the PNG plots.
 
@@ -46,10 +47,10 @@ SIM = "Sim backend (zu5 twin) through ROS"
 EMU = "Controller backend through the emulator (TCP), report only"
 #: the groups ``--only`` may name, in the order a whole run takes them
 GROUPS = ("ik", "twin", "startup", "sim", "cameras", "streams", "filters", "sim_time",
-          "force", "recording", "controller")
+          "force", "recording", "gripper", "controller")
 #: the groups that need a rosmaster
 ROS_GROUPS = ("startup", "sim", "cameras", "streams", "filters", "sim_time", "force", "recording",
-              "controller")
+              "gripper", "controller")
 STREAMS = "Topic inputs beside the servo_j service (zu5 twin through ROS)"
 FILTERS = "Servo filters beside the unfiltered stream (zu5 twin through ROS), report only"
 
@@ -203,6 +204,15 @@ def _recording(run: Run) -> None:
     run.rows += recording.rows(path, cpu)
 
 
+def _gripper(run: Run) -> None:
+    from . import gripper
+    with ExitStack() as stack:
+        run.log("gripper: command → motion and grip-state age on the twin and through the "
+                "emulator; node CPU with the gripper")
+        run.rows += gripper.measure(stack, 6 if run.quick else 40, 3 if run.quick else 20,
+                                    log=run.log)
+
+
 def _emulator(run: Run, out: Path) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
@@ -285,6 +295,10 @@ def _groups(run: Run, chosen: list[str], out: Path, ros_up: bool) -> None:
         from .recording import GROUP as RECORDING
         run.guarded(RECORDING, "kept points and replay of a known path; node CPU while "
                     "recording", "see the table", lambda: _recording(run))
+    if ros_up and "gripper" in chosen:
+        from .gripper import GROUP as GRIPPER
+        run.guarded(GRIPPER, "gripper command → fingers start moving, grip-state sample age, "
+                    "node CPU with the gripper", "see the table", lambda: _gripper(run))
     if ros_up and "controller" in chosen:
         run.guarded(EMU, "controller backend (emulator): rate / age / servo",
                     "report", lambda: _emulator(run, out))

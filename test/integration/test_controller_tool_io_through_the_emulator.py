@@ -2,7 +2,9 @@
 fake device on the emulator's twin: each setting is read back from the controller, the rules
 are checked against what the controller reports, a frame reaches the twin's device, and a
 signal's latest value comes back both from get_tio_signals and from the status packets'
-tio_rs_signals (the default profile's packet carries them), with no request at all.
+tio_rs_signals (the default profile's packet carries them), with no request at all; from a
+controller whose packets do not carry them (the recorded zu5s-1.5.14), the backend asks
+get_tio_signals itself at 10 Hz, so the value comes back all the same.
 The emulator runs on the wall clock: the waits are bounded polls."""
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ from support.ros_harness import wait_until
 
 from jaka_driver.backend.tool_io import ChannelComm, Signal
 from jaka_driver.controller import ControllerBackend
+from jaka_driver.emulator import Emulator
 
 
 @pytest.fixture(scope="module")
@@ -59,3 +62,22 @@ def test_a_signal_comes_back_from_get_tio_signals_and_from_every_packet(emu, tio
     assert wait_until(lambda: tio.signals()[0].value == 321, 1.0)
     r = tio.delete_signal("grip_pos")
     assert r.ok and r.value == () and emu.backend.tool_io.signals() == ()
+
+
+def test_a_controller_whose_packets_carry_no_signals_is_asked_for_them():
+    device = FakeToolDevice()
+    with Emulator("zu5", command_port=0, status_port=0, profile="zu5s-1.5.14",
+                  start="enabled", programs=None) as emu:
+        assert "tio_rs_signals" not in emu.profile.packet_keys
+        emu.backend.tool_io.attach(device)
+        b = ControllerBackend(emu.model, "127.0.0.1", emu.command_port, emu.status_port,
+                              **LINK_TIMEOUTS)
+        b.start()
+        try:
+            tio = b.tool_io
+            assert tio.set_power(1, 0).ok and tio.set_pin_mode(2, 1).ok
+            assert tio.add_signal(Signal("grip_pos", 1, 3, 0x0202, frequency=10)).ok
+            device.position = 654                 # nothing is asked by the test from here
+            assert wait_until(lambda: tio.signals()[0].value == 654, 1.0), tio.signals()
+        finally:
+            b.shutdown()

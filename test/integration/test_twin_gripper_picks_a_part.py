@@ -13,23 +13,21 @@ the machine steps, the gripper driven only by Modbus frames.
   closing the valve puts it down; the twin's reset puts the box back where the scene placed
   it.
 
-The tool connector (``backend.tool_io``) is stood in for by support/fake_tool_io.py: the supply,
-frames on a channel, the tool DOs and the per-cycle hook, exactly the calls of
-sim/tool_device.py's ToolDevice. Positions are read from MuJoCo's data between cycles (the
-twin's own test)."""
+Everything goes through the twin's real tool connector (``backend.tool_io``, SimToolIO): frames
+sent on its channel 1 reach the DhGripper, the gripper door's state is the connector's signals
+polled at 10 Hz in the twin's cycles, the suction cup's valve is tool DO 0 on the IO board.
+Positions are read from MuJoCo's data between cycles (the twin's own test)."""
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import pytest
 
 from jaka_driver.common.models import load_model
-from jaka_driver.common.transforms import matrix_to_pose_mm
 from jaka_driver.devices.modbus_frames import write_register
 from jaka_driver.devices.register_maps import DH_PGI, GripState
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
-from support.fake_tool_io import FakeToolIo
+from support.part_watch import PartWatch, move_by
 
 MODEL = load_model("zu5")
 SCENE = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "pick.yaml")
@@ -42,60 +40,36 @@ CHANNEL = 1                       # RS485L, as JAKA's demos wire a DH gripper
 
 
 class ToolLine:
-    """The test's hand on the tool connector's stand-in: frames on the gripper's channel, a
-    register read as the connector's poll makes it, the supply and tool DOs."""
+    """The test's hand on the tool connector: frames on the gripper's channel, a register read
+    as the connector's poll makes it, the supply, and tool DOs through the driver."""
 
-    def __init__(self, backend: SimBackend):
+    def __init__(self, backend: SimBackend, driver: RobotDriver):
         self.io = backend.tool_io
         self.device = backend.tool_device
+        self.driver = driver
 
     def set_power(self, volts: float):
-        self.io.set_power(volts > 0, volts)
+        assert self.io.set_power(int(volts > 0), 0 if volts in (0.0, 24.0) else 1).ok
 
     def send(self, frame: bytes):
-        assert self.io.send(CHANNEL, frame).ok
+        result = self.io.send_frame(CHANNEL, frame)
+        assert result.ok, result.message
 
     def read(self, address: int):
         return self.device.read_register(CHANNEL, 3, address)
 
     def set_output(self, index: int, level: float):
-        self.io.set_output(index, level)
-
-
-class BoxWatch:
-    """Where the box is in the grasp frame (m), recorded at the end of every cycle while on."""
-
-    def __init__(self, backend: SimBackend, site: str):
-        m = backend._mj_model
-        self.d = backend._physics.d
-        self.box = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "box")
-        self.site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, site)
-        self.on, self.offsets = False, []
-        backend._physics.on_cycle.append(self._record)
-
-    def offset(self) -> np.ndarray:
-        d = self.d
-        return d.site_xmat[self.site].reshape(3, 3).T @ (d.xpos[self.box] - d.site_xpos[self.site])
-
-    def _record(self, d):
-        if self.on:
-            self.offsets.append(self.offset())
-
-    def position(self) -> np.ndarray:
-        return self.d.xpos[self.box].copy()
-
-    def speed(self) -> float:
-        return float(np.linalg.norm(self.d.cvel[self.box][3:]))
+        assert self.driver.set_io("digital", 1, index, level).ok       # IO type 1: the tool
 
 
 def twin_with(tool: str, site: str, door: str):
-    """A started driver on the zu5 twin with ``tool`` mounted and the fake tool connector,
-    its gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
+    """A started driver on the zu5 twin with ``tool`` mounted on its tool connector, its
+    gripper door ``door``; the tool line and a watch on the box in ``site``'s frame."""
     backend = SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0,
                          force_sensor=True, gripper=tool)
-    backend.tool_io = FakeToolIo(backend)
-    line, watch = ToolLine(backend), BoxWatch(backend, site)
+    watch = PartWatch(backend, site)
     driver = RobotDriver(backend, gripper=door)
+    line = ToolLine(backend, driver)
     driver.start()
     try:
         yield driver, line, watch
@@ -121,14 +95,6 @@ def gripper(dh):
         assert driver.gripper.state().initialised
         yield driver, tool, watch
         watch.on = False
-
-
-def move_by(driver, dx=0.0, dy=0.0, dz=0.0, speed=100.0):
-    """A straight move of the flange by (dx, dy, dz) mm in the base frame at ``speed`` mm/s."""
-    pose = matrix_to_pose_mm(driver.state().tcp_pose)
-    pose[:3] += (dx, dy, dz)
-    result = driver.linear_move(list(pose), speed, 2500.0, coord_mode=1)
-    assert result.ok, result.message
 
 
 def mean_force(driver, seconds=0.25) -> np.ndarray:

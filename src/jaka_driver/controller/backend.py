@@ -148,6 +148,7 @@ class ControllerBackend(Backend):
         and keeps trying in the background."""
         link = self.link
         self.programs.start()
+        self.tool_io.start()
         if link.start(wait=link.connect_timeout + link.first_packet_timeout + 0.5):
             self._brought_up.wait(2 * self.send.confirm_timeout + 3 * link.call_timeout)
         else:
@@ -159,6 +160,7 @@ class ControllerBackend(Backend):
                                          "stopped: the driver is shutting down"))
         self.frames_by_id.stop()
         self.programs.stop_polling()
+        self.tool_io.stop_polling()
         self.link.stop()
 
     @property

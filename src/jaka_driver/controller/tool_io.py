@@ -12,22 +12,31 @@ checked against what the controller has. A controller that does not know the TIO
 
 **Signals** come back from ``get_tio_signals`` (each add and delete reads them) and from every
 status packet that carries ``tio_rs_signals`` (later firmware; not the recorded fw 1.5.14):
-the packet's values replace the latest.
+the packet's values replace the latest. A controller whose packets do not carry them is asked
+``get_tio_signals`` every :data:`SIGNAL_POLL` s while there are signals (its own thread,
+``jaka-tio-signals``, while the link is up): JAKA polls a signal at most at 10 Hz, so no value
+is older than a poll of the controller plus 0.1 s, and a gripper's state on such a controller
+moves as on a later one.
 """
 from __future__ import annotations
 
 import logging
 import threading
 from dataclasses import replace
-from typing import Tuple
+from typing import Optional, Tuple
 
 from ..backend.tool_io import ChannelComm, PinType, Signal, ToolIO, ToolIOSettings
 from ..common.results import CommandRefused, Result
+from ..host import realtime
 from ..protocol import tool_io as wire
 from ..protocol.status_packet import StatusPacket
 from .commander import Commander, answers
 
 log = logging.getLogger(__name__)
+
+#: s between two ``get_tio_signals`` of a controller whose packets carry no signals: a
+#: signal's highest polling rate, 10 Hz
+SIGNAL_POLL = 0.1
 
 
 def _signal(row: wire.SignalRow) -> Signal:
@@ -42,6 +51,37 @@ class ControllerToolIO(ToolIO):
         self._lock = threading.Lock()
         self._settings = ToolIOSettings()
         self._signals: Tuple[Signal, ...] = ()
+        self._packets_carry_signals = False     # a packet had tio_rs_signals
+        self._quit = threading.Event()
+        self._thread: Optional[threading.Thread] = None
+        self._unreadable = ""                   # why the last poll failed (logged once)
+
+    # ---- the signals' poll, for packets without them ---------------------------------------------
+    def start(self) -> None:
+        self._thread = threading.Thread(target=self._run, name="jaka-tio-signals", daemon=True)
+        self._thread.start()
+
+    def stop_polling(self) -> None:
+        self._quit.set()
+        if self._thread is not None:
+            self._thread.join(2.0)
+
+    @realtime.runs_periodically
+    def _run(self) -> None:
+        while not self._quit.wait(SIGNAL_POLL):
+            if self._signals and not self._packets_carry_signals and self.send.link.connected:
+                self._poll_signals()
+
+    def _poll_signals(self) -> None:
+        try:
+            self._read_signals()
+        except CommandRefused as refusal:
+            # the values read last stay, as a controller keeps a signal's last value
+            if refusal.message != self._unreadable:
+                log.info("tool connector signals not read: %s", refusal.message)
+                self._unreadable = refusal.message
+        else:
+            self._unreadable = ""
 
     # ---- what the controller reports -----------------------------------------------------------
     def settings(self) -> ToolIOSettings:
@@ -84,6 +124,7 @@ class ControllerToolIO(ToolIO):
         """A status packet's ``tio_rs_signals``, when it has them: the latest values."""
         rows = status.tio_rs_signals
         if rows is not None:
+            self._packets_carry_signals = True
             signals = tuple(_signal(r) for r in rows)
             if signals != self._signals:
                 self._signals = signals

@@ -5,8 +5,8 @@ only), or :class:`NoGripper` when the driver was started without one.
 
 Order of checks: a gripper at all (-9, saying how to get one) → the fields (-2: force 20–100 %,
 speed 1–100 %, opening 0…stroke m, effort ≥ 0 N; each refusal names field, value and limit)
-→ for a move, the gripper's own state (-9: not powered — its status registers answer nothing —
-or not initialised) → the tool connector's own refusals, passed on. A refused request changes
+→ for a move, the gripper's own state (-9: not powered — the tool connector's supply is off —
+or not initialised: its init-state signal is not 1) → the tool connector's own refusals, passed on. A refused request changes
 nothing. Methods answer a :class:`Result`, never raise, and hold simulated time while they act
 (:func:`.door.answers`).
 """
@@ -67,8 +67,8 @@ class GripperRequests(RequestPart):
                                  f"max_effort {max_effort} N is below the limit 0 N")
         state = self.device.state()
         if not self.device.powered:
-            raise CommandRefused(Code.WRONG_MODE, "the gripper is not powered (its status "
-                                 "registers answer nothing): switch the tool supply on")
+            raise CommandRefused(Code.WRONG_MODE, "the gripper is not powered (the tool "
+                                 "connector's supply is off): switch the tool supply on")
         if not state.initialised:
             raise CommandRefused(Code.WRONG_MODE, "the gripper is not initialised: call "
                                  "gripper/initialise first")

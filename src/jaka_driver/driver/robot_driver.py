@@ -260,7 +260,15 @@ class RobotDriver:
         return self._twin.set_input(signal, type, index, value)
 
     def reset_twin(self, joints: Sequence[float] = ()) -> Result:
-        return self._twin.reset_twin(joints)
+        """The twin's fresh start; a gripper's tool connector is set up again as at the
+        node's start (the reset switched the supply off and deleted the signals)."""
+        result = self._twin.reset_twin(joints)
+        if result.ok and self.gripper.absent is None:
+            set_up = self.gripper.set_up()
+            if not set_up.ok:          # the reset happened: say so, and what did not
+                return Result(result.code, f"{result.message}; the gripper's set-up was "
+                              f"refused ({set_up.code}): {set_up.message}", result.value)
+        return result
 
     def pause_twin(self, pause: bool) -> Result:
         return self._twin.pause_twin(pause)

@@ -1,7 +1,7 @@
 """``python -m jaka_driver.emulator --model zu5 [--profile fw-1.7.2] [--host 127.0.0.1]
 [--command-port 10001] [--status-port 10000] [--data-port 10004] [--period S] [--start STATE]
 [--dh-from MODEL] [--calibration FILE|SEED] [--scene FILE] [--programs DIR] [--force-sensor]
-[--realtime-priority N]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
+[--gripper none|dh_pgi|suction] [--realtime-priority N]`` — also ``rosrun jaka_driver jaka_emulator ...``; ``--help`` lists the controller profiles.
 
 Prints one line (:mod:`.ready_line`: ``jaka_emulator ready: model zu5, host 127.0.0.1, command
 port P, status port Q, data port R; ...``) on stdout once its ports accept connections (port 0
@@ -16,6 +16,7 @@ import sys
 import threading
 
 from ..common.models import MODEL_NAMES, load_model
+from ..common.tool_urdf import TOOLS
 from ..host import heap, latency_hint, realtime
 from .handlers import EMULATOR_COMMANDS
 from .profiles import ALIASES, DEFAULT_PROFILE, PROFILES, START_STATES
@@ -66,6 +67,11 @@ def _parser() -> argparse.ArgumentParser:
                              "answering JAKA's torque-sensor and force-control commands and "
                              "filling the status packet's torqsensor (default: no sensor, as "
                              "most arms ship)")
+    parser.add_argument("--gripper", default="none", choices=TOOLS,
+                        help="the tool on the twin's tool connector: dh_pgi a DH-Robotics "
+                             "gripper on RS485 channel 1 (slave 1, driven by Modbus frames "
+                             "sent with send_tio_rs_command), suction a cup on tool DO 0 with "
+                             "its vacuum on tool DI 0 (default none)")
     parser.add_argument("--io-loopback", action="store_true",
                         help="wire each output to the input of the same index")
     parser.add_argument("--realtime-priority", type=_priority, default=realtime.DEFAULT_PRIORITY,
@@ -105,7 +111,7 @@ def main(argv=None) -> int:
                             data_port=args.data_port, profile=args.profile, period=args.period,
                             start=args.start, scene=args.scene, io_loopback=args.io_loopback,
                             programs=args.programs or "default",
-                            force_sensor=args.force_sensor)
+                            force_sensor=args.force_sensor, gripper=args.gripper)
         kept, took = heap.settle()      # before its threads run (host/heap.py)
         logging.getLogger("jaka_driver.emulator").info(
             "%d objects of start-up kept out of full garbage collections (collected in %.0f "
@@ -121,7 +127,8 @@ def main(argv=None) -> int:
         return 1
     print(ready_line(args.model, emulator.host, emulator.command_port, emulator.status_port,
                      emulator.data_port, f"{_chain(args)}profile {emulator.profile.name}, "
-                     f"{'a force/torque sensor, ' if args.force_sensor else ''}started "
+                     f"{'a force/torque sensor, ' if args.force_sensor else ''}"
+                     f"{'' if args.gripper == 'none' else f'gripper {args.gripper}, '}started "
                      f"{emulator.start_state}, a packet every {emulator.period * 1000:g} ms"),
           flush=True)
     try:

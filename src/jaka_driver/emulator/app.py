@@ -52,14 +52,18 @@ class Emulator:
     this package's examples; None: none), run by the twin's engine on this controller's
     rules. ``force_sensor``: the arm carries the flange force/torque sensor (the twin's, of the
     model's configuration), and the emulator answers JAKA's torque-sensor and force-control
-    commands from it (:mod:`.force_commands`); without it, as a controller whose arm has none."""
+    commands from it (:mod:`.force_commands`); without it, as a controller whose arm has none.
+    ``gripper``: the tool on the twin's tool connector (``none``, ``dh_pgi`` the DH gripper
+    driven by Modbus frames on RS485 channel 1, ``suction`` the cup on tool DO 0), reached only
+    through JAKA's TIO commands (:mod:`.tool_io_commands`)."""
 
     def __init__(self, model: Union[str, RobotModel] = "zu5", host: str = "127.0.0.1",
                  command_port: int = 10001, status_port: int = 10000, *,
                  data_port: Optional[int] = None, profile: Union[str, ControllerProfile] =
                  DEFAULT_PROFILE, period: Optional[float] = None, start: Optional[str] = None,
                  scene: Optional[str] = None, io_loopback: bool = False,
-                 programs: Optional[str] = "default", force_sensor: bool = False):
+                 programs: Optional[str] = "default", force_sensor: bool = False,
+                 gripper: str = "none"):
         self.profile = profile_named(profile) if isinstance(profile, str) else profile
         self.start_state = self.profile.start if start is None else start
         if self.start_state not in START_STATES:
@@ -76,7 +80,8 @@ class Emulator:
         if programs is not None and not Path(programs).expanduser().is_dir():
             raise ValueError(f"programs folder {programs} is not a folder")
         self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback,
-                                  programs=programs, force_sensor=bool(force_sensor))
+                                  programs=programs, force_sensor=bool(force_sensor),
+                                  gripper=gripper)
         self.controller = TwinController(self.backend, self.profile)
         # each step of a program passes this controller's rules, as its commands do
         self.backend.programs.bind(ControllerSteps(self.controller))

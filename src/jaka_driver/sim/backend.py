@@ -126,6 +126,7 @@ class SimBackend(Backend):
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
         self.tool_io = SimToolIO(self._io, self._physics.lock)
         self._physics.on_cycle.append(self.tool_io.on_cycle)
+        self.tool_io.attach(self.tool_device)       # for good: a reset keeps it on the connector
         self._defaults()
         # trajectory recording: the tool's pose offered every cycle, after the checks
         self.recording = SimRecording(self.programs.folder, self._kin, self.frames,
@@ -165,9 +166,11 @@ class SimBackend(Backend):
                 self._push.start(self._physics.d, np.zeros(6), 0)
                 if self.tool_device is not None:
                     self.tool_device.reset()    # as mounted: the fingers limp, nothing held
+                # in the same pause of the cycles: no cycle polls the fresh device through the
+                # old settings; the connector's reset tells the device the supply is off
+                self._io.reset()
+                self.tool_io.reset()
             self._overload.rearm()
-            self._io.reset()
-            self.tool_io.reset()
             self._defaults()
             self._cache = None
 
