@@ -26,6 +26,7 @@ from .arm_commands import ArmCommands
 from .force_commands import ForceCommands
 from .framing import Malformed
 from .io_commands import IoCommands
+from .network_watch import NetworkWatch
 from .program_commands import ProgramCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
 from .sensor_commands import SensorCommands
@@ -56,11 +57,14 @@ class CommandHandlers:
         self.c = controller
         self.model = controller.model
         self.counts: Counter = Counter()
+        #: set_network_exception_handle, and the command connections it watches
+        self.network = NetworkWatch(controller)
         self._table: Dict[str, Callable[[Mapping], Answer]] = {
             **ArmCommands(controller).table(),
             **SettingCommands(controller).table(),
             **IoCommands(controller).table(),
             **ProgramCommands(controller).table(),
+            **self.network.table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             # an arm with the sensor answers what it makes a difference to from the twin's
             **(ForceCommands(controller).table() if controller.backend.force.absent is None

@@ -17,6 +17,10 @@ Parameters (private, ``~name``):
                      parameters (get_dh_param) are another arm's than ``model``: ``auto``
                      (default: its parameters when they are a calibration of the model's,
                      every motion refused when they are another arm's), ``controller``, ``model``
+  ``network_loss_action``  controller: what the controller does with the motion under way
+                     once this driver's connection has been lost ``network_loss_time``:
+                     ``keep``, ``pause`` or ``abort`` (default), sent at every connection
+  ``network_loss_time``  controller: s (default 0.1)
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
@@ -99,7 +103,9 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  data_port=params["data_port"],
                                  kinematics=params["kinematics"],
                                  force_sensor=force_sensor_param(params.get("force_sensor", "")),
-                                 stall_timeout=params["stall_timeout"])
+                                 stall_timeout=params["stall_timeout"],
+                                 network_loss_action=params["network_loss_action"],
+                                 network_loss_time=params["network_loss_time"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -153,6 +159,8 @@ def _params() -> dict:
         "data_port": int(rospy.get_param("~data_port", 10004)),
         "stall_timeout": float(rospy.get_param("~stall_timeout", 0.5)),
         "kinematics": str(rospy.get_param("~kinematics", "auto")).lower(),
+        "network_loss_action": str(rospy.get_param("~network_loss_action", "abort")),
+        "network_loss_time": float(rospy.get_param("~network_loss_time", 0.1)),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "twist_timeout": float(rospy.get_param("~twist_timeout", 0.1)),
