@@ -71,6 +71,7 @@ from .commander import Commander, answers
 from .connection import ControllerLink
 from .force import ControllerForce
 from .frames_by_id import ControllerFrames
+from .mounting import ControllerMounting
 from .moves import MoveCommands
 from .network_loss import DEFAULT_ACTION, DEFAULT_TIME_LIMIT, NetworkLossHandling
 from .programs import ControllerPrograms
@@ -129,6 +130,7 @@ class ControllerBackend(Backend):
         self.moves = MoveCommands(model, self.send, self.link, self.view, self.motion,
                                   self.identity, kinematics_now, self.settings, self.servo,
                                   trajectory_step_num)
+        self.mounting = ControllerMounting(self.send)
         #: the controller's own programs (``backend.programs``)
         self.programs = ControllerPrograms(self.send)
         sensor = model.force_sensor.mounted_as(force_sensor)
@@ -353,6 +355,12 @@ class ControllerBackend(Backend):
 
     def set_collision_level(self, level) -> Result:
         return self.settings.set_collision_level(level)
+
+    def set_installation_angle(self, mounting) -> Result:
+        return self.mounting.set(mounting)
+
+    def installation_angle(self) -> Result:
+        return self.mounting.get()
 
     def set_io(self, signal, io_type, index, value) -> Result:
         return self.settings.set_io(signal, io_type, index, value)

@@ -26,6 +26,7 @@ from .arm_commands import ArmCommands
 from .force_commands import ForceCommands
 from .framing import Malformed
 from .io_commands import IoCommands
+from .mounting_commands import MountingCommands
 from .network_watch import NetworkWatch
 from .program_commands import ProgramCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
@@ -65,6 +66,7 @@ class CommandHandlers:
             **IoCommands(controller).table(),
             **ProgramCommands(controller).table(),
             **self.network.table(),
+            **MountingCommands(controller).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             # an arm with the sensor answers what it makes a difference to from the twin's
             **(ForceCommands(controller).table() if controller.backend.force.absent is None

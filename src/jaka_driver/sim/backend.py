@@ -25,6 +25,7 @@ from ..backend.force import HOW_TO_MOUNT, NoForceSensor
 from ..backend.robot_state import RobotState
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
+from ..common.installation import Installation
 from ..common.joint_limits import fastest_step, outside_limits
 from ..common.models import RobotModel
 from ..common.results import Code, Result
@@ -99,6 +100,7 @@ class SimBackend(Backend):
         else:
             self.force = NoForceSensor(f"no force/torque sensor on this arm ({HOW_TO_MOUNT})")
         self._io = IoBoard(model.io_sizes, loopback=io_loopback)
+        self._mounting = Installation()     # upright: MuJoCo's default gravity, −z
         self._defaults()
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
         self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
@@ -508,6 +510,22 @@ class SimBackend(Backend):
                     self._physics.hold_here()
             self._flags.set_drag_mode(on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def set_installation_angle(self, mounting: Installation) -> Result:
+        """MuJoCo's gravity turned into the base frame (the base stays the frame of every
+        pose, and the floor the surface the base stands on): drives, brakes, payload checks,
+        drag mode and the sensor all feel it from the next cycle. Kept through a reset (the
+        arm's mounting is the cell's, not a setting)."""
+        with self._lock:
+            with self._physics.lock:
+                self._mj_model.opt.gravity[:] = mounting.gravity
+                self._mounting = mounting
+        return Result.success(f"installation angle set: {mounting.describe()}; gravity in the "
+                              f"base frame {np.round(mounting.gravity, 3).tolist()} m/s²")
+
+    def installation_angle(self) -> Result:
+        mounting = self._mounting
+        return Result.success(mounting.describe(), mounting)
 
     def set_collision_level(self, level) -> Result:
         with self._lock:
