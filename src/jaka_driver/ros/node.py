@@ -21,6 +21,9 @@ Parameters (private, ``~name``):
                      once this driver's connection has been lost ``network_loss_time``:
                      ``keep``, ``pause`` or ``abort`` (default), sent at every connection
   ``network_loss_time``  controller: s (default 0.1)
+  ``installation_angle``  ``[tilt_x, rot_z]`` rad: how the arm is mounted (tilt about x
+                     0–π, then rotation about z 0–2π; default upright, as the arm already is),
+                     set at start-up as ``~set_installation_angle`` sets it
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
@@ -71,6 +74,7 @@ from .circular_move import advertise_circular_move
 from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
+from .installation import advertise_installation, apply_parameter
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
 from .services import advertise, advertise_faults
@@ -171,6 +175,7 @@ def _params() -> dict:
         "sim_time": bool(rospy.get_param("~sim_time", False)),
         "real_time_factor": float(rospy.get_param("~real_time_factor", 1.0)),
         "force_sensor": rospy.get_param("~force_sensor", ""),
+        "installation_angle": rospy.get_param("~installation_angle", ""),
         "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
@@ -264,6 +269,12 @@ def main() -> int:
     advertise_circular_move(driver)
     advertise_programs(driver)
     advertise_servo_filter(driver)
+    advertise_installation(driver)
+    why = apply_parameter(driver, p["installation_angle"])
+    if why is not None:
+        rospy.logfatal(why)
+        driver.shutdown()
+        return 2
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)
         advertise_snapshot(driver)
