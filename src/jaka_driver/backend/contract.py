@@ -247,6 +247,11 @@ class Backend(ABC):
     def set_drag_mode(self, on: bool) -> Result:
         """Free drive on or off."""
 
+    def collision_level(self) -> Result:
+        """The collision sensitivity level the arm holds (0 off, 1–5), in ``Result.value``:
+        the controller's read back. Default: -9."""
+        return not_available("reading the collision level")
+
     def set_installation_angle(self, mounting: "Installation") -> Result:
         """Mount the arm as ``mounting`` says (:class:`~jaka_driver.common.installation.
         Installation`, checked): gravity turns with it, the base stays the frame of every pose.

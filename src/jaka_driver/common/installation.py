@@ -11,6 +11,7 @@ read a request through :func:`installation` (refusals -2 naming field, value and
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,3 +70,23 @@ def installation(tilt_x: float, rot_z: float) -> Installation:
                           f"[{lo:g}, {hi:.6g}] rad ({math.degrees(lo):g}–{math.degrees(hi):g}°)")
     return Installation(min(max(float(tilt_x), TILT_RANGE[0]), TILT_RANGE[1]),
                         min(max(float(rot_z), ROTATION_RANGE[0]), ROTATION_RANGE[1]))
+
+
+#: the frame above ``base_link`` in ``robot_description`` and TF: the world the arm is mounted in
+WORLD_FRAME = "world"
+_ROBOT_TAG = re.compile(r"<robot\b[^>]*>")
+
+
+def mounted_description(urdf: str, mounting: Installation) -> str:
+    """``urdf`` (rooted at ``base_link``) with a ``world`` link above it: the fixed joint
+    ``world_joint`` turns the base as ``mounting`` says (origin RPY ``(tilt_x, 0, rot_z)``), so
+    TF and rviz show the arm on its wall. The arm's own chain is unchanged."""
+    tag = _ROBOT_TAG.search(urdf)
+    if tag is None or 'name="base_link"' not in urdf:
+        raise ValueError("not a URDF rooted at base_link")
+    world = (f'\n  <link name="{WORLD_FRAME}"/>\n'
+             f'  <joint name="{WORLD_FRAME}_joint" type="fixed">\n'
+             f'    <parent link="{WORLD_FRAME}"/>\n    <child link="base_link"/>\n'
+             f'    <origin xyz="0 0 0" rpy="{mounting.tilt_x!r} 0 {mounting.rot_z!r}"/>\n'
+             f'  </joint>')
+    return urdf[:tag.end()] + world + urdf[tag.end():]

@@ -356,6 +356,9 @@ class ControllerBackend(Backend):
     def set_collision_level(self, level) -> Result:
         return self.settings.set_collision_level(level)
 
+    def collision_level(self) -> Result:
+        return self.settings.collision_level()
+
     def set_installation_angle(self, mounting) -> Result:
         return self.mounting.set(mounting)
 

@@ -225,7 +225,8 @@ class StatusView:
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
             else f"torque sensor error {status.sensor_errcode}", program_state=program_state,
-            io=packet_io(status), force=self.force_reading(status, q))
+            io=packet_io(status), force=self.force_reading(status, q),
+            on_limit=bool(status.on_soft_limit))
         with self._lock:
             self._cache = (key, st)
         return st

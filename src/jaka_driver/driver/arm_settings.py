@@ -76,6 +76,11 @@ class SettingRequests(RequestPart):
         return self.backend.set_collision_level(level)
 
     @answers
+    def collision_level(self) -> Result:
+        """The collision sensitivity level the arm holds (``value``: 0 off, 1–5)."""
+        return self.backend.collision_level()
+
+    @answers
     def set_installation_angle(self, tilt_x: float, rot_z: float) -> Result:
         """Mount the arm tilted ``tilt_x`` rad about x (0–π), then turned ``rot_z`` rad about z
         (0–2π); refused while the arm moves (its motion was planned under the old gravity)."""

@@ -203,6 +203,9 @@ class RobotDriver:
     def set_collisionlevel(self, is_enable: bool, value: int) -> Result:
         return self._settings.set_collisionlevel(is_enable, value)
 
+    def collision_level(self) -> Result:
+        return self._settings.collision_level()
+
     def set_installation_angle(self, tilt_x: float, rot_z: float) -> Result:
         return self._settings.set_installation_angle(tilt_x, rot_z)
 

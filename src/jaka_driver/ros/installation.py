@@ -2,14 +2,21 @@
 SetInstallationAngle``: tilt_x, rot_z rad → ret, message) and ``~get_installation_angle``
 (``jaka_driver_msgs/GetInstallationAngle``: → quaternion (x, y, z, w), rpy rad, ret, message),
 through RobotDriver only; and the ``~installation_angle`` parameter (``[tilt_x, rot_z]`` rad, as
-the launch argument passes it) applied once at start-up."""
+the launch argument passes it) applied once at start-up.
+
+``robot_description`` carries the launch's mounting as its ``world → base_link`` joint
+(``scripts/mounted_urdf``), which robot_state_publisher publishes: a mounting set later by the
+service turns the arm's gravity but not that frame, and the answer says so; an arm that reports
+another mounting than the launch's at start-up is logged as a warning."""
 from __future__ import annotations
 
+import numpy as np
 import rospy
 
 from jaka_driver_msgs.srv import (GetInstallationAngle, GetInstallationAngleResponse,
                                   SetInstallationAngle, SetInstallationAngleResponse)
 
+from ..common.installation import Installation, installation
 from ..driver import RobotDriver
 
 
@@ -18,7 +25,12 @@ def advertise_installation(driver: RobotDriver) -> None:
         result = driver.set_installation_angle(req.tilt_x, req.rot_z)
         if not result.ok:
             rospy.logwarn("set_installation_angle refused (%d): %s", result.code, result.message)
-        return SetInstallationAngleResponse(ret=int(result.code), message=result.message)
+            return SetInstallationAngleResponse(ret=int(result.code), message=result.message)
+        message = (f"{result.message} (robot_description and TF keep the launch's mounting: "
+                   f"launch with installation_angle:=\"[{req.tilt_x:g}, {req.rot_z:g}]\" to "
+                   "show it)")
+        rospy.loginfo(message)
+        return SetInstallationAngleResponse(ret=int(result.code), message=message)
 
     def get_angle(_req) -> GetInstallationAngleResponse:
         result = driver.installation_angle()
@@ -35,15 +47,28 @@ def advertise_installation(driver: RobotDriver) -> None:
 
 def apply_parameter(driver: RobotDriver, value) -> str | None:
     """``~installation_angle`` (``[tilt_x, rot_z]`` rad, or "" / [] for upright as the arm is):
-    set it; why not (a message for a fatal log), or None."""
-    if value in ("", None, []):
-        return None
-    try:
-        tilt_x, rot_z = (float(v) for v in value)
-    except (TypeError, ValueError):
-        return f"~installation_angle is {value!r}; expected [tilt_x, rot_z] in rad"
-    result = driver.set_installation_angle(tilt_x, rot_z)
-    if not result.ok:
-        return f"~installation_angle: {result.message}"
-    rospy.loginfo(result.message)
+    set it; why not (a message for a fatal log), or None. Then the arm's own mounting is
+    compared with the launch's (what ``robot_description`` shows)."""
+    shown = Installation()
+    if value not in ("", None, []):
+        try:
+            tilt_x, rot_z = (float(v) for v in value)
+        except (TypeError, ValueError):
+            return f"~installation_angle is {value!r}; expected [tilt_x, rot_z] in rad"
+        result = driver.set_installation_angle(tilt_x, rot_z)
+        if not result.ok:
+            return f"~installation_angle: {result.message}"
+        rospy.loginfo(result.message)
+        shown = installation(tilt_x, rot_z)          # what scripts/mounted_urdf put there
+    held = result_value(driver)
+    if held is not None and not np.allclose(held.rotation, shown.rotation, atol=1e-3):
+        rospy.logwarn(f"the arm reports it is mounted {held.describe()}, but robot_description "
+                      f"shows it {shown.describe()}: launch with installation_angle:="
+                      f"\"[{held.tilt_x:.4f}, {held.rot_z:.4f}]\"")
     return None
+
+
+def result_value(driver: RobotDriver):
+    """The arm's mounting as it reports it, or None (a backend that cannot say)."""
+    result = driver.installation_angle()
+    return result.value if result.ok else None

@@ -55,7 +55,7 @@ Parameters (private, ``~name``):
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
-``~speed_ratio`` and ``~program/state`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
+``~speed_ratio``, ``~program/state`` and ``~on_limit`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
 ``~twist_command``; their refusals and stops on ``~command_status``.
 """
 from __future__ import annotations
@@ -75,6 +75,7 @@ from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .installation import advertise_installation, apply_parameter
+from .limit_state import OnLimitTopic
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
 from .services import advertise, advertise_faults
@@ -286,6 +287,7 @@ def main() -> int:
     TwistInput(driver, status)
     advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
     advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
+    OnLimitTopic(publisher.also_publish)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

@@ -26,7 +26,7 @@ from ..backend.robot_state import RobotState
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
 from ..common.installation import Installation
-from ..common.joint_limits import fastest_step, outside_limits
+from ..common.joint_limits import fastest_step, on_limit, outside_limits
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.transforms import matrix_to_pose_mm
@@ -182,7 +182,7 @@ class SimBackend(Backend):
             protective_stop=flags.protective_stop, collision=flags.collision,
             moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
             program_state=int(self.programs.status().state), io=self._io.values(),
-            force=sample.force)
+            force=sample.force, on_limit=on_limit(self.model, sample.q))
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
@@ -510,6 +510,11 @@ class SimBackend(Backend):
                     self._physics.hold_here()
             self._flags.set_drag_mode(on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def collision_level(self) -> Result:
+        level = int(self._collisions.level)
+        return Result.success("collision detection off" if level == 0 else
+                              f"collision level {level} ({25 * level} N)", level)
 
     def set_installation_angle(self, mounting: Installation) -> Result:
         """MuJoCo's gravity turned into the base frame (the base stays the frame of every
