@@ -75,12 +75,13 @@ def backend_on(emu, **network_loss) -> ControllerBackend:
     return backend
 
 
-def killed_mid_move(emu, **network_loss):
+def killed_mid_move(emu, after_kill: float = 0.0, **network_loss):
     """From HOME, a joint move of 4 s on a backend whose sockets are closed ``KILLED_AFTER``
     s in: (twin samples from 0.3 s before the close on, the close's time.time(), the move's
-    start and planned duration on the twin)."""
+    start and planned duration on the twin). Waits ``after_kill`` s after the close, or (0)
+    until the twin's motion has ended."""
     assert emu.controller.wait_idle(10.0)
-    assert emu.backend.start_joint_move(HOME, 1.0, 2.0).ok and emu.controller.wait_idle(10.0)
+    assert emu.backend.start_joint_move(HOME, 3.0, 10.0).ok and emu.controller.wait_idle(10.0)
     backend = backend_on(emu, **network_loss)
     samples = TwinSamples(emu.backend)
     try:
@@ -91,9 +92,10 @@ def killed_mid_move(emu, **network_loss):
             killed = time.time()
             backend.link.stop()          # both sockets closed, nothing sent: a killed driver
             deadline = started + planned[0] + 1.0
-            while emu.controller.twin.motion_active and time.time() < deadline:
+            while (not after_kill and emu.controller.twin.motion_active
+                   and time.time() < deadline):
                 time.sleep(0.02)
-            time.sleep(0.05)
+            time.sleep(after_kill or 0.05)
         return ([st for st in samples.states if st.stamp > killed - 0.3], killed, started,
                 planned[0])
     finally:
@@ -126,6 +128,24 @@ def test_by_default_the_arm_slows_within_the_limit_of_the_drivers_death(emu):
     assert began < started + planned - 2.5                       # well before the planned end
     final = emu.backend.state().joint_position
     assert abs(final[0] - TARGET[0]) > 0.3 and abs(emu.backend.state().joint_velocity[0]) < 1e-3
+
+
+def test_with_pause_the_move_comes_to_rest_on_its_way_and_stays_there(emu):
+    samples, killed, started, planned = killed_mid_move(emu, after_kill=0.6,
+                                                        network_loss_action="pause")
+    try:
+        assert emu.handlers.network.last_action == "motion paused on its path (pause)"
+        slowed = next(st.stamp for st in samples
+                      if st.stamp > killed and st.joint_velocity[0] < 0.95 * SPEED)
+        assert LIMIT <= slowed - SERVO_CYCLE - killed <= LIMIT + 2 * SERVO_CYCLE
+        rest = [st for st in samples if st.stamp > killed + 0.45]
+        assert rest and all(abs(st.joint_velocity[0]) < 1e-3 for st in rest)   # held still
+        q = emu.backend.state().joint_position[0]
+        assert HOME[0] + 0.1 < q < TARGET[0] - 0.3          # on its way, short of the target
+        assert emu.controller.moving                         # the move is held, not ended
+    finally:
+        emu.controller.stop()                                # stop_program ends it
+        assert emu.controller.wait_idle(5.0)
 
 
 def test_with_keep_the_move_reaches_its_target(emu):
