@@ -130,7 +130,7 @@ class ControllerBackend(Backend):
         self.moves = MoveCommands(model, self.send, self.link, self.view, self.motion,
                                   self.identity, kinematics_now, self.settings, self.servo,
                                   trajectory_step_num)
-        self.mounting = ControllerMounting(self.send)
+        self.mounting = ControllerMounting(self.send, self.view)
         #: the controller's own programs (``backend.programs``)
         self.programs = ControllerPrograms(self.send)
         sensor = model.force_sensor.mounted_as(force_sensor)
@@ -232,6 +232,7 @@ class ControllerBackend(Backend):
             self.motion.servo_mode = self.servo.read_mode()
             self.settings.read_rapid_rate()
             self.identity.read(self.send.read)
+            self.mounting.read_at_connection()
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
             self.programs.refresh()
