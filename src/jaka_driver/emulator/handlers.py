@@ -10,7 +10,9 @@ controller was recorded answering — never an exception, never a silent close.
 
 The handlers, by subject: :mod:`.arm_commands` (power, motion, servo, kinematics, drag),
 :mod:`.setting_commands` (identity, frames, payload, speed, filters), :mod:`.io_commands`,
-:mod:`.program_commands`, :mod:`.sensor_commands` (the torque sensor's settings; on an arm
+:mod:`.program_commands`, :mod:`.mounting_commands` (the installation angle),
+:mod:`.network_watch` (what happens to the motion when a client's connection is lost),
+:mod:`.sensor_commands` (the torque sensor's settings; on an arm
 with the sensor, :mod:`.force_commands` answers from the twin's sensor), and here the
 emulator-only commands (a real controller answers them "unknown command"; they all start with
 ``emulator_`` — see :data:`EMULATOR_COMMANDS`).
