@@ -61,13 +61,13 @@ def installation(tilt_x: float, rot_z: float) -> Installation:
     """The mounting asked for, checked against JAKA's ranges (rad)."""
     for name, value, (lo, hi) in (("tilt_x", tilt_x, TILT_RANGE),
                                   ("rot_z", rot_z, ROTATION_RANGE)):
+        limit = f"[{lo:g}, {hi:.6g}] rad ({math.degrees(lo):g}–{math.degrees(hi):g}°)"
         try:
             x = float(value)
         except (TypeError, ValueError):
-            raise invalid(f"{name} is {value!r}, expected a number of rad") from None
+            raise invalid(f"{name} is {value!r}, expected a number in {limit}") from None
         if not (math.isfinite(x) and lo - 1e-9 <= x <= hi + 1e-9):
-            raise invalid(f"{name} is {x:g} rad ({math.degrees(x):g}°), expected "
-                          f"[{lo:g}, {hi:.6g}] rad ({math.degrees(lo):g}–{math.degrees(hi):g}°)")
+            raise invalid(f"{name} is {x:g} rad ({math.degrees(x):g}°), expected {limit}")
     return Installation(min(max(float(tilt_x), TILT_RANGE[0]), TILT_RANGE[1]),
                         min(max(float(rot_z), ROTATION_RANGE[0]), ROTATION_RANGE[1]))
 
