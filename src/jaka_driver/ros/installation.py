@@ -17,6 +17,7 @@ from jaka_driver_msgs.srv import (GetInstallationAngle, GetInstallationAngleResp
                                   SetInstallationAngle, SetInstallationAngleResponse)
 
 from ..common.installation import Installation, installation
+from ..common.results import Code
 from ..driver import RobotDriver
 
 
@@ -47,7 +48,8 @@ def advertise_installation(driver: RobotDriver) -> None:
 
 def apply_parameter(driver: RobotDriver, value) -> str | None:
     """``~installation_angle`` (``[tilt_x, rot_z]`` rad, or "" / [] for upright as the arm is):
-    set it; why not (a message for a fatal log), or None. Then the arm's own mounting is
+    set it; a value out of range is a message for a fatal log (else None) — an arm that cannot
+    take it now (a controller not reached yet) is a warning, the node runs on. Then the arm's own mounting is
     compared with the launch's (what ``robot_description`` shows)."""
     shown = Installation()
     if value not in ("", None, []):
@@ -56,8 +58,12 @@ def apply_parameter(driver: RobotDriver, value) -> str | None:
         except (TypeError, ValueError):
             return f"~installation_angle is {value!r}; expected [tilt_x, rot_z] in rad"
         result = driver.set_installation_angle(tilt_x, rot_z)
-        if not result.ok:
+        if result.code == Code.INVALID_PARAMETER:
             return f"~installation_angle: {result.message}"
+        if not result.ok:      # a controller not reached (yet), or refusing: the node runs on
+            rospy.logwarn(f"~installation_angle not set ({result.code}): {result.message}; "
+                          "call set_installation_angle once the arm can take it")
+            return None
         rospy.loginfo(result.message)
         shown = installation(tilt_x, rot_z)          # what scripts/mounted_urdf put there
     held = result_value(driver)
