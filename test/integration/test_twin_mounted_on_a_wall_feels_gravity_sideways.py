@@ -11,25 +11,19 @@ import numpy as np
 import pytest
 
 from jaka_driver.common.results import Code
-from support.sensor_twin import MODEL, fresh, twin_with_sensor
+from support.sensor_twin import MODEL, fresh, sensor_driver  # noqa: F401 - the fixture
 
 WALL, CEILING = math.pi / 2, math.pi
 POSES = [MODEL.home, MODEL.home + [0, 0, 0, 0, -np.pi / 2, 0],
          MODEL.home + [0.6, 0.3, -0.4, 0.8, 0, 1.2]]
 
 
-@pytest.fixture(scope="module")
-def driver():
-    with twin_with_sensor() as d:
-        yield d
-
-
 @pytest.fixture
-def arm(driver):
+def arm(sensor_driver):
     """A fresh twin at home, its sensor on; upright again afterwards (a mounting outlasts a
     reset: it is the cell's)."""
-    yield from fresh(driver, sensor_on=True)
-    assert driver.set_installation_angle(0.0, 0.0).ok
+    yield from fresh(sensor_driver, sensor_on=True)
+    assert sensor_driver.set_installation_angle(0.0, 0.0).ok
 
 
 def held(driver, seconds=0.25, kind=None):
