@@ -3,8 +3,8 @@ through RobotDriver's door: MuJoCo's gravity turns with the installation angle w
 stays the frame of every pose. At home the arm's weight is held by J2 and J3 upright; on a wall
 (90° about x: gravity along the base's −y) the same moment falls on J1, about the base's z; on
 a ceiling J2 and J3 hold it the other way. The sensor's compensated reading of a known payload
-is zero in every pose on the wall, the drives hold the rated payload there, and the refusals
-name field, value and limit."""
+is zero in every pose on the wall, payload identification finds the payload there (2 %, 2 mm),
+the drives hold the rated payload there, and the refusals name field, value and limit."""
 import math
 
 import numpy as np
@@ -65,6 +65,17 @@ def test_on_the_wall_the_sensor_reads_a_known_payload_as_zero_in_every_pose(arm)
         assert np.linalg.norm(actual[:3]) == pytest.approx(2.0 * 9.81, rel=0.02)
         assert np.linalg.norm(real[:3]) < 0.02 * 2.0 * 9.81, (q, real)
         assert np.linalg.norm(real[3:]) < 0.02 * 2.0 * 9.81 * 0.05, (q, real)
+
+
+def test_on_the_wall_payload_identification_finds_the_payload(arm):
+    assert arm.set_installation_angle(WALL, 0.0).ok
+    assert arm.set_payload(0, 2.0, 0, 0, 50).ok                   # the sensor is not zeroed
+    result = arm.force.identify_payload(np.concatenate(POSES[1:] + [MODEL.home + [
+        0, 0, 0, 0, 0.9, 1.2]]).tolist())
+    assert result.ok, result.message
+    mass, centroid_mm = result.value
+    assert abs(mass - 2.0) <= 0.02 * 2.0
+    assert np.linalg.norm(centroid_mm - [0, 0, 50]) <= 2.0
 
 
 def test_on_the_wall_the_drives_hold_the_rated_payload(arm):
