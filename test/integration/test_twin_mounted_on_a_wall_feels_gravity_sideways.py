@@ -4,6 +4,7 @@ stays the frame of every pose. At home the arm's weight is held by J2 and J3 upr
 (90° about x: gravity along the base's −y) the same moment falls on J1, about the base's z; on
 a ceiling J2 and J3 hold it the other way. The sensor's compensated reading of a known payload
 is zero in every pose on the wall, payload identification finds the payload there (2 %, 2 mm),
+drag mode leaves the arm floating where it is,
 the drives hold the rated payload there, and the refusals name field, value and limit."""
 import math
 
@@ -76,6 +77,17 @@ def test_on_the_wall_payload_identification_finds_the_payload(arm):
     mass, centroid_mm = result.value
     assert abs(mass - 2.0) <= 0.02 * 2.0
     assert np.linalg.norm(centroid_mm - [0, 0, 50]) <= 2.0
+
+
+def test_in_drag_mode_on_the_wall_the_arm_floats_where_it_is(arm):
+    assert arm.set_installation_angle(WALL, 0.0).ok
+    assert arm.joint_move(list(POSES[2]), 1.0, 2.0).ok
+    assert arm.drag_mode(True).ok
+    try:
+        arm.clock.sleep(1.0)
+        assert np.allclose(arm.state().joint_position, POSES[2], atol=2e-3)
+    finally:
+        assert arm.drag_mode(False).ok
 
 
 def test_on_the_wall_the_drives_hold_the_rated_payload(arm):
