@@ -64,5 +64,6 @@ def test_through_the_emulator_the_twins_limit_and_level_reach_the_driver():
         near[2] = emu.model.lower[2] + np.radians(0.05)      # J3 0.05° inside its limit
         assert driver.joint_move(list(near), 3.0, 10.0).ok
         assert until(lambda: driver.state().on_limit) and emu.backend.state().on_limit
-        assert driver.joint_move(list(emu.model.home), 3.0, 10.0).ok
+        near[2] += np.radians(0.2)                           # 0.25° inside: off the limit
+        assert driver.joint_move(list(near), 3.0, 10.0).ok
         assert until(lambda: not driver.state().on_limit)
