@@ -3,7 +3,8 @@ through ROS reaches its target, the state topics come from the controller's stat
 one message per status packet, at the emulator's recorded 30 ms, none twice — drag mode goes
 on and off through ROS (torque_control_enable on the wire), and nothing of the twin's own
 (``~sim/``) is offered but the twin control, which answers -9; the speed ratio goes to the
-controller and back."""
+controller and back; ``~network_loss_action`` and ``~network_loss_time`` reach the controller
+(``set_network_exception_handle``) and ``/diagnostics``."""
 from __future__ import annotations
 
 import time
@@ -46,7 +47,17 @@ def sim_driver(request, rospy_node, emulator):
     # that count as a lost link to a real controller (support.emulated_arm.LINK_TIMEOUTS)
     return start_driver(request, backend="controller", model="zu5", ip="127.0.0.1",
                         command_port=emulator.command_port, status_port=emulator.status_port,
-                        servo_timeout=0.5, stall_timeout=LINK_TIMEOUTS["stall_timeout"])
+                        servo_timeout=0.5, stall_timeout=LINK_TIMEOUTS["stall_timeout"],
+                        network_loss_action="pause", network_loss_time=0.2)
+
+
+def test_the_network_loss_setting_goes_to_the_controller_and_shows_in_diagnostics(sim_driver):
+    import rospy
+    from diagnostic_msgs.msg import DiagnosticArray
+    msg = rospy.wait_for_message("/diagnostics", DiagnosticArray, 5.0)
+    values = {kv.key: kv.value for kv in msg.status[0].values}
+    assert values["network loss"] == ("pause the motion 200 ms after the connection is lost "
+                                      "(accepted)")
 
 
 def test_joint_move_through_ros_reaches_the_target(call, joints):

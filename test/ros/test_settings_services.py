@@ -1,4 +1,5 @@
-"""Frames, payload, drag, collision level, IO, clear_err and FK/IK through ROS on the zu5
+"""Frames, payload, drag, collision level (set and read back), the installation angle, the
+latched on_limit, IO, clear_err and FK/IK through ROS on the zu5
 twin: each does what docs/interface.md says, and each bad request is refused naming the field."""
 import time
 
@@ -6,9 +7,11 @@ import numpy as np
 import pytest
 import rosservice
 from geometry_msgs.msg import TwistStamped
+from std_msgs.msg import Bool
 from std_srvs.srv import Empty, SetBool
 
 from support.ros_harness import START, Recorder, at_rest, position, wait_until
+from jaka_driver_msgs.srv import GetCollisionLevel, GetInstallationAngle, SetInstallationAngle
 from jaka_msgs.msg import RobotMsg
 from jaka_msgs.srv import (ClearErr, ClearError, GetFK, GetIK, GetIO, Move, SetCollision,
                            SetIO, SetPayload, SetTcpFrame, SetUserFrame)
@@ -20,7 +23,8 @@ CONTRACT_SERVICES = {
     "linear_move", "joint_move", "jog", "servo_move_enable", "servo_p", "servo_j", "stop_move",
     "set_toolframe", "set_userframe", "set_payload", "drag_mode", "drag_move",
     "set_collisionlevel", "set_io", "get_io", "clear_err", "clear_error", "get_fk", "get_ik",
-    "power", "enable"}
+    "power", "enable", "get_collision_level", "set_installation_angle",
+    "get_installation_angle"}
 
 
 def fk(call, q):
@@ -118,8 +122,34 @@ def test_io_outputs_read_back_and_digital_is_0_or_1(call):
 def test_collision_level_can_be_turned_off(call):
     reply = call("set_collisionlevel", SetCollision, is_enable=False, value=0)
     assert reply.ret == 1 and "off" in reply.message
+    assert call("get_collision_level", GetCollisionLevel).level == 0
     reply = call("set_collisionlevel", SetCollision, is_enable=True, value=60)
     assert reply.ret == 1 and "level 3" in reply.message
+    got = call("get_collision_level", GetCollisionLevel)
+    assert (got.level, got.ret) == (3, 1)
+
+
+def test_installation_angle_turns_gravity_and_reads_back_in_rad(call, sim_driver, rospy_node):
+    try:
+        reply = call("set_installation_angle", SetInstallationAngle, tilt_x=np.pi / 2, rot_z=0.5)
+        assert reply.ret == 1 and "keep the launch's mounting" in reply.message
+        got = call("get_installation_angle", GetInstallationAngle)
+        assert got.ret == 1 and np.allclose(got.rpy, [np.pi / 2, 0.0, 0.5])
+        # Rz(0.5)·Rx(π/2) = (cos 0.25 + k sin 0.25)(cos π/4 + i sin π/4), as (x, y, z, w)
+        c, s, h = np.cos(0.25), np.sin(0.25), np.sqrt(0.5)
+        assert np.allclose(got.quaternion, [c * h, s * h, s * h, c * h], atol=1e-9)
+        bad = call("set_installation_angle", SetInstallationAngle, tilt_x=3.5, rot_z=0.0)
+        assert bad.ret == -2 and "tilt_x is 3.5 rad" in bad.message and "180" in bad.message
+        assert np.allclose(call("get_installation_angle", GetInstallationAngle).rpy,
+                           [np.pi / 2, 0.0, 0.5])          # the refusal changed nothing
+    finally:
+        assert call("set_installation_angle", SetInstallationAngle, tilt_x=0, rot_z=0).ret == 1
+
+
+def test_on_limit_is_latched_and_false_at_home(sim_driver, rospy_node):
+    latched = Recorder(sim_driver.name("on_limit"), Bool)
+    message = wait_until(latched.latest, 3.0)
+    assert message is not None and message.data is False
 
 
 def test_ik_inverts_fk_near_the_reference(call):

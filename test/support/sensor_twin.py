@@ -6,6 +6,8 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Optional
 
+import pytest
+
 from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
 from jaka_driver.sim import SimBackend
@@ -25,6 +27,13 @@ def twin_with_sensor(scene: Optional[str] = None, sensor: bool = True,
         yield driver
     finally:
         driver.shutdown()
+
+
+@pytest.fixture(scope="module")
+def sensor_driver():
+    """The started driver on the zu5 twin with its sensor that a test module's tests share."""
+    with twin_with_sensor() as d:
+        yield d
 
 
 def fresh(driver, sensor_on: bool = False, settle: float = 0.05, zero: bool = False):

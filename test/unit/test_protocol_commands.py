@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from jaka_driver.protocol import commands as c
+from jaka_driver.protocol import installation, network_loss
 from jaka_driver.protocol import programs as programs
 from jaka_driver.protocol import recording as rec
 from jaka_driver.protocol import servo_filters as filters
@@ -35,6 +36,8 @@ ALL_REQUESTS = [
     c.set_user_offsets(2, POSE, "table"), c.set_user_id(2), c.get_curr_user_id(),
     c.set_payload(1.5, [0, 0, 50]), c.get_payload(),
     c.set_clsn_sensitivity(3), c.get_clsn_sensitivity(), c.drag_status(),
+    network_loss.set_network_exception_handle(100.0, network_loss.NetworkLossAction.ABORT),
+    installation.set_installation_angle(0.5, 1.0), installation.get_installation_angle(),
     c.set_digital_output(0, 3, True), c.set_analog_output(0, 1, 2.5),
     c.get_digital_input(1, 0), c.get_digital_input_status(), c.get_analog_output(0, 1),
     c.get_digital_output(0, 2), c.get_analog_input(0, 0), c.get_motion_state(),

@@ -34,6 +34,7 @@ from .robot_state import RobotState
 from .twin import Twin
 
 if TYPE_CHECKING:
+    from ..common.installation import Installation
     from ..motion.servo_filters import ServoFilterSpec
     from ..motion.trajectory import JointTrajectory
 
@@ -259,6 +260,22 @@ class Backend(ABC):
     @abstractmethod
     def set_drag_mode(self, on: bool) -> Result:
         """Free drive on or off."""
+
+    def collision_level(self) -> Result:
+        """The collision sensitivity level the arm holds (0 off, 1–5), in ``Result.value``:
+        the controller's read back. Default: -9."""
+        return not_available("reading the collision level")
+
+    def set_installation_angle(self, mounting: "Installation") -> Result:
+        """Mount the arm as ``mounting`` says (:class:`~jaka_driver.common.installation.
+        Installation`, checked): gravity turns with it, the base stays the frame of every pose.
+        Default: -9 (not available)."""
+        return not_available("the installation angle")
+
+    def installation_angle(self) -> Result:
+        """How the arm is mounted, as the arm reports it: ``Result.value`` an
+        :class:`~jaka_driver.common.installation.Installation`. Default: -9."""
+        return not_available("the installation angle")
 
     @abstractmethod
     def set_collision_level(self, level: int) -> Result:

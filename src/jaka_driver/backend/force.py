@@ -176,11 +176,13 @@ class IdentificationStatus:
     result: Optional[SensorPayload] = None
 
 
-def gravity_wrench(payload: "SensorPayload", rotation: np.ndarray) -> np.ndarray:
+def gravity_wrench(payload: "SensorPayload", rotation: np.ndarray,
+                   gravity: np.ndarray = GRAVITY) -> np.ndarray:
     """The load (N, N·m, sensor frame) of ``payload`` hanging still on a sensor turned
-    ``rotation`` (sensor → base, 3x3): its weight, and that weight's moment about the sensor —
-    what ``real`` takes out of ``actual``."""
-    weight = payload.mass * (rotation.T @ GRAVITY)
+    ``rotation`` (sensor → base, 3x3) under ``gravity`` (m/s², base frame: the arm's mounting
+    turns it, :mod:`jaka_driver.common.installation`): its weight, and that weight's moment
+    about the sensor — what ``real`` takes out of ``actual``."""
+    weight = payload.mass * (rotation.T @ gravity)
     return np.concatenate([weight, np.cross(payload.centroid, weight)])
 
 

@@ -73,6 +73,9 @@ class RobotState:
     #: every IO point as it came in this sample (:data:`IoValues`)
     io: IoValues = field(default_factory=lambda: NO_IO)
     force: Optional[ForceReading] = None
+    #: a joint is on (or past) its soft position limit: a controller's ``on_soft_limit``, on
+    #: the twin within 0.1° of a limit (:func:`jaka_driver.common.joint_limits.on_limit`)
+    on_limit: bool = False
 
     @property
     def in_error(self) -> bool:

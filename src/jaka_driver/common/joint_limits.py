@@ -21,6 +21,17 @@ def outside_limits(model: RobotModel, q: np.ndarray, tolerance: float = 0.0) -> 
     return int(np.argmax(outside)) if outside.any() else None
 
 
+#: rad: a joint this near a position limit is "on its limit" (what a controller's status packet
+#: reports as ``on_soft_limit``, and ``is_on_limit`` answers)
+ON_LIMIT_MARGIN = float(np.radians(0.1))
+
+
+def on_limit(model: RobotModel, q: np.ndarray) -> bool:
+    """A joint of ``q`` (rad) within :data:`ON_LIMIT_MARGIN` of its position limit, or past it."""
+    q = np.asarray(q, float)
+    return bool(np.any((q <= model.lower + ON_LIMIT_MARGIN) | (q >= model.upper - ON_LIMIT_MARGIN)))
+
+
 def fastest_step(model: RobotModel, q_from: np.ndarray, q_to: np.ndarray,
                  seconds: float = SERVO_CYCLE) -> Optional[tuple[int, float]]:
     """(joint, speed rad/s) of the joint that most exceeds its speed limit when going from

@@ -1,5 +1,6 @@
 """The ``robot_description`` a launch serves: a model's URDF (``urdf/jaka_<model>.urdf``, as
-generated) with the tool on its flange (:mod:`.tool_urdf`: the gripper's or suction cup's links,
+generated) with a ``world`` frame above ``base_link`` turned by the installation angle
+(:func:`.installation.mounted_description`), the tool on its flange (:mod:`.tool_urdf`: the gripper's or suction cup's links,
 its grasp frame) and the twin's cameras added at load time — for each camera ``<name>``, a link
 ``<name>_link`` on a fixed joint under ``base_link`` (a fixed camera) or ``flange`` (a wrist
 camera), and ``<name>_optical_frame`` under it (jaka_driver.common.camera_spec says which way
@@ -7,8 +8,8 @@ each looks). Hand–eye code and robot_state_publisher read the camera's mountin
 the node publishes the same transforms on ``/tf_static`` (ros/camera_topics.py), so TF has
 them also where no robot_state_publisher runs.
 
-``rosrun jaka_driver robot_description zu5 --scene cell.yaml --wrist-camera true --tool dh_pgi``
-prints it
+``rosrun jaka_driver robot_description zu5 --scene cell.yaml --wrist-camera true --tool dh_pgi
+--installation-angle "[1.5708, 0]"`` prints it
 (launch/jaka_driver.launch loads it so).
 """
 from __future__ import annotations
@@ -20,6 +21,8 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .camera_spec import LINK_TO_OPTICAL, CameraSpec, cameras_of_scene
+from .installation import Installation, installation, mounted_description
+from .results import CommandRefused
 from .models import load_model
 from .tool_urdf import TOOLS, with_tool
 from .transforms import matrix_to_rpy
@@ -55,6 +58,19 @@ def description(model: str, scene: Optional[str] = None, wrist_camera: bool = Fa
                         cameras_of_scene(scene, wrist_camera))
 
 
+def mounting_argument(text: str) -> Installation:
+    """The launch argument ``installation_angle``: ``[tilt_x, rot_z]`` in rad (YAML), empty:
+    upright. Raises ValueError naming the value and the range."""
+    import yaml
+    text = text.strip()
+    try:
+        angles = yaml.safe_load(text) if text else None
+        return Installation() if not angles else installation(*angles)
+    except (yaml.YAMLError, TypeError, ValueError, CommandRefused) as exc:
+        raise ValueError(f"installation_angle {text!r}: {getattr(exc, 'message', exc)}; "
+                         "expected [tilt_x, rot_z] in rad") from None
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     import argparse
     parser = argparse.ArgumentParser(prog="robot_description", description="Print a model's "
@@ -64,10 +80,15 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--wrist-camera", default="false", help="true: add wrist_camera")
     parser.add_argument("--tool", default="none", choices=TOOLS,
                         help="the tool on the flange (the twin's ~gripper)")
+    parser.add_argument("--installation-angle", default="", metavar="'[TILT_X, ROT_Z]'",
+                        help="rad; empty: upright (a world frame above base_link either way)")
     args = parser.parse_args(argv)
     try:
-        print(description(args.model.lower(), args.scene or None,
-                          args.wrist_camera.strip().lower() in ("true", "1", "yes"), args.tool))
+        mounting = mounting_argument(args.installation_angle)
+        print(mounted_description(
+            description(args.model.lower(), args.scene or None,
+                        args.wrist_camera.strip().lower() in ("true", "1", "yes"), args.tool),
+            mounting))
     except (ValueError, OSError) as exc:
         print(f"robot_description: {exc}", file=sys.stderr)
         return 2

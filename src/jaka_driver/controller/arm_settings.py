@@ -177,6 +177,13 @@ class ArmSettings:
         return Result.success(f"collision sensitivity level {level}")
 
     @answers
+    def collision_level(self) -> Result:
+        """``get_clsn_sensitivity`` → ``sensitivityLevel``, as JAKA's SDK reads it."""
+        level = self.send.read(commands.get_clsn_sensitivity(), commands.reply_clsn_sensitivity)
+        return Result.success("collision detection off" if level == 0 else
+                              f"collision sensitivity level {level}", int(level))
+
+    @answers
     def set_io(self, signal, io_type, index, value) -> Result:
         """Set an output and read it back as JAKA's SDK does (every 100 ms, up to 1 s)."""
         if signal == "digital":

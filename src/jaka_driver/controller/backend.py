@@ -73,7 +73,9 @@ from .connection import ControllerLink
 from .force import ControllerForce
 from .tool_io import ControllerToolIO
 from .frames_by_id import ControllerFrames
+from .mounting import ControllerMounting
 from .moves import MoveCommands
+from .network_loss import DEFAULT_ACTION, DEFAULT_TIME_LIMIT, NetworkLossHandling
 from .programs import ControllerPrograms
 from .recording import ControllerRecording
 from .running_motion import RunningMotion
@@ -93,6 +95,9 @@ class ControllerBackend(Backend):
     controller's parameters are another arm's (:data:`.arm_identity.KINEMATICS_CHOICES`).
     ``force_sensor``: the arm carries the flange force/torque sensor of the model's
     configuration (True), not (False), or as configured (None; off on every model).
+    ``network_loss_action`` (``keep``, ``pause``, ``abort``) and ``network_loss_time`` (s): what
+    the controller does with the motion under way once this driver's connection has been lost
+    that long (:mod:`.network_loss`; default: abort after 0.1 s).
     """
 
     def __init__(self, model: RobotModel, host: str = "10.5.5.100", command_port: int = 10001,
@@ -100,8 +105,13 @@ class ControllerBackend(Backend):
                  data_port: int = 10004, connect_timeout: float = 1.0,
                  call_timeout: float = 1.0, stall_timeout: float = 0.5,
                  power_timeout: float = 15.0, trajectory_step_num: int = 1,
-                 kinematics: str = "auto", force_sensor: bool | None = None):
+                 kinematics: str = "auto", force_sensor: bool | None = None,
+                 network_loss_action: str = DEFAULT_ACTION,
+                 network_loss_time: float = DEFAULT_TIME_LIMIT):
         super().__init__(model)
+        #: what the controller does with the motion when this connection is lost, sent at
+        #: every connection (raises ValueError for a wrong action or time)
+        self.network_loss = NetworkLossHandling(network_loss_action, network_loss_time)
         self.host = host
         self.view = StatusView()
         self.link = ControllerLink(host, command_port, status_port,
@@ -123,6 +133,7 @@ class ControllerBackend(Backend):
         self.moves = MoveCommands(model, self.send, self.link, self.view, self.motion,
                                   self.identity, kinematics_now, self.settings, self.servo,
                                   trajectory_step_num)
+        self.mounting = ControllerMounting(self.send, self.view)
         #: the controller's own programs (``backend.programs``)
         self.programs = ControllerPrograms(self.send)
         #: the controller's trajectory recording (``backend.recording``)
@@ -194,6 +205,7 @@ class ControllerBackend(Backend):
                      "servo_filter": self.servo.describe_filter()})
         if not self.link.connected:
             info["link"] = self.link.down_message()
+        info.update(self.network_loss.describe())
         info["force sensor"] = "none configured" if self._force_part is None else "flange"
         info.update(self.identity.describe())
         info.update(self.frames_by_id.describe())
@@ -225,10 +237,12 @@ class ControllerBackend(Backend):
         """At every connection (supervisor thread): servo mode, identity, kinematic parameters
         and frames as the controller has them now; power and enable at the first only."""
         try:
+            self.network_loss.send_to(self.send)    # first: a crash from now on is covered
             self.view.reset()
             self.motion.servo_mode = self.servo.read_mode()
             self.settings.read_rapid_rate()
             self.identity.read(self.send.read)
+            self.mounting.read_at_connection()
             self.kinematics     # built now, not at the first linear move
             self.frames_by_id.read_all()
             self.programs.refresh()
@@ -353,6 +367,15 @@ class ControllerBackend(Backend):
 
     def set_collision_level(self, level) -> Result:
         return self.settings.set_collision_level(level)
+
+    def collision_level(self) -> Result:
+        return self.settings.collision_level()
+
+    def set_installation_angle(self, mounting) -> Result:
+        return self.mounting.set(mounting)
+
+    def installation_angle(self) -> Result:
+        return self.mounting.get()
 
     def set_io(self, signal, io_type, index, value) -> Result:
         return self.settings.set_io(signal, io_type, index, value)

@@ -100,7 +100,8 @@ class ControllerForce(Force):
     def reading(self, status: StatusPacket, q: np.ndarray) -> Optional[ForceReading]:
         """:func:`.status_view.sensor_reading` of ``status``, the flange turned as at joints
         ``q`` (rad)."""
-        return sensor_reading(status, lambda: self.kinematics().flange_pose(q)[:3, :3])
+        return sensor_reading(status, lambda: self.kinematics().flange_pose(q)[:3, :3],
+                              self.view.gravity)
 
     def _sensor_status(self) -> Optional[int]:
         latest = self.view.latest

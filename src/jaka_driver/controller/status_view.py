@@ -36,7 +36,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from ..backend.force import ForceReading, SensorPayload, gravity_wrench
+from ..backend.force import GRAVITY, ForceReading, SensorPayload, gravity_wrench
 from ..backend.robot_state import IoValues, RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
 from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
@@ -88,15 +88,15 @@ def packet_io(status: StatusPacket) -> IoValues:
     return MappingProxyType(io)
 
 
-def sensor_reading(status: StatusPacket,
-                   flange_rotation: Callable[[], np.ndarray]) -> Optional[ForceReading]:
+def sensor_reading(status: StatusPacket, flange_rotation: Callable[[], np.ndarray],
+                   gravity: np.ndarray = GRAVITY) -> Optional[ForceReading]:
     """The packet's ``torqsensor`` as a :class:`ForceReading` (N, N·m, sensor frame): its
     ``actTorque``, ``torque`` and ``realTorque`` are ``actual``, ``general`` and ``real``, as
     JAKA's SDK reads them. None without the field, or while the sensor is off (``status`` 0).
     A packet without the third vector (the recorded Zu 5s sends two) gets ``real`` computed as
     the twin computes it: ``actual`` less the weight of the sensor's tool payload the same
-    packet states, at the flange's orientation ``flange_rotation()`` (3x3, flange → base:
-    gravity along the base's −z) — so ``~wrench_compensated`` means the same on every
+    packet states, at the flange's orientation ``flange_rotation()`` (3x3, flange → base)
+    under ``gravity`` (m/s², base frame: the arm's mounting, :attr:`StatusView.gravity`) — so ``~wrench_compensated`` means the same on every
     controller. A packet without ``actual`` has no reading."""
     ts = status.torque_sensor
     if ts is None or ts.status == 0 or not np.all(np.isfinite(ts.actual)):
@@ -104,7 +104,7 @@ def sensor_reading(status: StatusPacket,
     real = ts.real
     if not np.all(np.isfinite(real)):
         payload = SensorPayload(ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0)
-        real = ts.actual - gravity_wrench(payload, flange_rotation())
+        real = ts.actual - gravity_wrench(payload, flange_rotation(), gravity)
     return ForceReading(ts.actual, ts.general, real, ts.status, ts.errcode)
 
 
@@ -132,6 +132,9 @@ class StatusView:
         #: the sensor's readings in a packet, with the joints (rad) the view read from it
         self.force_reading: Callable[[StatusPacket, np.ndarray],
                                      Optional[ForceReading]] = lambda status, q: None
+        #: m/s², base frame: gravity as the arm is mounted (read from the controller at every
+        #: connection, :mod:`.mounting`); the sensor's compensated reading is computed under it
+        self.gravity: np.ndarray = GRAVITY
 
     def reset(self) -> None:
         """A new connection: the next packet starts a new finite difference."""
@@ -225,7 +228,8 @@ class StatusView:
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
             else f"torque sensor error {status.sensor_errcode}", program_state=program_state,
-            io=packet_io(status), force=self.force_reading(status, q))
+            io=packet_io(status), force=self.force_reading(status, q),
+            on_limit=bool(status.on_soft_limit))
         with self._lock:
             self._cache = (key, st)
         return st

@@ -1,5 +1,5 @@
 """The arm's settings through the door: the speed ratio, tool and user frames, the payload,
-drag mode, the collision level, IO, clearing an error, power and enable — and the kinematics a
+drag mode, the collision level, the installation angle, IO, clearing an error, power and enable — and the kinematics a
 request may ask for (``get_fk``, ``get_ik``, in the conventions the driver was built with).
 """
 from __future__ import annotations
@@ -8,6 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..common.installation import installation
 from ..common.results import Code, CommandRefused, Result, invalid
 from ..conventions import cartesian
 from . import checks as check
@@ -73,6 +74,26 @@ class SettingRequests(RequestPart):
         v = check.integer_in("value", value, 10, 100)
         level = 1 if v <= 25 else 2 if v <= 50 else 3 if v <= 75 else 4
         return self.backend.set_collision_level(level)
+
+    @answers
+    def collision_level(self) -> Result:
+        """The collision sensitivity level the arm holds (``value``: 0 off, 1–5)."""
+        return self.backend.collision_level()
+
+    @answers
+    def set_installation_angle(self, tilt_x: float, rot_z: float) -> Result:
+        """Mount the arm tilted ``tilt_x`` rad about x (0–π), then turned ``rot_z`` rad about z
+        (0–2π); refused while the arm moves (its motion was planned under the old gravity)."""
+        mounting = installation(tilt_x, rot_z)
+        if self.door.moving:
+            raise CommandRefused(Code.BUSY, "installation angle refused while the arm moves")
+        return self.backend.set_installation_angle(mounting)
+
+    @answers
+    def installation_angle(self) -> Result:
+        """How the arm is mounted, as the arm reports it (``value``: an
+        :class:`~jaka_driver.common.installation.Installation`)."""
+        return self.backend.installation_angle()
 
     @answers
     def set_io(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002

@@ -224,6 +224,15 @@ class RobotDriver:
     def set_collisionlevel(self, is_enable: bool, value: int) -> Result:
         return self._settings.set_collisionlevel(is_enable, value)
 
+    def collision_level(self) -> Result:
+        return self._settings.collision_level()
+
+    def set_installation_angle(self, tilt_x: float, rot_z: float) -> Result:
+        return self._settings.set_installation_angle(tilt_x, rot_z)
+
+    def installation_angle(self) -> Result:
+        return self._settings.installation_angle()
+
     def set_io(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
         return self._settings.set_io(signal, type, index, value)
 

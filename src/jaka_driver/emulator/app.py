@@ -127,6 +127,7 @@ class Emulator:
         return self
 
     def stop(self) -> None:
+        self.handlers.network.close()     # the connections it closes are no network loss
         self.server.stop()
         self.controller.close()
         self.backend.shutdown()

@@ -82,7 +82,6 @@ class ArmCommands:
             Cmd.GET_DRAG_STATUS: lambda r: Answer({Field.STATUS: bool(c.state().drag_mode)}),
             Cmd.TORQUE_CONTROL_ENABLE: self._torque_control_enable,
             Cmd.TORQUE_FEEDFORWARD: lambda r: Answer(),   # the twin's drives have no such input
-            Cmd.SET_INSTALLATION_ANGLE: self._set_installation_angle,
         }
 
     # ---- state ----------------------------------------------------------------------------------
@@ -235,15 +234,7 @@ class ArmCommands:
         q = self.c.inverse_kinematics(pose(req, Field.CART_POSITION), ref, "kine_inverse")
         return Answer({Field.JOINT_POSITION: units.joints_to_wire(q)})
 
-    # ---- drag mode, mounting -------------------------------------------------------------------
+    # ---- drag mode -------------------------------------------------------------------
     def _torque_control_enable(self, req) -> Answer:
         self.c.set_drag_mode(flag(req, Field.ENABLE_FLAG))
         return Answer()
-
-    def _set_installation_angle(self, req) -> Answer:
-        angle_x = number(req, Field.ANGLE_X, lo=0.0, hi=180.0)
-        angle_z = number(req, Field.ANGLE_Z, lo=0.0, hi=360.0)
-        if angle_x or angle_z:
-            raise Rejected("set_installation_angle: the twin is mounted upright; only angleX 0 "
-                           "and angleZ 0 are possible")
-        return Answer()         # upright, as it already is

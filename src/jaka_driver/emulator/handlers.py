@@ -12,6 +12,8 @@ The handlers, by subject: :mod:`.arm_commands` (power, motion, servo, kinematics
 :mod:`.setting_commands` (identity, frames, payload, speed, filters), :mod:`.io_commands`,
 :mod:`.program_commands`, :mod:`.recording_commands` (trajectory recording, from the twin's),
 :mod:`.tool_io_commands` (the tool connector, on the twin's),
+:mod:`.mounting_commands` (the installation angle),
+:mod:`.network_watch` (what happens to the motion when a client's connection is lost),
 :mod:`.sensor_commands` (the torque sensor's settings; on an arm
 with the sensor, :mod:`.force_commands` answers from the twin's sensor), and here the
 emulator-only commands (a real controller answers them "unknown command"; they all start with
@@ -28,6 +30,8 @@ from .arm_commands import ArmCommands
 from .force_commands import ForceCommands
 from .framing import Malformed
 from .io_commands import IoCommands
+from .mounting_commands import MountingCommands
+from .network_watch import NetworkWatch
 from .program_commands import ProgramCommands
 from .recording_commands import RecordingCommands
 from .replies import ERROR_REFUSED, Answer, RecordedReply, Rejected, error_reply, success_reply
@@ -60,6 +64,8 @@ class CommandHandlers:
         self.c = controller
         self.model = controller.model
         self.counts: Counter = Counter()
+        #: set_network_exception_handle, and the command connections it watches
+        self.network = NetworkWatch(controller)
         self._table: Dict[str, Callable[[Mapping], Answer]] = {
             **ArmCommands(controller).table(),
             **SettingCommands(controller).table(),
@@ -67,6 +73,8 @@ class CommandHandlers:
             **ProgramCommands(controller).table(),
             **RecordingCommands(controller.backend.recording).table(),
             **ToolIoCommands(controller.backend.tool_io).table(),
+            **self.network.table(),
+            **MountingCommands(controller).table(),
             **SensorCommands(controller.sensor, self.model.max_payload_kg).table(),
             # an arm with the sensor answers what it makes a difference to from the twin's
             **(ForceCommands(controller).table() if controller.backend.force.absent is None

@@ -148,7 +148,8 @@ class EmulatorServer:
 
     # ---- command connections ---------------------------------------------------------------
     def _command_loop(self, conn: socket.socket) -> None:
-        self._client_loop(conn, self._answer)
+        with self.handlers.network.connection():    # its end may be a network loss
+            self._client_loop(conn, self._answer)
 
     def _client_loop(self, conn: socket.socket, answer) -> None:
         """Read requests from ``conn`` until it closes; ``answer(conn, request)`` replies to

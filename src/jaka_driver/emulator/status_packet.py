@@ -18,11 +18,12 @@ Filled from the twin where the twin has the quantity:
 * ``torqsensor`` = the torque sensor's settings (:mod:`.torque_sensor`): with no sensor, none
   running (the recorded two-vector layout); on an arm with the sensor (``--force-sensor``), the
   twin's sensor payload and the sample's actual, general and real wrench;
+* ``on_soft_limit``: 1 while a joint is within 0.1° of its limit (the twin's sample);
 * the IO arrays of every type (cabinet, tool, ``extio`` for the extension module, ``relay_io``,
   ``mb_slave_*``, ``pn_dev_*``, ``eip_adpt_*``), as set.
 
 Keys the twin has nothing behind are reported as an idle controller with nothing configured
-would (``paused`` false, ``on_soft_limit`` 0, ``task_mode`` 2 = auto, ``funcdi`` unassigned).
+would (``paused`` false, ``task_mode`` 2 = auto, ``funcdi`` unassigned).
 ``errcode`` is the emulator's own, written ``"0x…"`` as the SDK reads it: ``0xE001`` collision,
 ``0xE002`` protective stop, ``0x0`` none.
 """
@@ -189,7 +190,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         S.PAUSED: program.state == ProgramState.PAUSED,
         S.PROTECTIVE_STOP: int(st.protective_stop or st.collision),
         S.EMERGENCY_STOP: int(st.emergency_stop),
-        S.ON_SOFT_LIMIT: 0,
+        S.ON_SOFT_LIMIT: int(st.on_limit),     # a joint within 0.1° of its limit
         S.TASK_STATE: int(task_state),
         S.TASK_MODE: TASK_MODE_AUTO,
         S.INTERP_STATE: int(_INTERP[program.state] if program.state != ProgramState.IDLE

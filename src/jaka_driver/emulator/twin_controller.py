@@ -213,10 +213,9 @@ class TwinController:
         return result.value
 
     def on_limit(self) -> bool:
-        """A joint within 0.1° of its limit (what ``is_on_limit`` reports)."""
-        q = self.state().joint_position
-        margin = np.radians(0.1)
-        return bool(np.any((q <= self.model.lower + margin) | (q >= self.model.upper - margin)))
+        """A joint within 0.1° of its limit (what ``is_on_limit`` reports, and the status
+        packet's ``on_soft_limit``): the twin's own sample says."""
+        return self.state().on_limit
 
     # ---- power ------------------------------------------------------------------------------
     def set_power(self, on: bool) -> None:

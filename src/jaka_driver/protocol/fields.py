@@ -105,6 +105,10 @@ class Field:
     ENABLE_FLAG = "enable_flag"           # torque_control_enable
     ANGLE_X = "angleX"                    # set_installation_angle, deg
     ANGLE_Z = "angleZ"
+    INSTALLATION_ANGLE = "installation_angle"   # get_installation_angle: [[s, x, y, z],
+                                                # [rx, ry, rz deg]]
+    MOT_TYPE = "motType"                  # set_network_exception_handle: NetworkLossAction
+    TIME_LIMIT = "timeLimit"              # set_network_exception_handle: ms
     PROGRAM_NAME = "programName"
     PROGRAM_STATE = "programState"        # a string: see ProgramState
     CURRENT_LINE = "current_line"         # get_current_line: int
@@ -278,6 +282,8 @@ class Cmd:
     TORQUE_CONTROL_ENABLE = "torque_control_enable"
     GET_PROGRAM_STATE = "get_program_state"
     SET_INSTALLATION_ANGLE = "set_installation_angle"
+    GET_INSTALLATION_ANGLE = "get_installation_angle"
+    SET_NETWORK_EXCEPTION_HANDLE = "set_network_exception_handle"
     LOAD_PROGRAM = "load_program"
     PLAY_PROGRAM = "play_program"
     PAUSE_PROGRAM = "pause_program"
@@ -525,6 +531,15 @@ _SPECS = (
     CommandSpec(Cmd.END_MOVE, request=(F.END_POSITION, F.SPEED, F.ACCEL),
                 note="joint-interpolated move to a Cartesian pose; speed deg/s, accel deg/s²"),
     CommandSpec(Cmd.IS_ON_LIMIT, reply=(F.ON_LIMIT,)),
+    # measured from JAKA's SDK 2.1.14 (docs/protocol.md, "Network loss, mounting"): every
+    # reply's errorCode a string
+    CommandSpec(Cmd.SET_NETWORK_EXCEPTION_HANDLE, request=(F.MOT_TYPE, F.TIME_LIMIT),
+                note="motType 0 keep, 1 pause, 2 abort the motion when the client's "
+                "connection has been lost timeLimit ms"),
+    CommandSpec(Cmd.SET_INSTALLATION_ANGLE, request=(F.ANGLE_X, F.ANGLE_Z),
+                note="deg, 16 significant digits; tilt about x, then rotation about z"),
+    CommandSpec(Cmd.GET_INSTALLATION_ANGLE, reply=(F.INSTALLATION_ANGLE,),
+                note="[[s, x, y, z], [rx, ry, rz deg]]: the quaternion, then RPY"),
     CommandSpec(Cmd.GET_DRAG_STATUS, reply=(F.STATUS,), note="status is a JSON bool"),
     CommandSpec(Cmd.GET_RAPID_RATE, reply=(F.VALUE,)),
     CommandSpec(Cmd.GET_TOOL_OFFSETS, reply=(F.TOOL_OFFSETS,),

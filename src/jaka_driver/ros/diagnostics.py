@@ -36,10 +36,13 @@ class Diagnostics:
             level, message = DiagnosticStatus.WARN, st.error_message or "error"
         elif not (st.powered and st.enabled):
             level, message = DiagnosticStatus.WARN, "not powered / enabled"
+        elif st.on_limit:
+            level, message = DiagnosticStatus.WARN, "a joint is on its soft limit"
         values = {"publish rate (Hz)": f"{rate:.1f}", "connected": str(st.connected),
                   "powered": str(st.powered), "enabled": str(st.enabled),
                   "servo mode": str(st.servo_mode), "drag mode": str(st.drag_mode),
-                  "collision": str(st.collision), "last error": st.error_message or "none",
+                  "collision": str(st.collision), "on soft limit": str(st.on_limit),
+                  "last error": st.error_message or "none",
                   "conventions": self._driver.conventions.name,
                   "servo increments": str(self._driver.conventions.servo_increment),
                   "speed ratio": f"{self._driver.speed_ratio():g}"}

@@ -17,6 +17,13 @@ Parameters (private, ``~name``):
                      parameters (get_dh_param) are another arm's than ``model``: ``auto``
                      (default: its parameters when they are a calibration of the model's,
                      every motion refused when they are another arm's), ``controller``, ``model``
+  ``network_loss_action``  controller: what the controller does with the motion under way
+                     once this driver's connection has been lost ``network_loss_time``:
+                     ``keep``, ``pause`` or ``abort`` (default), sent at every connection
+  ``network_loss_time``  controller: s (default 0.1)
+  ``installation_angle``  ``[tilt_x, rot_z]`` rad: how the arm is mounted (tilt about x
+                     0–π, then rotation about z 0–2π; default upright, as the arm already is),
+                     set at start-up as ``~set_installation_angle`` sets it
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
@@ -59,7 +66,7 @@ Parameters (private, ``~name``):
 
 Topics: ``~tool_position``, ``~joint_position``, ``~robot_states`` and ``joint_states``, all
 from one publisher thread that nothing blocks; blocking moves wait in their service threads.
-``~speed_ratio`` and ``~program/state`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
+``~speed_ratio``, ``~program/state`` and ``~on_limit`` (latched). Inputs: ``~joint_command``, ``~joint_position_command``,
 ``~twist_command``; their refusals and stops on ``~command_status``.
 """
 from __future__ import annotations
@@ -80,6 +87,8 @@ from .command_status import CommandStatus
 from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .tool_io_services import advertise_tool_io
+from .installation import advertise_installation, apply_parameter
+from .limit_state import OnLimitTopic
 from .frames_tf import FrameBroadcaster
 from .gripper_action import GripperActionServer, advertise_gripper_services
 from .gripper_topics import GripperTopics
@@ -118,7 +127,9 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  data_port=params["data_port"],
                                  kinematics=params["kinematics"],
                                  force_sensor=force_sensor_param(params.get("force_sensor", "")),
-                                 stall_timeout=params["stall_timeout"])
+                                 stall_timeout=params["stall_timeout"],
+                                 network_loss_action=params["network_loss_action"],
+                                 network_loss_time=params["network_loss_time"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
 
 
@@ -187,6 +198,8 @@ def _params() -> dict:
         "data_port": int(rospy.get_param("~data_port", 10004)),
         "stall_timeout": float(rospy.get_param("~stall_timeout", 0.5)),
         "kinematics": str(rospy.get_param("~kinematics", "auto")).lower(),
+        "network_loss_action": str(rospy.get_param("~network_loss_action", "abort")),
+        "network_loss_time": float(rospy.get_param("~network_loss_time", 0.1)),
         "jog_timeout": float(rospy.get_param("~jog_timeout", 3.0)),
         "servo_timeout": float(rospy.get_param("~servo_timeout", 0.1)),
         "twist_timeout": float(rospy.get_param("~twist_timeout", 0.1)),
@@ -204,6 +217,7 @@ def _params() -> dict:
         "gripper_volts": float(rospy.get_param("~gripper_volts", 24.0)),
         "gripper_crc": bool(rospy.get_param("~gripper_crc", False)),
         "wrist_camera": bool(rospy.get_param("~wrist_camera", False)),
+        "installation_angle": rospy.get_param("~installation_angle", ""),
         "realtime_priority": rospy.get_param("~realtime_priority", realtime.DEFAULT_PRIORITY),
     }
 
@@ -300,6 +314,12 @@ def main() -> int:
     advertise_programs(driver)
     advertise_recording(driver)
     advertise_servo_filter(driver)
+    advertise_installation(driver)
+    why = apply_parameter(driver, p["installation_angle"])
+    if why is not None:
+        rospy.logfatal(why)
+        driver.shutdown()
+        return 2
     if driver.has_twin:                 # what only a twin can do, when the backend offers it
         advertise_faults(driver)
         advertise_snapshot(driver)
@@ -319,6 +339,7 @@ def main() -> int:
         GripperTopics(driver, publisher.also_publish)
     advertise_gripper_services(driver)            # without a gripper: -9, how to mount one
     GripperActionServer(driver, rospy.get_param("~gripper_action", "~gripper/gripper_action"))
+    OnLimitTopic(publisher.also_publish)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     if driver.cameras.specs():
         CameraTopics(driver)

@@ -12,6 +12,7 @@ import logging
 import rospy
 from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger, TriggerResponse
 
+from jaka_driver_msgs.srv import GetCollisionLevel, GetCollisionLevelResponse
 from jaka_msgs import srv as jaka
 
 from ..common.results import Result
@@ -75,6 +76,12 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
             return SetBoolResponse(success=result.ok, message=result.message)
         return serve
 
+    def get_collision_level(_req):
+        result = d.collision_level()
+        level = int(result.value) if result.ok else -1
+        return GetCollisionLevelResponse(level=level, ret=int(result.code),
+                                         message=result.message)
+
     def stop_move(_req):
         result = d.stop_move()
         rospy.loginfo("stop_move: %s", result.message)
@@ -110,6 +117,7 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
         rospy.Service("~get_fk", jaka.GetFK, get_fk),
         rospy.Service("~get_ik", jaka.GetIK, get_ik),
         rospy.Service("~stop_move", Empty, stop_move),
+        rospy.Service("~get_collision_level", GetCollisionLevel, get_collision_level),
         rospy.Service("~drag_mode", SetBool, set_bool(d.drag_mode)),
         rospy.Service("~drag_move", SetBool, set_bool(d.drag_mode)),
         rospy.Service("~power", SetBool, set_bool(d.set_power)),

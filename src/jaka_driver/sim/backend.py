@@ -30,7 +30,8 @@ from ..backend.robot_state import RobotState
 from ..common.camera_spec import cameras_of_scene
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
 from ..common.frames import TOOL, USER_FRAME, FrameTable
-from ..common.joint_limits import fastest_step, outside_limits
+from ..common.installation import Installation
+from ..common.joint_limits import fastest_step, on_limit, outside_limits
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.transforms import matrix_to_pose_mm
@@ -127,6 +128,7 @@ class SimBackend(Backend):
         self.tool_io = SimToolIO(self._io, self._physics.lock)
         self._physics.on_cycle.append(self.tool_io.on_cycle)
         self.tool_io.attach(self.tool_device)       # for good: a reset keeps it on the connector
+        self._mounting = Installation()     # upright: MuJoCo's default gravity, −z
         self._defaults()
         # trajectory recording: the tool's pose offered every cycle, after the checks
         self.recording = SimRecording(self.programs.folder, self._kin, self.frames,
@@ -225,7 +227,7 @@ class SimBackend(Backend):
             protective_stop=flags.protective_stop, collision=flags.collision,
             moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
             program_state=int(self.programs.status().state), io=self._io.values(),
-            force=sample.force)
+            force=sample.force, on_limit=on_limit(self.model, sample.q))
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
@@ -553,6 +555,27 @@ class SimBackend(Backend):
                     self._physics.hold_here()
             self._flags.set_drag_mode(on)
         return Result.success(f"drag mode {'on' if on else 'off'}")
+
+    def collision_level(self) -> Result:
+        level = int(self._collisions.level)
+        return Result.success("collision detection off" if level == 0 else
+                              f"collision level {level} ({25 * level} N)", level)
+
+    def set_installation_angle(self, mounting: Installation) -> Result:
+        """MuJoCo's gravity turned into the base frame (the base stays the frame of every
+        pose, and the floor the surface the base stands on): drives, brakes, payload checks,
+        drag mode and the sensor all feel it from the next cycle. Kept through a reset (the
+        arm's mounting is the cell's, not a setting)."""
+        with self._lock:
+            with self._physics.lock:
+                self._mj_model.opt.gravity[:] = mounting.gravity
+                self._mounting = mounting
+        return Result.success(f"installation angle set: {mounting.describe()}; gravity in the "
+                              f"base frame {np.round(mounting.gravity, 3).tolist()} m/s²")
+
+    def installation_angle(self) -> Result:
+        mounting = self._mounting
+        return Result.success(mounting.describe(), mounting)
 
     def set_collision_level(self, level) -> Result:
         with self._lock:

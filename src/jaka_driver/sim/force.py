@@ -309,7 +309,8 @@ class SimForce(Force):
         if len(targets) == 1:       # JAKA's end pose: measured on the way there too
             targets = [q0 + (targets[0] - q0) * k / WAY_POSES for k in range(1, WAY_POSES + 1)]
         rotations = [self._kin.flange_pose(q)[:3, :3] for q in [q0] + targets]
-        quality = spread(rotations)
+        gravity = self.readings.gravity.copy()       # the mounting's, base frame
+        quality = spread(rotations, gravity)
         if quality < MIN_SPREAD:
             return Result.failure(Code.INVALID_PARAMETER, f"poses turn the sensor too little "
                                   f"to tell the centroid from the offset (spread {quality:.3f}, "
@@ -336,6 +337,7 @@ class SimForce(Force):
                                       f"{physics.motion.busy_reason}")
             run = IdentificationRun(segments, SERVO_CYCLE, IN_POSITION, measure, completion,
                                     self._kept.report)
+            run.gravity = gravity
             physics.switch(run)
         return Result.success(f"payload identification started through {len(targets) + 1} "
                               f"poses (planned {run.planned:.1f} s)", (completion, run.planned))

@@ -89,6 +89,8 @@ class SensorReadings:
         self._torque_adr = int(m.sensor_adr[torque])
         self.spec = spec
         self.cycle = cycle
+        #: the twin's gravity in the base frame, live (MuJoCo's own array: the mounting turns it)
+        self.gravity = m.opt.gravity
         self.reset()
 
     def reset(self) -> None:
@@ -131,8 +133,8 @@ class SensorReadings:
         if self._zeroing is not None:
             self._zeroing.append(general)
             if len(self._zeroing) >= ZERO_SAMPLES:
-                self.offset = np.mean(self._zeroing, axis=0) - gravity_wrench(self.payload,
-                                                                              self.rotation)
+                self.offset = np.mean(self._zeroing, axis=0) - gravity_wrench(
+                    self.payload, self.rotation, self.gravity)
                 self._zeroing, self._filtered = None, None
                 self._zeroed.set()
         zeroed = general - self.offset
@@ -142,6 +144,6 @@ class SensorReadings:
         else:
             self._filtered = zeroed
         actual = self._filtered
-        real = actual - gravity_wrench(self.payload, self.rotation)
+        real = actual - gravity_wrench(self.payload, self.rotation, self.gravity)
         self.latest = ForceReading(actual, general, real)
         return self.latest

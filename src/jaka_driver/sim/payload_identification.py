@@ -42,9 +42,10 @@ def _skew(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
-def _rows(rotation: np.ndarray) -> np.ndarray:
-    """The six rows of the regression at one pose: wrench = rows @ (m, m·c, b_F, b_M)."""
-    g = rotation.T @ GRAVITY
+def _rows(rotation: np.ndarray, gravity: np.ndarray = GRAVITY) -> np.ndarray:
+    """The six rows of the regression at one pose: wrench = rows @ (m, m·c, b_F, b_M)
+    (``gravity`` m/s² in the frame ``rotation`` turns the sensor into)."""
+    g = rotation.T @ gravity
     rows = np.zeros((6, 10))
     rows[:3, 0] = g
     rows[:3, 4:7] = np.eye(3)
@@ -53,11 +54,11 @@ def _rows(rotation: np.ndarray) -> np.ndarray:
     return rows
 
 
-def spread(rotations: Sequence[np.ndarray]) -> float:
+def spread(rotations: Sequence[np.ndarray], gravity: np.ndarray = GRAVITY) -> float:
     """How well poses turning the sensor by ``rotations`` determine mass, centroid and offset:
     the smallest singular value of the regression over its largest, its columns scaled to
     one length (0: they cannot; the sensor down, then turned 90° about x and about y: 0.41)."""
-    a = np.vstack([_rows(r) for r in rotations])
+    a = np.vstack([_rows(r, gravity) for r in rotations])
     norms = np.linalg.norm(a, axis=0)
     if np.any(norms < 1e-9):        # an unknown no pose sees at all
         return 0.0
@@ -65,11 +66,12 @@ def spread(rotations: Sequence[np.ndarray]) -> float:
     return float(s[-1] / s[0])
 
 
-def estimate_payload(rotations: Sequence[np.ndarray], wrenches: Sequence[np.ndarray]
-                     ) -> tuple[SensorPayload, np.ndarray, float]:
+def estimate_payload(rotations: Sequence[np.ndarray], wrenches: Sequence[np.ndarray],
+                     gravity: np.ndarray = GRAVITY) -> tuple[SensorPayload, np.ndarray, float]:
     """(payload, offset (6), rms residual N) from the sensor's ``wrenches`` (6, sensor frame)
-    at rest in poses turning it ``rotations`` (sensor → world)."""
-    a = np.vstack([_rows(r) for r in rotations])
+    at rest in poses turning it ``rotations`` (sensor → base) under ``gravity`` (m/s², base
+    frame)."""
+    a = np.vstack([_rows(r, gravity) for r in rotations])
     b = np.concatenate([np.asarray(w, float) for w in wrenches])
     theta, *_ = np.linalg.lstsq(a, b, rcond=None)
     mass = float(theta[0])
@@ -91,6 +93,8 @@ class IdentificationRun(Motion):
                  measure: Callable[[], Optional[tuple]], completion: Completion,
                  report: Callable[[IdentificationStatus], None]):
         self.completion = completion
+        #: m/s², base frame: the twin's gravity when the run started (the mounting's)
+        self.gravity = np.array(GRAVITY, float)
         self._segments = list(segments)
         self._cycle = cycle
         self._tolerance = tolerance
@@ -146,7 +150,8 @@ class IdentificationRun(Motion):
         return q_sp
 
     def _finish(self, q):
-        payload, offset, residual = estimate_payload(self._rotations, self._wrenches)
+        payload, offset, residual = estimate_payload(self._rotations, self._wrenches,
+                                                     self.gravity)
         self.active = self.moving = False
         if payload.mass < 0:
             return self._fail(f"the readings give a negative mass ({payload.mass:.3f} kg): "
