@@ -12,7 +12,7 @@ import pytest
 from jaka_driver.backend.force import GRAVITY
 from jaka_driver.common.installation import installation
 from jaka_driver.controller.status_view import sensor_reading
-from jaka_driver.protocol.status_stream import StatusPacket
+from jaka_driver.protocol.status_packet import StatusPacket
 from jaka_driver.protocol.torque_sensor import TorqueSensorStatus
 
 NAN6 = np.full(6, np.nan)

@@ -11,6 +11,7 @@ import pinocchio as pin
 
 from jaka_driver.common.camera_spec import cameras_of_scene
 from jaka_driver.common.models import load_model
+from jaka_driver.common.installation import Installation, mounted_description
 from jaka_driver.common.robot_description import description, main
 
 CELL = str(Path(__file__).resolve().parents[2] / "config" / "scenes" / "camera_table.yaml")
@@ -37,4 +38,6 @@ def test_each_optical_frame_is_where_the_configuration_puts_it():
 def test_without_cameras_the_generated_urdf_is_served_as_it_is(capsys):
     assert description("zu5") == load_model("zu5").urdf_xml
     assert main(["zu5", "--scene", "", "--wrist-camera", "false"]) == 0
-    assert capsys.readouterr().out.strip() == load_model("zu5").urdf_xml.strip()
+    # the script adds only the world frame above base_link (upright) to the generated URDF
+    served = capsys.readouterr().out.strip()
+    assert served == mounted_description(load_model("zu5").urdf_xml, Installation()).strip()
