@@ -151,7 +151,7 @@ def test_the_wrench_comes_from_every_packet_and_real_is_computed_from_two_vector
     fake.sensor.three_vectors = True
     fake.sensor.real = [0.5, 0.5, 0.5, 0.0, 0.0, 0.0]
     assert wait_until(lambda: list(driver.state().force.real) == fake.sensor.real, 1.0)
-    result = driver.force.sensor_data(1)
+    result = driver.force.sensor_data(2)      # 2: general
     assert result.ok and list(result.value[0]) == fake.sensor.general
 
 
@@ -215,7 +215,7 @@ def test_the_sensor_off_or_not_configured_is_refused_with_minus_9_and_nothing_se
     try:
         before = sent(fake)
         for refused in (plain.force.sensor_enable(True), plain.force.set_filter(5.0),
-                        plain.force.sensor_data(0)):
+                        plain.force.sensor_data(1)):
             assert refused.code == Code.WRONG_MODE and "~force_sensor" in refused.message
         assert plain.state().force is None and texts_after(fake, before) == []
     finally:

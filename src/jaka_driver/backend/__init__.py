@@ -7,7 +7,8 @@ units (:mod:`.contract`), and what travels across it.
 * :mod:`.programs` — :class:`Programs`: robot programs, the other one (``backend.programs``),
   with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
 * :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
-  backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
+  backend offers (``backend.force``; :class:`NoForceSensor` refuses every request), and
+  :mod:`.force_checks`, the value checks of its settings (the driver's door and the emulator);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
 * :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
@@ -22,4 +23,5 @@ from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
            "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
-           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]
+           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock",
+           "force_checks"]

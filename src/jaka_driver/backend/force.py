@@ -9,9 +9,10 @@ moments about its origin, and it is the load the tool side puts on the sensor: t
 external forces on the tool (its weight, its inertia, a contact, a hand) — with the tool
 pointing down, a 2 kg tool reads Fz = +19.6 N and pressing it on a table reads Fz < 0.
 
-**The three readings** of JAKA's ``get_torque_sensor_data`` (SDK header: type 0 *Actual*
-"actual feedback", 1 *General* "used by the controller" / "original readings", 2 *Real* "real
-feedback without gravity and bias"), one :class:`ForceReading` per sample:
+**The three readings** of JAKA's ``get_torque_sensor_data`` (SDK header, 2.1.14 and 2.2.2: type
+1 *Actual* "actual feedback", 2 *General* "general data" / "original readings", 3 *Real* "real
+data without gravity and bias"; the SDK puts the number on the wire unchanged), one
+:class:`ForceReading` per sample:
 
 * ``general`` — the sensor's original reading: every load plus its bias (offset) and noise,
   unfiltered;
@@ -64,11 +65,17 @@ COMPLIANT_SPEED = (0.1, 0.1, 0.1, 0.5, 0.5, 0.5)
 
 
 class ReadingType(IntEnum):
-    """``get_torque_sensor_data``'s ``type`` (JAKA's ``TorqSensorDataType``)."""
+    """``get_torque_sensor_data``'s ``type`` (JAKA's ``TorqSensorDataType``), numbered as
+    JAKA's header numbers it and its SDK sends it: 1, 2, 3."""
 
-    ACTUAL = 0
-    GENERAL = 1
-    REAL = 2
+    ACTUAL = 1
+    GENERAL = 2
+    REAL = 3
+
+    @classmethod
+    def span(cls) -> Tuple[int, int]:
+        """The lowest and highest type (the range a request is checked against)."""
+        return int(min(cls)), int(max(cls))
 
 
 class ForceFrame(IntEnum):
@@ -110,7 +117,7 @@ class ForceReading(NamedTuple):
 
     def of(self, kind: int) -> np.ndarray:
         """The reading of :class:`ReadingType` ``kind``."""
-        return (self.actual, self.general, self.real)[int(kind)]
+        return (self.actual, self.general, self.real)[int(ReadingType(kind)) - 1]
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@
   duration;
 * :mod:`.force_requests` — the force/torque sensor and force control, offered as
   ``driver.force`` (:class:`~.force_requests.ForceRequests`); their field checks
-  :mod:`.force_checks`;
+  :mod:`jaka_driver.backend.force_checks`, which the emulator applies too;
 * :mod:`.watchdogs` — the jog keep-alive and the servo stream's gap.
 
 How requests are read where JAKA's document and JAKA's driver code differ (servo increments,

@@ -3,11 +3,11 @@
 backend's force capability (jaka_driver.backend.force), whichever backend it is.
 
 Order of checks (docs/interface.md, "Force"): a sensor at all (-9, saying how to mount one:
-nothing a request changes can fix that) → the request's fields (-2, :mod:`.force_checks`) →
+nothing a request changes can fix that) → the request's fields (-2, :mod:`jaka_driver.backend.force_checks`) →
 the arm's state where the request moves the arm or acts on its readings (the checks of a move:
 e-stop, power, enable, an error, drag mode -9, servo mode -9, another motion -10) → the
 capability's own (the sensor off -9, force control running -10). A refused request changes
-nothing. Methods take the request's units (:mod:`.force_checks`) and answer a
+nothing. Methods take the request's units (:mod:`jaka_driver.backend.force_checks`) and answer a
 :class:`Result`; they never raise, and are safe from many threads at once, as RobotDriver's.
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ import numpy as np
 from ..backend.force import IdentificationStatus, ReadingType
 from ..common.results import Code, CommandRefused, Result
 from . import checks as check
-from . import force_checks as fcheck
+from ..backend import force_checks as fcheck
 from .door import Door, RequestPart, answers
 
 
@@ -62,10 +62,11 @@ class ForceRequests(RequestPart):
 
     @answers
     def sensor_data(self, kind: int) -> Result:
-        """The latest reading of ``kind`` (0 actual, 1 general, 2 real): ``value`` = (wrench
+        """The latest reading of ``kind`` (1 actual, 2 general, 3 real:
+        :class:`ReadingType`, as JAKA numbers them): ``value`` = (wrench
         (6, N and N·m, sensor frame), status, errcode)."""
         self._sensor()
-        k = ReadingType(check.integer_in("type", kind, 0, 2))
+        k = ReadingType(check.integer_in("type", kind, *ReadingType.span()))
         reading = self.backend.state().force
         if reading is None:
             raise CommandRefused(Code.WRONG_MODE, "no reading: the force/torque sensor is off "

@@ -11,9 +11,10 @@ compliant speed limit, the reference point, the sensitivity thresholds) stay sto
 Wire units (docs/protocol.md, "Torque sensor"; JAKA's SDK passes them unconverted, and no
 controller's unit is on record for the first two): ``ftReboundFK`` and ``rebound`` N/mm on x
 y z and N·m/rad on rx ry rz, ``torqueSensorFilter`` Hz; forces N, moments N·m, mass kg,
-centroid mm, the identification's end pose deg, as on record. Values are checked as the
-driver's door checks a request (:mod:`jaka_driver.driver.force_checks`, the sensor's range from
-the arm's configuration) and refused with "1" naming the field.
+centroid mm, the identification's end pose deg, as on record. Values are checked with
+the force settings' value checks the driver's door applies too (:mod:`jaka_driver.backend.
+force_checks`, the sensor's range from the arm's configuration) and refused with "1" naming the
+field.
 
 ``enable_admittance_ctrl`` is the one command of every force control (JAKA's SDK's
 enable_tool_drive sends it too), so ``enable_flag`` 1 starts what the settings describe:
@@ -25,10 +26,10 @@ from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
-from ..backend.force import (AdmittanceAxis, ComplianceType, ForceMode, ToolDriveAxis,
-                             rebound_from_si)
+from ..backend import force_checks as fcheck
+from ..backend.force import (AdmittanceAxis, ComplianceType, ForceMode, ReadingType,
+                             ToolDriveAxis, rebound_from_si)
 from ..common.results import CommandRefused, Result
-from ..driver import force_checks as fcheck
 from ..protocol.fields import SOFT_LIMIT_KEYS, Field
 from .replies import ERROR_REQUEST, Answer, Rejected
 from .torque_sensor import AXES
@@ -144,9 +145,10 @@ class ForceCommands:
             zero_allowed=False)))
 
     def _sensor_data(self, req: Mapping) -> Answer:
-        """One reading of the latest sample: ``type`` 0 actual, 1 general, 2 real; with the
+        """One reading of the latest sample: ``type`` 1 actual, 2 general, 3 real
+        (JAKA's numbering, sent unchanged by its SDK); with the
         sensor off, status 0 and zeros (what the status packet says too)."""
-        kind = integer(req, "type", 0, 2)
+        kind = integer(req, "type", *ReadingType.span())
         reading = self.c.state().force
         if reading is None:
             return Answer({"status": 0, "errcode": 0, "data": [0.0] * AXES})

@@ -145,8 +145,9 @@ def get_torque_sensor_soft_limit() -> Request:
 
 
 def get_torque_sensor_data(kind: int) -> Request:
-    """One reading: ``kind`` 0 actual, 1 general, 2 real. Reply: :func:`reply_torque_sensor_data`."""
-    return _request(Cmd.GET_TORQUE_SENSOR_DATA, **{Field.COMM_TYPE: _int(kind, "type", 0, 2)})
+    """One reading: ``kind`` 1 actual, 2 general, 3 real (JAKA's header numbers them so and its
+    SDK sends the number unchanged). Reply: :func:`reply_torque_sensor_data`."""
+    return _request(Cmd.GET_TORQUE_SENSOR_DATA, **{Field.COMM_TYPE: _int(kind, "type", 1, 3)})
 
 
 # ---- identification ------------------------------------------------------------------------

@@ -1,6 +1,7 @@
-"""The door's checks of force requests, in one place, as :mod:`.checks` for the others: each
-raises :class:`CommandRefused` (-2) naming the field, the value and the limit, and returns the
-value in SI (jaka_driver.backend.force's units).
+"""The value checks of force requests, in one place below the driver's door and the emulator,
+which both apply them (a controller's ranges are the arm's: its sensor's range from the arm's
+configuration): each raises :class:`CommandRefused` (-2) naming the field, the value and the
+limit, and returns the value in SI (:mod:`.force`'s units).
 
 Request units: N and N·m; ``rebound`` N/mm on x y z and N·m/rad on rx ry rz (a stiffness in
 the request's length unit, as payload centroids are mm); the sensor's payload kg at a centroid
@@ -13,11 +14,11 @@ from typing import Sequence
 
 import numpy as np
 
-from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis,
-                             VelocityCompliance, rebound_to_si)
+from ..common import values as check
 from ..common.models import RobotModel
 from ..common.results import invalid
-from . import checks as check
+from .force import (AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis, VelocityCompliance,
+                    rebound_to_si)
 
 #: Hz, the highest cut-off of the sensor filter (above it the filter would do nothing at the
 #: 8 ms cycle force control runs at)
