@@ -102,8 +102,8 @@ def test_each_setting_goes_out_as_jakas_sdk_writes_it_and_is_read_back(fake, dri
     s = driver.force.settings().value
     assert s.tool_payload.mass == 1.5 and np.allclose(s.tool_payload.centroid, [0, 0, 0.03])
     a = s.admittance[2]
-    assert (a.enabled, a.ft_user, a.rebound, a.constant) == (True, 20.0, 250.0, -10.0)  # N/m
-    assert s.tool_drive[0].rebound == 500.0 and (s.compliance_type, s.frame) == (1, 1)
+    assert (a.enabled, a.ft_user, a.rebound, a.constant) == (True, 20.0, 0.25, -10.0)  # N/mm
+    assert s.tool_drive[0].rebound == 0.5 and (s.compliance_type, s.frame) == (1, 1)
     assert s.filter_hz == 10.0 and list(s.soft_limit) == [50, 50, 80, 5, 5, 4]
     assert s.velocity.level == 2 and list(s.condition) == [0, 0, 30, 0, 0, 0]
 

@@ -36,8 +36,9 @@ axes (:class:`ToolDriveAxis`: ``rigidity`` in ``ft_user``'s place). The complian
 (6 values, 0 = not checked) stops any motion whose wrench exceeds it, as a protective stop; the
 soft limit stops the arm when the sensor's own reading (``actual``) exceeds it.
 
-Units: N, N·m, m, kg, rad, Hz; translation stiffness N/m, rotation N·m/rad. Results follow the
-contract: a refused request changes nothing; every refusal says why (-9 no sensor / sensor off
+Units: N, N·m, m, kg, rad, Hz; a rebound N/mm on x y z and N·m/rad on rx ry rz (the unit
+requests and the wire give it, converted once where a law needs SI: :func:`rebound_to_si`).
+Results follow the contract: a refused request changes nothing; every refusal says why (-9 no sensor / sensor off
 / wrong mode, -10 busy, -2 out of range, naming the field, the value and the limit).
 """
 from __future__ import annotations
@@ -93,6 +94,15 @@ class ComplianceType(IntEnum):
     VELOCITY = 2
 
 
+class IdentificationState(IntEnum):
+    """Payload identification's state, numbered as JAKA's ``get_torq_sensor_identify_staus``
+    answers it."""
+
+    DONE = 0            # done, or never run
+    RUNNING = 1
+    FAILED = 2
+
+
 class ForceMode:
     """What force control does now (:attr:`ForceSettings.mode`)."""
 
@@ -123,8 +133,8 @@ class ForceReading(NamedTuple):
 @dataclass(frozen=True)
 class AdmittanceAxis:
     """One axis of ``set_admit_ctrl_config``: ``enabled`` (JAKA's ``opt``); ``ft_user`` (N or
-    N·m) the wrench that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/m or
-    N·m/rad) pulling it back to where force control started; ``constant`` (N or N·m) the force
+    N·m) the wrench that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/mm or
+    N·m/rad, the unit requests and the wire give it: :func:`rebound_to_si`) pulling it back to where force control started; ``constant`` (N or N·m) the force
     the tool exerts along the axis under constant-force control; ``normal_track`` JAKA's
     normal tracking."""
 
@@ -138,7 +148,7 @@ class AdmittanceAxis:
 @dataclass(frozen=True)
 class ToolDriveAxis:
     """One axis of ``set_tool_drive_config``: ``enabled`` (``opt``); ``rigidity`` (N or N·m)
-    the hand's force that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/m or
+    the hand's force that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/mm or
     N·m/rad) as in :class:`AdmittanceAxis`."""
 
     enabled: bool = False
@@ -173,11 +183,11 @@ class SensorPayload:
 
 @dataclass(frozen=True)
 class IdentificationStatus:
-    """Payload identification (JAKA's ``get_torq_sensor_identify_staus``): ``state`` 0 done
-    (or never run), 1 running, 2 failed; ``progress`` 0–1; ``message`` what it does or did;
+    """Payload identification (JAKA's ``get_torq_sensor_identify_staus``): ``state`` an
+    :class:`IdentificationState`; ``progress`` 0–1; ``message`` what it does or did;
     ``result`` the payload found (None until one is)."""
 
-    state: int = 0
+    state: IdentificationState = IdentificationState.DONE
     progress: float = 0.0
     message: str = "no identification has run"
     result: Optional[SensorPayload] = None
@@ -202,15 +212,10 @@ def wrench_text(w) -> str:
 
 
 def rebound_to_si(axis: int, value: float) -> float:
-    """A rebound in the unit requests and the wire give it — N/mm on x y z (a stiffness in the
-    length unit payload centroids and JAKA's poses use), N·m/rad on rx ry rz — → N/m or
-    N·m/rad."""
+    """A rebound as the facet, requests and the wire give it — N/mm on x y z (a stiffness in
+    the length unit payload centroids and JAKA's poses use), N·m/rad on rx ry rz — → N/m or
+    N·m/rad: the one conversion, where a control law works in SI (the twin's)."""
     return float(value) * 1000.0 if axis < 3 else float(value)
-
-
-def rebound_from_si(axis: int, value: float) -> float:
-    """:func:`rebound_to_si`'s inverse."""
-    return float(value) / 1000.0 if axis < 3 else float(value)
 
 
 def _six(value: float = 0.0) -> np.ndarray:

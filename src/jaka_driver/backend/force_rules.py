@@ -31,7 +31,7 @@ from ..common.sensor_spec import ForceSensorSpec
 from .force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force, ForceMode,
                     ForceReading, ForceSettings, IdentificationStatus, KeptSettings,
                     SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
-                    rebound_from_si, wrench_text)
+                    wrench_text)
 
 #: the force controls that hold the arm or pace its moves (``disable`` ends each of them)
 RUNNING_MODES = (ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
@@ -219,7 +219,7 @@ class ForceRules(Force):
         self._require_force_off("changing the admittance")
         row, note = self._send_admittance(axis, config)
         return Result.success(f"admittance {AXES[axis]}: " + (
-            f"on, ft_user {row.ft_user:g}, rebound {rebound_from_si(axis, row.rebound):g}, "
+            f"on, ft_user {row.ft_user:g}, rebound {row.rebound:g}, "
             f"constant {row.constant:g}" if row.enabled else "off") + note)
 
     @answers
@@ -243,7 +243,7 @@ class ForceRules(Force):
         self._require_force_off("changing the tool drive")
         row, note = self._send_tool_drive(axis, config)
         return Result.success(f"tool drive {AXES[axis]}: " + (
-            f"on, rigidity {row.rigidity:g}, rebound {rebound_from_si(axis, row.rebound):g}"
+            f"on, rigidity {row.rigidity:g}, rebound {row.rebound:g}"
             if row.enabled else "off") + note)
 
     @answers

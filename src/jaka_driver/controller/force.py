@@ -31,7 +31,7 @@ What the controller would refuse itself comes back as 2 with its message.
 
 Wire units where JAKA's SDK passes a value unconverted and no controller's unit is on record
 (one choice, docs/protocol.md): ``ftReboundFK`` and tool drive's ``rebound`` N/mm on x y z and
-N·m/rad on rx ry rz (the request's own, :func:`~jaka_driver.backend.force.rebound_to_si`),
+N·m/rad on rx ry rz (the request's and the facet's own: sent and read back unconverted),
 ``torqueSensorFilter`` Hz; forces N, moments N·m, mass kg, centroid mm, joints deg as on
 record. The facet's units otherwise (jaka_driver.backend.force).
 """
@@ -47,8 +47,8 @@ import numpy as np
 
 from ..backend.completion import Completion
 from ..backend.force import (AXES, AdmittanceAxis, ComplianceType, ForceMode, ForceReading,
-                             ForceSettings, IdentificationStatus, SensorPayload, ToolDriveAxis,
-                             VelocityCompliance, rebound_from_si, rebound_to_si)
+                             ForceSettings, IdentificationState, IdentificationStatus,
+                             SensorPayload, ToolDriveAxis, VelocityCompliance)
 from ..backend.force_rules import ForceRules
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
@@ -230,7 +230,7 @@ class ControllerForce(ForceRules):
     def _send_admittance(self, axis: int, config: AdmittanceAxis) -> Tuple[AdmittanceAxis, str]:
         request = wire.set_admit_ctrl_config(axis, config.enabled, config.ft_user,
                                              config.constant, config.normal_track,
-                                             rebound_from_si(axis, config.rebound))
+                                             config.rebound)
         sent = wire.AdmitRow(int(config.enabled), float(request["ftUser"]),
                              float(request["ftReboundFK"]), float(request["ftConstant"]),
                              int(config.normal_track))
@@ -261,7 +261,7 @@ class ControllerForce(ForceRules):
 
     def _send_tool_drive(self, axis: int, config: ToolDriveAxis) -> Tuple[ToolDriveAxis, str]:
         request = wire.set_tool_drive_config(axis, config.enabled, config.rigidity,
-                                             rebound_from_si(axis, config.rebound))
+                                             config.rebound)
         sent = wire.ToolDriveRow(int(config.enabled), float(request["rigidity"]),
                                  float(request["rebound"]))
         return self._set_axis("tool_drive", axis, request, sent, wire.get_tool_drive_config(),
@@ -341,7 +341,8 @@ class ControllerForce(ForceRules):
         except CommandRefused as refusal:
             completion.finish(refusal.result())
             raise
-        self._kept.report(IdentificationStatus(1, 0.0, f"{what} started"))
+        self._kept.report(IdentificationStatus(IdentificationState.RUNNING, 0.0,
+                                                f"{what} started"))
         threading.Thread(target=follow_identification,
                          args=(self.send, completion, planned, self._kept.report),
                          name="jaka-identify", daemon=True).start()
@@ -356,12 +357,12 @@ def _same_row(read, sent) -> bool:
 
 
 def _admittance_axis(axis: int, row: wire.AdmitRow) -> AdmittanceAxis:
-    return AdmittanceAxis(bool(row.opt), float(row.ft_user), rebound_to_si(axis, row.ft_rebound),
+    return AdmittanceAxis(bool(row.opt), float(row.ft_user), float(row.ft_rebound),
                           float(row.ft_constant), bool(row.ft_normal_track))
 
 
 def _tool_drive_axis(axis: int, row: wire.ToolDriveRow) -> ToolDriveAxis:
-    return ToolDriveAxis(bool(row.opt), float(row.rigidity), rebound_to_si(axis, row.rebound))
+    return ToolDriveAxis(bool(row.opt), float(row.rigidity), float(row.rebound))
 
 
 def _ft_frame(reply) -> int:

@@ -28,11 +28,11 @@ from typing import Callable, Dict, Mapping
 
 from ..backend import force_checks as fcheck
 from ..backend.force import (AdmittanceAxis, ComplianceType, ForceMode, ReadingType,
-                             ToolDriveAxis, rebound_from_si)
+                             ToolDriveAxis)
 from ..common.results import CommandRefused, Result
 from ..protocol.fields import SOFT_LIMIT_KEYS, Field
+from ..protocol.torque_sensor import AXIS_COUNT
 from .replies import ERROR_REQUEST, Answer, Rejected
-from .torque_sensor import AXES
 from .twin_controller import TwinController
 from .wire_fields import integer, joints, number, required, shown, shown_name, vector
 
@@ -65,19 +65,19 @@ class ForceCommands:
                 zip(SOFT_LIMIT_KEYS, map(float, self.force.settings().soft_limit)))}),
             "set_admit_ctrl_config": self._set_admittance,
             "get_admit_ctrl_config": lambda r: Answer({"admitConfig": [
-                [int(a.enabled), float(a.ft_user), rebound_from_si(i, a.rebound),
+                [int(a.enabled), float(a.ft_user), float(a.rebound),
                  float(a.constant), int(a.normal_track)]
-                for i, a in enumerate(self.force.settings().admittance)]}),
+                for a in self.force.settings().admittance]}),
             "set_tool_drive_config": self._set_tool_drive,
             "get_tool_drive_config": lambda r: Answer({"force_ctrl_config": [
-                [int(a.enabled), float(a.rigidity), rebound_from_si(i, a.rebound)]
-                for i, a in enumerate(self.force.settings().tool_drive)]}),
+                [int(a.enabled), float(a.rigidity), float(a.rebound)]
+                for a in self.force.settings().tool_drive]}),
             "set_compliant_type": self._set_compliant_type,
             "get_compliant_type": lambda r: Answer(self._compliant_type()),
             "set_vel_compliant_ctrl": self._set_velocity_compliance,
             "set_compliance_condition": lambda r: self._done(r, self.force.set_condition(
                 self._checked(r, fcheck.wrench_limits, "compliant_condition",
-                              vector(r, "compliant_condition", AXES), self.range,
+                              vector(r, "compliant_condition", AXIS_COUNT), self.range,
                               zero_allowed=True))),
             "set_ft_ctrl_frame": lambda r: self._done(r, self.force.set_frame(
                 integer(r, "ftFrame", 0, 1))),
@@ -151,13 +151,13 @@ class ForceCommands:
         kind = integer(req, "type", *ReadingType.span())
         reading = self.c.state().force
         if reading is None:
-            return Answer({"status": 0, "errcode": 0, "data": [0.0] * AXES})
+            return Answer({"status": 0, "errcode": 0, "data": [0.0] * AXIS_COUNT})
         return Answer({"status": int(reading.status), "errcode": int(reading.errcode),
                        "data": [float(v) for v in reading.of(kind)]})
 
     # ---- settings of force control ----------------------------------------------------------
     def _set_admittance(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         opt = integer(req, "opt", 0, 1)
         normal_track = integer(req, "ftNnormalTrack", 0, 1)
         # the door refuses normal tracking (JAKA deprecates it): a controller keeps the flag
@@ -169,7 +169,7 @@ class ForceCommands:
         return self._done(req, self.force.set_admittance(axis, config))
 
     def _set_tool_drive(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         config: ToolDriveAxis = self._checked(req, fcheck.tool_drive, axis,
                                               integer(req, "opt", 0, 1),
                                               number(req, "rigidity"), number(req, "rebound"),

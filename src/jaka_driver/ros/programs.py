@@ -26,7 +26,7 @@ from jaka_driver_msgs.srv import (GetLoadedProgram, GetLoadedProgramResponse,
 from ..backend import ProgramStatus
 from ..driver import RobotDriver
 from ..host import realtime
-from .services import _logged, _ret
+from .service_answers import answer_with as _ret, logged as _logged
 
 #: s (wall) between two looks at the program's state
 POLL = 0.02

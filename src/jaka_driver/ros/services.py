@@ -14,30 +14,13 @@ from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger
 
 from jaka_msgs import srv as jaka
 
-from ..common.results import Result
 from ..driver import RobotDriver
+from .service_answers import answer_with as _ret, logged as _logged
 
 log = logging.getLogger(__name__)
 
 GET_IO_FAILED = -999999.0   # the official driver's marker for a failed get_io
 KINEMATICS_FAILED = [9999.0] * 6
-
-
-def _ret(response_type):
-    def answer(result: Result):
-        return response_type(ret=int(result.code), message=result.message)
-    return answer
-
-
-def _logged(name: str, handler):
-    """Log refusals once per call, at the level a user would want to see them."""
-    def serve(request):
-        response = handler(request)
-        ret = getattr(response, "ret", None)
-        if ret is not None and ret != 1:
-            rospy.logwarn("%s refused (%d): %s", name, ret, response.message)
-        return response
-    return serve
 
 
 def advertise(driver: RobotDriver) -> list[rospy.Service]:
