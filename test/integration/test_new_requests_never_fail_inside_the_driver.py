@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from support.twin_samples import collected_twin
 
 from jaka_driver.common.models import load_model, repo_root
+from jaka_driver.programs import FolderPrograms
 
 MODEL = load_model("zu5")
 CODES = {1, -2, -4, -9, -10, -12}
@@ -26,7 +27,8 @@ FUZZ = settings(max_examples=150, deadline=None,
 
 @pytest.fixture(scope="module")
 def twin():
-    yield from collected_twin(MODEL, programs=str(repo_root() / "config" / "programs"))
+    yield from collected_twin(MODEL,
+                              programs=FolderPrograms(str(repo_root() / "config" / "programs")))
 
 
 def answered(result, twin, before):

@@ -18,6 +18,7 @@ from jaka_driver.common.results import Code
 from jaka_driver.common.transforms import matrix_to_pose_mm
 from jaka_driver.driver import RobotDriver
 from jaka_driver.motion.circular_path import arc_through
+from jaka_driver.programs import FolderPrograms
 from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
@@ -28,7 +29,7 @@ ARC_START, ARC_MID, ARC_END = (np.array(p) for p in ([482, 114, 393], [562, 194,
 
 @pytest.fixture(scope="module")
 def twin():
-    yield from collected_twin(MODEL, programs=str(PROGRAMS))
+    yield from collected_twin(MODEL, programs=FolderPrograms(str(PROGRAMS)))
 
 
 @pytest.fixture
@@ -132,7 +133,7 @@ def test_a_failing_step_stops_the_program_with_its_line_and_the_refusal(tmp_path
                                       "wait 1\n")
     (tmp_path / "broken.jdp").write_text("wait 1\nlinear_move [1, 2] speed 100\n")
     driver = RobotDriver(SimBackend(MODEL, sim_time=True, real_time_factor=0,
-                                    programs=str(tmp_path)))
+                                    programs=FolderPrograms(str(tmp_path))))
     driver.start()
     try:
         assert driver.load_program("bad").ok

@@ -5,7 +5,8 @@ units (:mod:`.contract`), and what travels across it.
 * :mod:`.twin` — :class:`Twin`: what only a digital twin can do, a capability a backend
   may offer besides the contract (``backend.twin``);
 * :mod:`.programs` — :class:`Programs`: robot programs, the other one (``backend.programs``),
-  with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`;
+  with :class:`ProgramState`, :class:`ProgramStatus` and :class:`UserVariable`
+  (:class:`NoPrograms` refuses every request);
 * :mod:`.force` — :class:`Force`: the flange force/torque sensor and force control, which every
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request), and
   :mod:`.force_checks`, the value checks of its settings (the driver's door and the emulator);
@@ -17,11 +18,11 @@ from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
 from .force import Force, ForceReading, ForceSettings, NoForceSensor
-from .programs import ProgramState, ProgramStatus, Programs, UserVariable
+from .programs import NoPrograms, ProgramState, ProgramStatus, Programs, UserVariable
 from .robot_state import MotionState, RobotState
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
-           "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
+           "UserVariable", "NoPrograms", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
            "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock",
            "force_checks"]

@@ -85,11 +85,13 @@ def make_backend(kind: str, model_name: str, params: dict):
     for a real controller and vice versa."""
     model = load_model(model_name)
     if kind == "sim":
+        from ..programs import FolderPrograms
         from ..sim import SimBackend
+        # the program engine is handed in, as a controller's parts are
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
-                          programs=params.get("programs") or None,
+                          programs=FolderPrograms(params.get("programs") or None),
                           force_sensor=force_sensor_param(params.get("force_sensor", "")))
     if kind == "controller":
         from ..controller import ControllerBackend
