@@ -33,7 +33,7 @@ def test_an_arm_without_a_sensor_refuses_every_force_request_and_says_how_to_mou
         settings = f.settings()
         assert settings.ok and not settings.value.mounted
         assert d.state().force is None
-        assert d.force.push_tool([5, 0, 0, 0, 0, 0], 0.1).ok     # the hand needs no sensor
+        assert d.twin.push_tool([5, 0, 0, 0, 0, 0], 0.1).ok     # the hand needs no sensor
 
 
 def test_the_sensor_off_refuses_what_needs_its_readings(arm):

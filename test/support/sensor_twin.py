@@ -30,7 +30,7 @@ def fresh(driver, sensor_on: bool = False, settle: float = 0.05, zero: bool = Fa
     """For a test fixture (``yield from fresh(driver)``): the twin reset, time held while the
     test runs (every step at a definite sim time); ``sensor_on``: the sensor switched on and
     read ``settle`` s, ``zero``: then zeroed."""
-    assert driver.reset_twin().ok
+    assert driver.twin.reset().ok
     with driver.clock.hold():
         if sensor_on:
             assert driver.force.sensor_enable(True).ok

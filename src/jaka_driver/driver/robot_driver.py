@@ -12,8 +12,9 @@ RobotDriver is assembled from parts, one per subject, each handed the door's cor
 (:class:`~.door.Door`: the backend, the motion lock, the watchdogs, the state checks) and
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
 the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
-kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``). What a
+kinematics (:mod:`.arm_settings`). Each facet of the backend has its one door, offered as an
+attribute: the twin's own requests ``driver.twin`` (:mod:`.twin_requests`), the force/torque
+sensor and force control ``driver.force`` (:mod:`.force_requests`). What a
 request does is documented in its part.
 """
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend, Camera, ProgramStatus
+from ..backend import Backend, ProgramStatus
 from ..backend.robot_state import RobotState
 from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
@@ -60,7 +61,8 @@ class RobotDriver:
         self._servo = ServoRequests(door)
         self._programs = ProgramRequests(door)
         self._settings = SettingRequests(door)
-        self._twin = TwinRequests(door, self._servo.forget)
+        #: what only a twin can do (driver/twin_requests.py): -9 without a twin
+        self.twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
         if backend.programs is not None:     # a program's steps come through this door
@@ -223,29 +225,3 @@ class RobotDriver:
 
     def get_ik(self, ref_joint: Sequence[float], cartesian_pose: Sequence[float]) -> Result:
         return self._settings.get_ik(ref_joint, cartesian_pose)
-
-    # ---- what only a twin can do: TwinRequests (twin_requests.py) ----------------------------
-    @property
-    def has_twin(self) -> bool:
-        return self._twin.has_twin
-
-    def emergency_stop(self, pressed: bool) -> Result:
-        return self._twin.emergency_stop(pressed)
-
-    def protective_stop(self) -> Result:
-        return self._twin.protective_stop()
-
-    def set_input(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
-        return self._twin.set_input(signal, type, index, value)
-
-    def reset_twin(self, joints: Sequence[float] = ()) -> Result:
-        return self._twin.reset_twin(joints)
-
-    def pause_twin(self, pause: bool) -> Result:
-        return self._twin.pause_twin(pause)
-
-    def step_twin(self, cycles: int) -> Result:
-        return self._twin.step_twin(cycles)
-
-    def camera(self, width: int, height: int) -> Camera:
-        return self._twin.camera(width, height)

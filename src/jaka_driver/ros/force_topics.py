@@ -32,6 +32,11 @@ from ..host import realtime
 STATE_CHECK_PERIOD = 0.1        # s (wall) between looks for a change of the force state
 
 
+def wrench_values(msg: Wrench) -> list:
+    """A geometry_msgs/Wrench as ``[Fx, Fy, Fz, Mx, My, Mz]``."""
+    return [msg.force.x, msg.force.y, msg.force.z, msg.torque.x, msg.torque.y, msg.torque.z]
+
+
 def fill_wrench(msg: Wrench, values) -> None:
     """``values`` (Fx Fy Fz N, Mx My Mz N·m) into ``msg``."""
     v = [float(x) for x in values]

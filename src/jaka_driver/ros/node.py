@@ -69,14 +69,13 @@ from .diagnostics import Diagnostics
 from .force_services import advertise_force
 from .frames_tf import FrameBroadcaster
 from .programs import advertise_programs
-from .services import advertise, advertise_faults
+from .services import advertise
 from .servo_filter import advertise_servo_filter
 from .servo_topics import JointCommandInput
-from .snapshot_service import advertise_snapshot
 from .speed_ratio import SpeedRatio
 from .state_publisher import DEFAULT_RATE_HZ, StatePublisher
 from .trajectory_action import TrajectoryActionServer
-from .twin_control import advertise_twin_control
+from .twin_services import advertise_twin
 from .twist_input import TwistInput
 
 
@@ -258,17 +257,14 @@ def main() -> int:
     advertise_circular_move(driver)
     advertise_programs(driver)
     advertise_servo_filter(driver)
-    if driver.has_twin:                 # what only a twin can do, when the backend offers it
-        advertise_faults(driver)
-        advertise_snapshot(driver)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
     FrameBroadcaster(driver)
     status = CommandStatus()
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
-    advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
-    advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
+    advertise_twin(driver, after_reset=SpeedRatio(driver).refresh)   # ~sim/: the twin's own
+    advertise_force(driver, publisher.also_publish)
     Diagnostics(driver, publisher.measured_rate, extra=status.diagnostics)
     timing = (f", sim time at real_time_factor {p['real_time_factor']:g}" if p["sim_time"]
               else "")

@@ -10,7 +10,7 @@ from __future__ import annotations
 import logging
 
 import rospy
-from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger, TriggerResponse
+from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
 
 from jaka_msgs import srv as jaka
 
@@ -99,27 +99,3 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
         rospy.Service("~enable", SetBool, set_bool(d.set_enabled)),
     ]
     return services
-
-
-def advertise_faults(driver: RobotDriver) -> list[rospy.Service]:
-    """Fault injection under ``~sim/``, on what only a twin can do (the driver's twin
-    requests): ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop``
-    (Trigger), ``set_input`` (jaka_msgs/SetIO on the model's inputs: signal, type, index,
-    value)."""
-    def emergency_stop(req):
-        result = driver.emergency_stop(req.data)
-        rospy.logwarn("sim: %s", result.message)
-        return SetBoolResponse(success=result.ok, message=result.message)
-
-    def protective_stop(_req):
-        result = driver.protective_stop()
-        rospy.logwarn("sim: %s", result.message)
-        return TriggerResponse(success=result.ok, message=result.message)
-
-    def set_input(req):
-        result = driver.set_input(req.signal, req.type, req.index, req.value)
-        return jaka.SetIOResponse(ret=int(result.code), message=result.message)
-
-    return [rospy.Service("~sim/emergency_stop", SetBool, emergency_stop),
-            rospy.Service("~sim/protective_stop", Trigger, protective_stop),
-            rospy.Service("~sim/set_input", jaka.SetIO, set_input)]
