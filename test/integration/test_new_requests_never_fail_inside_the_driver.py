@@ -65,8 +65,8 @@ def test_set_servo_filter(twin, kind, values, buffer):
                                "set"]))
 def test_program_requests(twin, name, var_id, value, alias, action):
     before = twin.state().joint_position.copy()
-    call = {"load": lambda: twin.load_program(name), "pause": twin.pause_program,
-            "resume": twin.resume_program, "stop": twin.stop_program,
-            "loaded": twin.loaded_program, "variables": twin.program_variables,
-            "set": lambda: twin.set_program_variable(var_id, value, alias)}[action]
+    call = {"load": lambda: twin.programs.load(name), "pause": twin.programs.pause,
+            "resume": twin.programs.resume, "stop": twin.programs.stop,
+            "loaded": twin.programs.loaded, "variables": twin.programs.variables,
+            "set": lambda: twin.programs.set_variable(var_id, value, alias)}[action]
     answered(call(), twin, before)

@@ -11,10 +11,10 @@ The methods take the values of the service requests in their own units (docs/int
 RobotDriver is assembled from parts, one per subject, each handed the door's core
 (:class:`~.door.Door`: the backend, the motion lock, the watchdogs, the state checks) and
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
-the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
-kinematics (:mod:`.arm_settings`). Each facet of the backend has its one door, offered as an
-attribute: the twin's own requests ``driver.twin`` (:mod:`.twin_requests`), the force/torque
-sensor and force control ``driver.force`` (:mod:`.force_requests`). What a
+the servo filter (:mod:`.servo_requests`), settings and kinematics (:mod:`.arm_settings`). Each facet of the backend has its one door, offered as an
+attribute: the twin's own requests ``driver.twin`` (:mod:`.twin_requests`), robot programs
+``driver.programs`` (:mod:`.program_requests`), the force/torque sensor and force control
+``driver.force`` (:mod:`.force_requests`). What a
 request does is documented in its part.
 """
 from __future__ import annotations
@@ -23,7 +23,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend, ProgramStatus
+from ..backend import Backend
 from ..backend.robot_state import RobotState
 from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
@@ -59,7 +59,8 @@ class RobotDriver:
         self._moves = MoveRequests(door)
         self._jogs = JogRequests(door)
         self._servo = ServoRequests(door)
-        self._programs = ProgramRequests(door)
+        #: robot programs (driver/program_requests.py): load, play, pause, resume, stop, variables
+        self.programs = ProgramRequests(door)
         self._settings = SettingRequests(door)
         #: what only a twin can do (driver/twin_requests.py): -9 without a twin
         self.twin = TwinRequests(door, self._servo.forget)
@@ -154,34 +155,6 @@ class RobotDriver:
         """The filter and its parameters by name (:meth:`.servo_requests.ServoRequests.
         set_servo_filter`)."""
         return self._servo.set_servo_filter(filter_type, **params)
-
-    # ---- programs: ProgramRequests (program_requests.py) -------------------------------------
-    def load_program(self, name: str) -> Result:
-        return self._programs.load_program(name)
-
-    def loaded_program(self) -> Result:
-        return self._programs.loaded_program()
-
-    def play_program(self) -> Result:
-        return self._programs.play_program()
-
-    def pause_program(self) -> Result:
-        return self._programs.pause_program()
-
-    def resume_program(self) -> Result:
-        return self._programs.resume_program()
-
-    def stop_program(self) -> Result:
-        return self._programs.stop_program()
-
-    def program_status(self) -> ProgramStatus:
-        return self._programs.program_status()
-
-    def program_variables(self) -> Result:
-        return self._programs.program_variables()
-
-    def set_program_variable(self, var_id: int, value: float, alias: str = "") -> Result:
-        return self._programs.set_program_variable(var_id, value, alias)
 
     # ---- settings and kinematics: SettingRequests (arm_settings.py) --------------------------
     def set_speed_ratio(self, ratio: float) -> Result:
