@@ -26,6 +26,8 @@ ARM_PAYLOAD = "the arm: its rated payload (the model's max_payload_kg)"
 NOT_ON_RECORD = "a JSON int of the SDK's width: the range is not on record (sensor_commands)"
 SENSOR_RANGE = ("the sensor: its measuring range (force_sensor.range of the arm's model), and "
                 "the SDK header's orders of the force settings (docs/protocol.md, 'Torque sensor')")
+#: not on record: the driver's ceiling of a rebound, shared through backend/force_checks.py
+REBOUND = SENSOR_RANGE + "; the rebound's ceiling (20 N/mm, 200 N·m/rad) is the driver's"
 
 #: (module, reader or check, the field as the source names it) → the source
 SOURCES = {
@@ -53,8 +55,8 @@ SOURCES = {
     ("force_commands", "integer", "'sensor_mode'"): "SDK §5: sensor_mode 1 on, 0 off",
     ("force_commands", "integer", "'ftFrame'"): "SDK §5: ftFrame 0 tool, 1 world",
     ("force_commands", "integer", "'toolDragFrame'"): "SDK §5: toolDragFrame 0 tool, 1 world",
-    ("force_commands", "_checked", "admittance"): SENSOR_RANGE,
-    ("force_commands", "_checked", "tool_drive"): SENSOR_RANGE,
+    ("force_commands", "_checked", "admittance"): REBOUND,
+    ("force_commands", "_checked", "tool_drive"): REBOUND,
     ("force_commands", "_checked", "velocity_compliance"):
         "SDK header: vc_level 1–3 and 1 > rate1 > … > 0 (docs/interface.md, 'Force')",
     ("force_commands", "_checked", "wrench_limits"): SENSOR_RANGE,
