@@ -46,10 +46,11 @@ def _samples(driver, until, limit: float = 120.0) -> list:
 def known_path(log=print) -> dict:
     """Record the line, replay it: the kept points, the line's and the replay's TCP (mm)."""
     from jaka_driver.driver import RobotDriver
+    from jaka_driver.programs import FolderPrograms
     from jaka_driver.sim import SimBackend
     folder = tempfile.mkdtemp(prefix="bench_recording_")
     driver = RobotDriver(SimBackend(load_model("zu5"), sim_time=True, real_time_factor=0,
-                                    programs=folder))
+                                    programs=FolderPrograms(folder)))
     driver.start()
     try:
         with driver.clock.hold():
@@ -66,15 +67,15 @@ def known_path(log=print) -> dict:
             if not moved.ok:
                 raise RuntimeError(moved.message)
             rec.set_sample_mode(False)
-            if not rec.generate("line").ok or not driver.load_program("track/line").ok:
+            if not rec.generate("line").ok or not driver.programs.load("track/line").ok:
                 raise RuntimeError("generate or load refused")
             home = driver.joint_move(list(driver.model.home), 1.0, 0)
             if not home.ok:
                 raise RuntimeError(home.message)
-            driver.play_program()
-            replay = _samples(driver, lambda: driver.program_status().state
+            driver.programs.play()
+            replay = _samples(driver, lambda: driver.programs.status().state
                               == ProgramState.IDLE)
-        status = driver.program_status()
+        status = driver.programs.status()
         if status.error:
             raise RuntimeError(status.error)
         kept = TrackFolder(Path(folder)).load("line")

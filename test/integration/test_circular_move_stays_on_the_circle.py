@@ -31,7 +31,7 @@ def twin():
 def arc(twin):
     """(start, mid, end) poses mm + rotation vector of a half circle of 80 mm in the
     horizontal plane, from home, the tool's attitude unchanged."""
-    assert twin.reset_twin().ok
+    assert twin.twin.reset().ok
     start = matrix_to_pose_mm(twin.state().tcp_pose)
     center = start[:3] + [RADIUS, 0.0, 0.0]
     mid = np.concatenate([center + [0.0, RADIUS, 0.0], start[3:]])
@@ -81,7 +81,7 @@ def test_short_and_long_way_turn_the_tool_as_their_rules_say(twin, arc):
     turned = matrix_to_pose_mm(pose_mm_to_matrix(start) @ _about_z(math.radians(40)))
     end_turned = np.concatenate([end[:3], turned[3:]])
     for mode, most in ((0, 40.0), (1, 320.0)):
-        assert twin.reset_twin().ok
+        assert twin.twin.reset().ok
         t0 = twin.state().stamp
         result = twin.circular_move(mid, end_turned, 150.0, 800.0, attitude_mode=mode)
         assert result.ok, result.message

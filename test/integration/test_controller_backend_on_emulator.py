@@ -357,7 +357,10 @@ def test_the_backend_reads_what_it_needs_from_each_profiles_packet(profile):
         try:
             assert wait_until(lambda: abs(emu.backend.state().joint_effort[1]) > 1.0, 5.0)
             assert wait_until(lambda: b.view.latest is not None and b.state().enabled, 2.0)
-            assert b.view.latest.missing == (), b.view.latest.missing
+            # the recorded fw 1.5.14 packet has no commanded joints (``joint_position``), which
+            # the parser still lists as missing; the backend reads nothing of them
+            expected = ("joint_position",) if profile == "zu5s-1.5.14" else ()
+            assert b.view.latest.missing == expected, b.view.latest.missing
             st = b.state()
             assert st.powered and (st.tool_id, st.user_id) == (0, 0)
             np.testing.assert_allclose(st.joint_position, twin_q(emu), atol=1e-4)

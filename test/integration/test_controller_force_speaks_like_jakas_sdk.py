@@ -102,8 +102,8 @@ def test_each_setting_goes_out_as_jakas_sdk_writes_it_and_is_read_back(fake, dri
     s = driver.force.settings().value
     assert s.tool_payload.mass == 1.5 and np.allclose(s.tool_payload.centroid, [0, 0, 0.03])
     a = s.admittance[2]
-    assert (a.enabled, a.ft_user, a.rebound, a.constant) == (True, 20.0, 250.0, -10.0)  # N/m
-    assert s.tool_drive[0].rebound == 500.0 and (s.compliance_type, s.frame) == (1, 1)
+    assert (a.enabled, a.ft_user, a.rebound, a.constant) == (True, 20.0, 0.25, -10.0)  # N/mm
+    assert s.tool_drive[0].rebound == 0.5 and (s.compliance_type, s.frame) == (1, 1)
     assert s.filter_hz == 10.0 and list(s.soft_limit) == [50, 50, 80, 5, 5, 4]
     assert s.velocity.level == 2 and list(s.condition) == [0, 0, 30, 0, 0, 0]
 
@@ -151,7 +151,7 @@ def test_the_wrench_comes_from_every_packet_and_real_is_computed_from_two_vector
     fake.sensor.three_vectors = True
     fake.sensor.real = [0.5, 0.5, 0.5, 0.0, 0.0, 0.0]
     assert wait_until(lambda: list(driver.state().force.real) == fake.sensor.real, 1.0)
-    result = driver.force.sensor_data(1)
+    result = driver.force.sensor_data(2)      # 2: general
     assert result.ok and list(result.value[0]) == fake.sensor.general
 
 
@@ -215,7 +215,7 @@ def test_the_sensor_off_or_not_configured_is_refused_with_minus_9_and_nothing_se
     try:
         before = sent(fake)
         for refused in (plain.force.sensor_enable(True), plain.force.set_filter(5.0),
-                        plain.force.sensor_data(0)):
+                        plain.force.sensor_data(1)):
             assert refused.code == Code.WRONG_MODE and "~force_sensor" in refused.message
         assert plain.state().force is None and texts_after(fake, before) == []
     finally:

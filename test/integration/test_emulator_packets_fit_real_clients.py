@@ -8,7 +8,7 @@ On the default profile and on the recorded fw 1.5.14 the reply fits that read wh
 at rest and while the arm moves, when every joint, pose, speed and torque is a full-precision
 number — and the client's own reading of it (``joint_actual_position``, ``actual_position``:
 6 numbers each) succeeds. The fw 1.5.14 profile's packet is the size of the one recorded on that
-firmware (3208 bytes with 35 keys; its keys and shapes are checked against the fixture in
+firmware (3208 bytes with 36 keys; its keys and shapes are checked against the fixture in
 test_emulator_answers_like_the_transcripts.py)."""
 from __future__ import annotations
 
@@ -85,6 +85,6 @@ def test_get_data_fits_one_8192_byte_read_at_rest_and_while_moving(profile, sens
         # the packet's own length, at rest and moving: the recording's within a fifth (the
         # twin's numbers are not that session's)
         lengths = [json.loads(text)["len"] for text in replies]
-        assert len(json.loads(longest)) == 35 + 3     # the recorded keys, after the reply's 3
+        assert len(json.loads(longest)) == 36 + 3     # the recorded keys, after the reply's 3
         assert 0.8 * RECORDED_PACKET_BYTES < min(lengths) <= max(lengths) \
             < 1.2 * RECORDED_PACKET_BYTES, (min(lengths), max(lengths))

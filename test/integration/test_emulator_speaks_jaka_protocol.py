@@ -320,13 +320,18 @@ def test_servo_filters_are_checked_by_type_and_refused_in_servo_mode(emu, client
     for fields in ok:
         assert client.call("set_servo_move_filter", **fields)["errorCode"] == "0", fields
         assert emu.controller.servo_filter[0] == fields["filter_type"]
+    # JAKA's SDK's servo_move_use_joint_LPF(125.0): no controller is known to refuse it; the
+    # twin runs what its 8 ms cycle can filter, 62.5 Hz (docs/twin.md, "Servo filters")
+    assert client.call("set_servo_move_filter", filter_type=1, lpf_cf=125.0)["errorCode"] == "0"
+    assert emu.controller.servo_filter == (1, {"lpf_cf": 125.0})
+    assert "cut-off 62.5 Hz" in emu.backend.describe()["servo_filter"]
     for fields, named in (({"filter_type": 1}, "lpf_cf"),
                           ({"filter_type": 1, "lpf_cf": 0}, "lpf_cf"),
                           ({"filter_type": 5, "mmf_max_buf": 1.5, "mmf_kp": 0.1}, "mmf_max_buf"),
                           ({"filter_type": 6}, "filter_type")):
         reply = client.call("set_servo_move_filter", **fields)
         assert reply["errorCode"] == "1" and named in reply["errorMsg"], (fields, reply)
-    assert emu.controller.servo_filter == (5, {"mmf_max_buf": 15, "mmf_kp": 0.03})
+    assert emu.controller.servo_filter == (1, {"lpf_cf": 125.0})      # the refused changed nothing
     assert client.call("servo_move", relFlag=1)["errorCode"] == "0"
     try:
         refused = client.call("set_servo_move_filter", filter_type=0)

@@ -26,19 +26,19 @@ def test_an_arm_without_a_sensor_refuses_every_force_request_and_says_how_to_mou
                        f.set_admittance(2, 1, 40, 0, 10), f.enable_tool_drive(True),
                        f.identify_payload([0.0] * 6), f.set_sensor_payload(1, [0, 0, 0]),
                        f.set_admittance(9, 1, -1, 0, 0),     # bad fields: no sensor still first
-                       f.disable(), f.sensor_data(0)):
+                       f.disable(), f.sensor_data(1)):
             assert result.code == -9, result
             assert "no force/torque sensor" in result.message
             assert "~force_sensor" in result.message and "force_sensor:=true" in result.message
         settings = f.settings()
         assert settings.ok and not settings.value.mounted
         assert d.state().force is None
-        assert d.force.push_tool([5, 0, 0, 0, 0, 0], 0.1).ok     # the hand needs no sensor
+        assert d.twin.push_tool([5, 0, 0, 0, 0, 0], 0.1).ok     # the hand needs no sensor
 
 
 def test_the_sensor_off_refuses_what_needs_its_readings(arm):
     f = arm.force
-    for result in (f.zero_sensor(), f.sensor_data(2), f.identify_payload(list(MODEL.home))):
+    for result in (f.zero_sensor(), f.sensor_data(3), f.identify_payload(list(MODEL.home))):
         assert result.code == -9 and "sensor is off" in result.message, result
     assert f.set_admittance(2, 1, 40, 0, 10).ok          # settings may be made beforehand
     assert f.set_compliance_type(True, 1).ok
@@ -97,7 +97,8 @@ def test_force_control_is_refused_while_the_arm_moves_and_moves_while_it_runs(ar
     (lambda f: f.set_frame(2), "frame", "2", "0–1"),
     (lambda f: f.set_sensor_payload(20.0, [0, 0, 50]), "mass", "20", "7.5"),
     (lambda f: f.identify_payload([0.0] * 7), "joint_positions", "7", "6 per pose"),
-    (lambda f: f.sensor_data(3), "type", "3", "0–2"),
+    (lambda f: f.sensor_data(0), "type", "0", "1–3"),    # JAKA numbers them 1–3
+    (lambda f: f.sensor_data(4), "type", "4", "1–3"),
 ])
 def test_a_value_outside_its_range_is_refused_naming_field_value_and_limit(arm, call, field,
                                                                         value, limit):

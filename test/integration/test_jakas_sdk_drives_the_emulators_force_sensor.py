@@ -84,7 +84,7 @@ def test_the_sdk_reads_the_three_wrenches_by_type_and_in_the_status_packet(emu, 
     rotation = Kinematics(emu.model).flange_pose(emu.backend.state().joint_position)[:3, :3]
     weight = 2.0 * rotation.T @ np.array([0.0, 0.0, -G])
     expected = np.concatenate([weight, np.cross([0.0, 0.0, 0.05], weight)])
-    actual, general = (mean_data(sdk, kind) for kind in (0, 1))
+    actual, general = (mean_data(sdk, kind) for kind in (1, 2))   # JAKA's 1 actual, 2 general
     print(f"actual {np.round(actual, 3)}, general {np.round(general, 3)}, expected "
           f"{np.round(expected, 3)}")
     assert np.linalg.norm(actual[:3] - expected[:3]) <= 0.02 * 2.0 * G
@@ -96,7 +96,7 @@ def test_the_sdk_reads_the_three_wrenches_by_type_and_in_the_status_packet(emu, 
     assert sdk.set_torq_sensor_tool_payload(2.0, [0.0, 0.0, 50.0]) == RC_OK   # SDK's 1 s wait
     assert sdk.get_torq_sensor_tool_payload() == (RC_OK, (2.0, [0.0, 0.0, 50.0]))
     time.sleep(0.05)
-    assert np.linalg.norm(mean_data(sdk, 2)[:3]) <= 0.02 * 2.0 * G    # real: the weight gone
+    assert np.linalg.norm(mean_data(sdk, 3)[:3]) <= 0.02 * 2.0 * G    # real: the weight gone
     rc, st = sdk.get_robot_status()
     ts = st.torq_sensor
     assert rc == RC_OK and ts.status == 1 and ts.errcode == 0
@@ -106,7 +106,7 @@ def test_the_sdk_reads_the_three_wrenches_by_type_and_in_the_status_packet(emu, 
     assert np.linalg.norm(np.array(ts.torque) - general) < 1.0     # raw, one sample's noise
     assert sdk.set_torque_sensor_mode(0) == RC_OK
     assert wait_until(lambda: sdk.get_robot_status()[1].torq_sensor.status == 0, 1.0)
-    assert sdk.get_torque_sensor_data(0) == (RC_OK, (0, 0, [0.0] * 6))
+    assert sdk.get_torque_sensor_data(1) == (RC_OK, (0, 0, [0.0] * 6))
     assert sdk.set_payload(0.0, [0.0, 0.0, 0.0]) == RC_OK
     assert sdk.set_torq_sensor_tool_payload(0.0, [0.0, 0.0, 0.0]) == RC_OK
 
@@ -149,7 +149,7 @@ def test_constant_force_presses_the_table_with_10_n_and_disable_ends_it(emu, sen
     # zeroing while force control presses is refused, as on the twin
     assert sdk.zero_end_sensor() == RC_FAILED
     time.sleep(2.5)                      # the twin settles within 2 s (its own test)
-    fz = mean_data(sdk, 0, 0.3)[2]
+    fz = mean_data(sdk, 1, 0.3)[2]
     print(f"constant force through the SDK: Fz {fz:.2f} N")
     assert abs(fz + 10.0) <= 0.5         # the sensor reads the table pushing back
     assert sdk.disable_force_control() == RC_OK

@@ -52,21 +52,27 @@ def test_six_sdk_calls_ask_the_estop_and_fail_only_where_it_does_not_answer(sdk)
         assert rc == RC_OK
         return st
 
+    def joints():
+        # get_joint_pos: the recorded fw 1.5.14 packet has no ``joint_position``, which is what
+        # the SDK's RobotStatus reads its joints from (it reads zeros there, as on that arm)
+        rc, reply = sdk.call("get_joint_pos")
+        assert rc == RC_OK
+        return np.radians(reply["joint_pos"])
+
     start = status()
     assert start.powered_on == 1 and start.enabled
-    q0, tcp0 = np.array(start.joint_position), np.array(start.cartesiantran_position)
+    q0, tcp0 = joints(), np.array(start.cartesiantran_position)
     run("get_robot_state", sdk.get_robot_state)
     run("is_in_estop", sdk.is_in_estop)
     run("joint_move", lambda: sdk.joint_move(q0 + [0.1, 0, 0, 0, 0, 0], ABS, 1.0, 4.0))
     assert sdk.wait_inpos(10.0)
-    moved = status().joint_position
+    moved = joints()
     run("linear_move", lambda: sdk.linear_move([*(tcp0[:3] + [0, 0, 20.0]), *tcp0[3:]], ABS,
                                                50.0, 200.0))
     assert sdk.wait_inpos(10.0)
-    lifted = status()
+    lifted, q_lifted = status(), joints()
     run("jog", lambda: sdk.jog(5, CONTINUE, COORD_JOINT, 0.2, 0.0))    # joint 6 at 0.2 rad/s
-    jogged = wait_until(lambda: status().joint_position[5] - lifted.joint_position[5] > 0.01,
-                        5.0)
+    jogged = wait_until(lambda: joints()[5] - q_lifted[5] > 0.01, 5.0)
     run("jog_stop", lambda: sdk.jog_stop(-1))
     stopped = sdk.wait_inpos(2.0)
 

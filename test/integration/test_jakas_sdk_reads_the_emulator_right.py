@@ -243,7 +243,7 @@ def test_torque_sensor_settings_round_trip_and_what_needs_a_sensor_is_refused(sd
                             ("set_compliant_type", {"sensor_compensation": 1,
                                                     "compliance_type": 1}),
                             ("start_torq_sensor_payload_identify", {"jointPosition": [0] * 6}),
-                            ("zero_end_sensor", {}), ("get_torque_sensor_data", {"type": 0})):
+                            ("zero_end_sensor", {}), ("get_torque_sensor_data", {"type": 3})):
         rc, reply = sdk.call(command, **fields)
         assert rc == RC_FAILED and "torque sensor" in reply["errorMsg"], (command, reply)
     for command, fields in (("set_torque_sensor_mode", {"sensor_mode": 0}),

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from support.twin_samples import collected_twin
 
 from jaka_driver.common.models import load_model, repo_root
+from jaka_driver.programs import FolderPrograms
 
 MODEL = load_model("zu5")
 CODES = {1, -2, -4, -9, -10, -12}
@@ -26,7 +27,8 @@ FUZZ = settings(max_examples=150, deadline=None,
 
 @pytest.fixture(scope="module")
 def twin():
-    yield from collected_twin(MODEL, programs=str(repo_root() / "config" / "programs"))
+    yield from collected_twin(MODEL,
+                              programs=FolderPrograms(str(repo_root() / "config" / "programs")))
 
 
 def answered(result, twin, before):
@@ -63,8 +65,8 @@ def test_set_servo_filter(twin, kind, values, buffer):
                                "set"]))
 def test_program_requests(twin, name, var_id, value, alias, action):
     before = twin.state().joint_position.copy()
-    call = {"load": lambda: twin.load_program(name), "pause": twin.pause_program,
-            "resume": twin.resume_program, "stop": twin.stop_program,
-            "loaded": twin.loaded_program, "variables": twin.program_variables,
-            "set": lambda: twin.set_program_variable(var_id, value, alias)}[action]
+    call = {"load": lambda: twin.programs.load(name), "pause": twin.programs.pause,
+            "resume": twin.programs.resume, "stop": twin.programs.stop,
+            "loaded": twin.programs.loaded, "variables": twin.programs.variables,
+            "set": lambda: twin.programs.set_variable(var_id, value, alias)}[action]
     answered(call(), twin, before)

@@ -42,7 +42,7 @@ def arm(tmp_path_factory):
 def driver(arm):
     emu, driver = arm
     yield driver
-    driver.stop_program()
+    driver.programs.stop()
     wait_until(lambda: not driver.state().moving, 5.0)
 
 
@@ -51,7 +51,7 @@ def _tcp_mm(st) -> np.ndarray:
 
 
 def _idle(driver, timeout: float) -> bool:
-    return wait_until(lambda: driver.program_status().state == ProgramState.IDLE
+    return wait_until(lambda: driver.programs.status().state == ProgramState.IDLE
                       and not driver.state().moving, timeout)
 
 
@@ -61,13 +61,13 @@ def _home(driver) -> None:
 
 def test_a_three_move_program_plays_to_idle_at_its_end_pose(driver):
     _home(driver)
-    assert driver.load_program("three_moves").ok
-    assert driver.loaded_program().value == "three_moves"
-    assert driver.play_program().ok
+    assert driver.programs.load("three_moves").ok
+    assert driver.programs.loaded().value == "three_moves"
+    assert driver.programs.play().ok
     st = driver.state()
     assert st.program_state == ProgramState.RUNNING and st.motion_state == MotionState.RUNNING
     assert _idle(driver, 20.0)
-    status = driver.program_status()
+    status = driver.programs.status()
     assert (status.line, status.error) == (0, "")
     assert np.linalg.norm(_tcp_mm(driver.state()) - END_MM) < 0.5
     assert driver.state().motion_state == MotionState.STOP
@@ -75,26 +75,26 @@ def test_a_three_move_program_plays_to_idle_at_its_end_pose(driver):
 
 def test_paused_inside_a_move_the_arm_rests_on_its_path_and_resumes_to_the_same_end(driver):
     _home(driver)
-    assert driver.load_program("three_moves").ok and driver.play_program().ok
+    assert driver.programs.load("three_moves").ok and driver.programs.play().ok
     # inside the line, at its speed: 100 mm/s
-    assert wait_until(lambda: driver.program_status().line == LINE_OF_THE_LINE
+    assert wait_until(lambda: driver.programs.status().line == LINE_OF_THE_LINE
                       and np.linalg.norm(driver.state().joint_velocity) > 0.05, 10.0)
     time.sleep(0.2)
     before = driver.state()
     sent = time.time()
-    assert driver.pause_program().ok
+    assert driver.programs.pause().ok
     took = time.time() - before.stamp                  # the sample's age + the round trip
     paused = driver.state()
     assert paused.motion_state == MotionState.PAUSE          # the next sample says paused
-    assert driver.program_status().state == ProgramState.PAUSED
+    assert driver.programs.status().state == ProgramState.PAUSED
     assert wait_until(lambda: _still(driver), 3.0)
     rest = _tcp_mm(driver.state())
     stop_distance = LINE_SPEED ** 2 / (2 * LINE_ACCEL)          # 10 mm at the move's own
     moved = np.linalg.norm(rest - _tcp_mm(before))
     assert moved <= stop_distance + LINE_SPEED * took, (moved, took, sent - before.stamp)
     assert abs(rest[0] - 482.0) < 0.5 and abs(rest[1] - 114.0) < 0.5   # on the line
-    assert driver.program_status().line == LINE_OF_THE_LINE
-    assert driver.resume_program().ok
+    assert driver.programs.status().line == LINE_OF_THE_LINE
+    assert driver.programs.resume().ok
     assert driver.state().motion_state == MotionState.RUNNING
     assert _idle(driver, 20.0)
     assert np.linalg.norm(_tcp_mm(driver.state()) - END_MM) < 0.5
@@ -110,25 +110,25 @@ def _still(driver) -> bool:
 def test_stop_ends_the_program_and_empties_the_queue(arm, driver):
     emu, _ = arm
     _home(driver)
-    assert driver.load_program("three_moves").ok and driver.play_program().ok
-    assert wait_until(lambda: driver.program_status().line >= LINE_OF_THE_LINE, 10.0)
-    assert driver.stop_program().ok
-    assert driver.program_status().state == ProgramState.IDLE
+    assert driver.programs.load("three_moves").ok and driver.programs.play().ok
+    assert wait_until(lambda: driver.programs.status().line >= LINE_OF_THE_LINE, 10.0)
+    assert driver.programs.stop().ok
+    assert driver.programs.status().state == ProgramState.IDLE
     assert emu.controller.queued == 0 and not emu.controller.moving
     assert wait_until(lambda: _still(driver), 3.0)
-    assert driver.program_status().state == ProgramState.IDLE      # nothing more of it runs
+    assert driver.programs.status().state == ProgramState.IDLE      # nothing more of it runs
     assert np.linalg.norm(_tcp_mm(driver.state()) - END_MM) > 10.0
 
 
 def test_a_variable_set_through_the_driver_is_read_back_and_counted_by_the_program(driver):
-    assert driver.load_program("count_cycles").ok
-    assert driver.set_program_variable(1, 3.0).ok                 # the name is kept
-    listed = [(v.id, v.value, v.alias) for v in driver.program_variables().value]
+    assert driver.programs.load("count_cycles").ok
+    assert driver.programs.set_variable(1, 3.0).ok                 # the name is kept
+    listed = [(v.id, v.value, v.alias) for v in driver.programs.variables().value]
     assert listed == [(1, 3.0, "cycles"), (2, 0.0, "done")]
-    assert driver.play_program().ok
+    assert driver.programs.play().ok
     assert _idle(driver, 5.0)
-    assert [(v.id, v.value) for v in driver.program_variables().value] == [(1, 3.0), (2, 3.0)]
-    refused = driver.set_program_variable(9, 1.0)
+    assert [(v.id, v.value) for v in driver.programs.variables().value] == [(1, 3.0), (2, 3.0)]
+    refused = driver.programs.set_variable(9, 1.0)
     assert refused.code == -2 and "id is 9" in refused.message
 
 

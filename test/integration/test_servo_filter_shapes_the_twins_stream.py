@@ -22,7 +22,7 @@ def twin():
 
 @pytest.fixture
 def fresh(twin):
-    assert twin.reset_twin().ok
+    assert twin.twin.reset().ok
     return twin
 
 

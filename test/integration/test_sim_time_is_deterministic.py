@@ -216,7 +216,7 @@ def test_after_a_reset_the_same_requests_give_a_fresh_starts_samples_to_the_bit(
             driver.backend.twin.trigger_protective_stop("collision (test)")
             assert driver.state().in_error
             assert not driver.joint_move([0.1, 1.5, -1.4, 1.6, 1.5, 0.1], 1.0, 3.0).ok
-            result = driver.reset_twin()
+            result = driver.twin.reset()
             assert result.ok, result.message
             st = driver.state()
             assert not st.in_error and st.powered and st.enabled and not st.servo_mode

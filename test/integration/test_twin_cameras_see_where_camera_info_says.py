@@ -66,16 +66,16 @@ def frame_of(twin, name: str, q=AWAY):
     """One frame of camera ``name`` with the arm at rest at ``q``: the twin reset there and
     paused, the camera streamed, 13 cycles stepped (one 10 Hz frame is due)."""
     driver, frames = twin
-    assert driver.reset_twin(q).ok
-    assert driver.pause_twin(True).ok
+    assert driver.twin.reset(q).ok
+    assert driver.twin.pause(True).ok
     try:
         _drain(frames)
         assert driver.cameras.stream(name, True).ok
-        assert driver.step_twin(13).ok
+        assert driver.twin.step(13).ok
         return _frames(frames, 1, name)[0]
     finally:
         driver.cameras.stream(name, False)
-        driver.pause_twin(False)
+        driver.twin.pause(False)
 
 
 def optical_in_base(name: str, q=None) -> np.ndarray:
@@ -178,8 +178,8 @@ def test_colour_and_depth_of_a_frame_are_the_state_of_its_cycle(twin):
     cycle (joints to the bit), and both its colour and its depth are what that state renders."""
     from jaka_driver.sim.camera_render import CameraRenderer
     driver, frames = twin
-    assert driver.reset_twin(AWAY).ok
-    assert driver.pause_twin(True).ok
+    assert driver.twin.reset(AWAY).ok
+    assert driver.twin.pause(True).ok
     renderer = None
     try:
         _drain(frames)
@@ -190,7 +190,7 @@ def test_colour_and_depth_of_a_frame_are_the_state_of_its_cycle(twin):
         assert driver.backend.start_joint_move(np.array(target), 1.0, 2.0).ok
         got = []
         for _ in range(3):
-            assert driver.step_twin(13).ok
+            assert driver.twin.step(13).ok
             states = {round(s.stamp, 6): s for s in driver.states_since(driver.state().stamp
                                                                        - 0.2)}
             f = _frames(frames, 1, "top")[0]
@@ -204,22 +204,22 @@ def test_colour_and_depth_of_a_frame_are_the_state_of_its_cycle(twin):
             assert np.array_equal(rgb, f.rgb) and np.array_equal(depth, f.depth, equal_nan=True)
     finally:
         driver.cameras.stream("top", False)
-        driver.pause_twin(False)
+        driver.twin.pause(False)
         if renderer is not None:
             renderer.close()
 
 
 def test_frames_carry_sim_time_none_come_while_paused_and_every_step_s_frame_comes(twin):
     driver, frames = twin
-    assert driver.reset_twin(AWAY).ok
-    assert driver.pause_twin(True).ok
+    assert driver.twin.reset(AWAY).ok
+    assert driver.twin.pause(True).ok
     try:
         _drain(frames)
         assert driver.cameras.stream("wrist", True).ok
         start = round(driver.clock.now() / 0.008)
         time.sleep(0.3)
         assert frames.empty(), "a paused twin rendered a frame"
-        assert driver.step_twin(200).ok        # 16 frames due within a few ms of wall time
+        assert driver.twin.step(200).ok        # 16 frames due within a few ms of wall time
         expected = [n for n in range(start + 1, start + 201) if due(n, 0.008, 10.0)]
         assert len(expected) == 16
         got = _frames(frames, len(expected), "wrist")
@@ -229,7 +229,7 @@ def test_frames_carry_sim_time_none_come_while_paused_and_every_step_s_frame_com
         assert frames.empty(), "a frame came after the steps"
     finally:
         driver.cameras.stream("wrist", False)
-        driver.pause_twin(False)
+        driver.twin.pause(False)
 
 
 def test_a_twin_without_cameras_refuses_with_how_to_get_one():
@@ -241,14 +241,14 @@ def test_a_twin_without_cameras_refuses_with_how_to_get_one():
 
 def test_a_camera_nobody_streams_renders_nothing(twin):
     driver, frames = twin
-    assert driver.pause_twin(True).ok
+    assert driver.twin.pause(True).ok
     try:
         _drain(frames)
-        assert driver.step_twin(50).ok
+        assert driver.twin.step(50).ok
         time.sleep(0.3)
         assert frames.empty()
     finally:
-        driver.pause_twin(False)
+        driver.twin.pause(False)
 
 
 def test_on_the_wall_clock_frames_carry_their_cycle_s_wall_time(tmp_path):

@@ -78,7 +78,7 @@ def test_tool_drive_follows_a_20_n_push_and_stops_when_released(arm):
     for axis in (0, 1, 2):
         assert f.set_tool_drive(axis, 1, 40.0, 0.0).ok       # 0.1 m/s at 40 N
     assert f.enable_tool_drive(True).ok
-    assert arm.force.push_tool([20.0, 0, 0, 0, 0, 0], 1.0).ok
+    assert arm.twin.push_tool([20.0, 0, 0, 0, 0, 0], 1.0).ok
     p0 = arm.state().tcp_pose[:3, 3].copy()
     pushed = record(arm, 1.0)
     p1 = pushed[-1].tcp_pose[:3, 3]
@@ -102,7 +102,7 @@ def test_admittance_with_a_rebound_springs_back_after_the_push(arm):
     assert f.set_compliance_type(True, 0).ok
     assert f.enable_admittance(True).ok
     p0 = arm.state().tcp_pose[:3, 3].copy()
-    assert f.push_tool([10.0, 0, 0, 0, 0, 0], 0.5).ok       # base x = the flange's -y here
+    assert arm.twin.push_tool([10.0, 0, 0, 0, 0, 0], 0.5).ok       # base x = the flange's -y here
     pushed = record(arm, 0.5)[-1].tcp_pose[:3, 3]
     back = record(arm, 2.0)[-1].tcp_pose[:3, 3]
     away, left = (pushed - p0)[0] * 1000.0, (back - p0)[0] * 1000.0

@@ -108,7 +108,7 @@ def test_identification_refuses_poses_that_turn_the_sensor_too_little(arm):
 
 def test_a_reset_gives_back_a_fresh_sensor(arm):
     assert arm.force.set_filter(5.0).ok and arm.force.zero_sensor().ok
-    assert arm.reset_twin().ok
+    assert arm.twin.reset().ok
     s = arm.force.settings().value
     assert not s.sensor_on and s.filter_hz == 0 and s.mode == "off"
     assert arm.state().force is None

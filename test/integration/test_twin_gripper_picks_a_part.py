@@ -87,7 +87,7 @@ def gripper(dh):
     """The DH twin fresh at home, the tool connector set up for it by ``driver.gripper`` (24 V,
     the AI pins RS485L, channel 1 Modbus RTU, three signals), initialised (open), time held."""
     driver, tool, watch = dh
-    assert driver.reset_twin().ok
+    assert driver.twin.reset().ok
     with driver.clock.hold():
         assert driver.gripper.set_up().ok
         assert driver.gripper.initialise().ok
@@ -163,7 +163,7 @@ def test_an_empty_close_reaches_the_commanded_opening_with_grip_state_1(gripper)
 
 def test_the_gripper_ignores_frames_until_initialised_and_everything_unpowered(dh):
     driver, tool, _ = dh
-    assert driver.reset_twin().ok
+    assert driver.twin.reset().ok
     with driver.clock.hold():
         assert driver.gripper.set_up().ok
         tool.set_power(0.0)
@@ -200,7 +200,7 @@ def cup():
 
 def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cup):
     driver, tool, watch = cup
-    assert driver.reset_twin().ok
+    assert driver.twin.reset().ok
     with driver.clock.hold():
         tool.set_power(24.0)
         # the cup's face 1 mm into the box's top
@@ -222,6 +222,6 @@ def test_the_suction_cup_switched_by_tool_do_0_lifts_the_box_and_puts_it_down(cu
         assert tool.device.tool_inputs() == {0: 0.0}
         assert watch.position()[2] == pytest.approx(TABLE_TOP + BOX_HALF, abs=0.001)
         assert watch.position()[1] == pytest.approx(0.114 + 0.3, abs=0.003)
-    assert driver.twin_parts()["box"][1, 3] == pytest.approx(0.414, abs=0.003)
-    assert driver.reset_twin().ok                             # ~sim/reset: the box back
-    assert np.allclose(driver.twin_parts()["box"][:3, 3], [0.482, 0.114, 0.23], atol=1e-9)
+    assert driver.twin.parts()["box"][1, 3] == pytest.approx(0.414, abs=0.003)
+    assert driver.twin.reset().ok                             # ~sim/reset: the box back
+    assert np.allclose(driver.twin.parts()["box"][:3, 3], [0.482, 0.114, 0.23], atol=1e-9)

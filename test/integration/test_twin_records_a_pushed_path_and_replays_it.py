@@ -62,9 +62,9 @@ def push_a_corner(arm, name):
     assert f.enable_tool_drive(True).ok
     assert arm.recording.set_sample_mode(True, name).ok
     assert arm.recording.sample_status().value is True
-    assert f.push_tool([20.0, 0, 0, 0, 0, 0], 1.0).ok
+    assert arm.twin.push_tool([20.0, 0, 0, 0, 0, 0], 1.0).ok
     path = samples_for(arm, 1.0)
-    assert f.push_tool([0, 20.0, 0, 0, 0, 0], 0.8).ok
+    assert arm.twin.push_tool([0, 20.0, 0, 0, 0, 0], 0.8).ok
     path += samples_for(arm, 1.3)
     stopped = arm.recording.set_sample_mode(False)
     assert stopped.ok and arm.recording.sample_status().value is False
@@ -88,10 +88,10 @@ def test_a_path_pushed_under_tool_drive_replays_within_the_interval(arm, folder)
 
     generated = arm.recording.generate("corner")
     assert generated.ok and generated.value == "track/corner", generated.message
-    assert arm.load_program("track/corner").ok
-    assert arm.play_program().ok
-    replay = samples_for(arm, until=lambda: arm.program_status().state == ProgramState.IDLE)
-    status = arm.program_status()
+    assert arm.programs.load("track/corner").ok
+    assert arm.programs.play().ok
+    replay = samples_for(arm, until=lambda: arm.programs.status().state == ProgramState.IDLE)
+    status = arm.programs.status()
     assert status.error == "" and status.name == "track/corner", status
     played = np.array([s.tcp_pose[:3, 3] * 1000.0 for s in replay])
     deviation = [float(np.min(np.linalg.norm(played - p.pose_mm[:3], axis=1))) for p in kept]
@@ -103,7 +103,7 @@ def test_a_path_pushed_under_tool_drive_replays_within_the_interval(arm, folder)
 
 def test_the_same_push_keeps_the_same_points(arm, folder):
     push_a_corner(arm, "first")
-    assert arm.reset_twin().ok                  # as the fixture's fresh start
+    assert arm.twin.reset().ok                  # as the fixture's fresh start
     assert arm.force.sensor_enable(True).ok
     arm.clock.sleep(0.2)
     assert arm.force.zero_sensor().ok
@@ -124,7 +124,7 @@ def test_list_rename_and_remove_act_on_the_recordings_and_their_programs(arm, fo
     assert {"keep", "renamed"} <= set(rec.names().value) and "spare" not in rec.names().value
     track = Path(folder) / "track"
     assert (track / "renamed.jdp").is_file() and not (track / "spare.jdp").exists()
-    assert arm.load_program("track/renamed").ok
+    assert arm.programs.load("track/renamed").ok
     assert rec.remove("renamed").ok
     assert "renamed" not in rec.names().value and not (track / "renamed.jdp").exists()
 

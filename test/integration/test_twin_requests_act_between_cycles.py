@@ -37,12 +37,12 @@ def twin():
 REQUESTS = {
     "joint_move": (lambda d: d.joint_move(MODEL.home + 0.2, 1.0, 2.0),
                    lambda d: d.backend.twin.motion_active),
-    "emergency_stop": (lambda d: d.emergency_stop(True), lambda d: d.state().emergency_stop),
-    "protective_stop": (lambda d: d.protective_stop(), lambda d: d.state().protective_stop),
-    "set_input": (lambda d: d.set_input("digital", 0, 2, 1),
+    "emergency_stop": (lambda d: d.twin.emergency_stop(True), lambda d: d.state().emergency_stop),
+    "protective_stop": (lambda d: d.twin.protective_stop(), lambda d: d.state().protective_stop),
+    "set_input": (lambda d: d.twin.set_input("digital", 0, 2, 1),
                   lambda d: d.backend.get_io("digital", 0, 0, 2).value == 1.0),
-    "reset_twin": (lambda d: d.reset_twin(), lambda d: d.state().tool_id == 0),
-    "pause_twin": (lambda d: d.pause_twin(True), lambda d: d.clock.paused),
+    "reset_twin": (lambda d: d.twin.reset(), lambda d: d.state().tool_id == 0),
+    "pause_twin": (lambda d: d.twin.pause(True), lambda d: d.clock.paused),
 }
 
 

@@ -115,7 +115,7 @@ def test_the_wrench_carries_every_sample_in_the_sensor_frame_and_zeroes(node, ca
     reply = call("zero_ftsensor", Trigger)
     assert reply.success, reply.message
     assert np.linalg.norm(mean_force(wrench)) < 0.3
-    data = call("get_ft_sensor_data", GetSensorData, type=1)
+    data = call("get_ft_sensor_data", GetSensorData, type=2)
     assert data.ret == 1 and data.status == 1 and data.wrench.header.frame_id == "flange"
     assert data.wrench.wrench.force.z == pytest.approx(2.5, abs=0.3)     # general: raw
 

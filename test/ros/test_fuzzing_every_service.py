@@ -869,7 +869,7 @@ def get_ft_sensor_payload(fz: Fuzz, data):
 
 @burst
 def get_ft_sensor_data(fz: Fuzz, data):
-    fz.send("get_ft_sensor_data", force_srv.GetSensorData, type=data.draw(uint8(0, 2)))
+    fz.send("get_ft_sensor_data", force_srv.GetSensorData, type=data.draw(uint8(0, 4)))
 
 
 def push_tool(fz: Fuzz, data):

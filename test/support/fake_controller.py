@@ -266,7 +266,9 @@ class FakeController:
         with self.lock:
             self._advance()
             p = copy.deepcopy(self.packet)
-            p["joint_actual_position"] = p["joint_position"] = list(self.joints)
+            p["joint_actual_position"] = list(self.joints)
+            if "joint_position" in p:       # the recorded fw 1.5.14 packet has none
+                p["joint_position"] = list(self.joints)
             p["actual_position"] = p["position"] = list(self.tcp)
             p["inpos"] = not self.queue
             p["powered_on"], p["enabled"] = int(self.powered), self.enabled

@@ -10,6 +10,7 @@ import pytest
 
 from jaka_driver.common.models import load_model
 from jaka_driver.driver import RobotDriver
+from jaka_driver.programs import FolderPrograms
 from jaka_driver.sim import SimBackend
 
 MODEL = load_model("zu5")
@@ -21,7 +22,8 @@ def twin_with_sensor(scene: Optional[str] = None, sensor: bool = True,
     """A started driver on the zu5 twin (``sensor``: with its force/torque sensor, in the
     workcell ``scene``; ``programs`` its programs folder), shut down on leaving."""
     driver = RobotDriver(SimBackend(MODEL, scene=scene, sim_time=True, real_time_factor=0,
-                                    force_sensor=sensor, programs=programs))
+                                    force_sensor=sensor,
+                                    programs=FolderPrograms(programs) if programs else None))
     driver.start()
     try:
         yield driver
@@ -40,7 +42,7 @@ def fresh(driver, sensor_on: bool = False, settle: float = 0.05, zero: bool = Fa
     """For a test fixture (``yield from fresh(driver)``): the twin reset, time held while the
     test runs (every step at a definite sim time); ``sensor_on``: the sensor switched on and
     read ``settle`` s, ``zero``: then zeroed."""
-    assert driver.reset_twin().ok
+    assert driver.twin.reset().ok
     with driver.clock.hold():
         if sensor_on:
             assert driver.force.sensor_enable(True).ok

@@ -63,7 +63,9 @@ REQUESTS = [
      '0.0]}', lambda: t.set_compliance_condition([0, 0, 30, 0, 0, 0])),
     ('{"cmdName":"set_ft_ctrl_frame","ftFrame":1}', lambda: t.set_ft_ctrl_frame(1)),
     ('{"cmdName":"get_ft_ctrl_frame"}', t.get_ft_ctrl_frame),
-    ('{"cmdName":"get_torque_sensor_data","type":2}', lambda: t.get_torque_sensor_data(2)),
+    # §5: JAKA's header numbers the readings 1 actual, 2 general, 3 real; sent unchanged
+    ('{"cmdName":"get_torque_sensor_data","type":1}', lambda: t.get_torque_sensor_data(1)),
+    ('{"cmdName":"get_torque_sensor_data","type":3}', lambda: t.get_torque_sensor_data(3)),
     ('{"cmdName":"get_tool_drive_stat"}', t.get_tool_drive_stat),
     ('{"cmdName":"set_tool_drive_frame","toolDragFrame":0}',
      lambda: t.set_tool_drive_frame(0)),
@@ -206,6 +208,9 @@ def test_what_would_abort_the_sdks_client_is_a_protocol_error_and_a_refusal_is_r
         t.set_admit_ctrl_config(6, True, 20, 0, False, 0)     # axis 0..5: nothing sent
     with pytest.raises(InvalidArgument):
         t.set_compliance_condition([0, 0, float("nan"), 0, 0, 0])
+    for kind in (0, 4):                         # JAKA's readings are 1–3: no type 0
+        with pytest.raises(InvalidArgument, match="1"):
+            t.get_torque_sensor_data(kind)
 
 
 SDK_TORQSENSOR = [[0, ["192.168.2.100", 8080], [2.0, [0.0, 0.0, 50.0]]],

@@ -9,9 +9,10 @@ moments about its origin, and it is the load the tool side puts on the sensor: t
 external forces on the tool (its weight, its inertia, a contact, a hand) — with the tool
 pointing down, a 2 kg tool reads Fz = +19.6 N and pressing it on a table reads Fz < 0.
 
-**The three readings** of JAKA's ``get_torque_sensor_data`` (SDK header: type 0 *Actual*
-"actual feedback", 1 *General* "used by the controller" / "original readings", 2 *Real* "real
-feedback without gravity and bias"), one :class:`ForceReading` per sample:
+**The three readings** of JAKA's ``get_torque_sensor_data`` (SDK header, 2.1.14 and 2.2.2: type
+1 *Actual* "actual feedback", 2 *General* "general data" / "original readings", 3 *Real* "real
+data without gravity and bias"; the SDK puts the number on the wire unchanged), one
+:class:`ForceReading` per sample:
 
 * ``general`` — the sensor's original reading: every load plus its bias (offset) and noise,
   unfiltered;
@@ -35,8 +36,9 @@ axes (:class:`ToolDriveAxis`: ``rigidity`` in ``ft_user``'s place). The complian
 (6 values, 0 = not checked) stops any motion whose wrench exceeds it, as a protective stop; the
 soft limit stops the arm when the sensor's own reading (``actual``) exceeds it.
 
-Units: N, N·m, m, kg, rad, Hz; translation stiffness N/m, rotation N·m/rad. Results follow the
-contract: a refused request changes nothing; every refusal says why (-9 no sensor / sensor off
+Units: N, N·m, m, kg, rad, Hz; a rebound N/mm on x y z and N·m/rad on rx ry rz (the unit
+requests and the wire give it, converted once where a law needs SI: :func:`rebound_to_si`).
+Results follow the contract: a refused request changes nothing; every refusal says why (-9 no sensor / sensor off
 / wrong mode, -10 busy, -2 out of range, naming the field, the value and the limit).
 """
 from __future__ import annotations
@@ -64,11 +66,17 @@ COMPLIANT_SPEED = (0.1, 0.1, 0.1, 0.5, 0.5, 0.5)
 
 
 class ReadingType(IntEnum):
-    """``get_torque_sensor_data``'s ``type`` (JAKA's ``TorqSensorDataType``)."""
+    """``get_torque_sensor_data``'s ``type`` (JAKA's ``TorqSensorDataType``), numbered as
+    JAKA's header numbers it and its SDK sends it: 1, 2, 3."""
 
-    ACTUAL = 0
-    GENERAL = 1
-    REAL = 2
+    ACTUAL = 1
+    GENERAL = 2
+    REAL = 3
+
+    @classmethod
+    def span(cls) -> Tuple[int, int]:
+        """The lowest and highest type (the range a request is checked against)."""
+        return int(min(cls)), int(max(cls))
 
 
 class ForceFrame(IntEnum):
@@ -84,6 +92,15 @@ class ComplianceType(IntEnum):
     NONE = 0
     CONSTANT_FORCE = 1
     VELOCITY = 2
+
+
+class IdentificationState(IntEnum):
+    """Payload identification's state, numbered as JAKA's ``get_torq_sensor_identify_staus``
+    answers it."""
+
+    DONE = 0            # done, or never run
+    RUNNING = 1
+    FAILED = 2
 
 
 class ForceMode:
@@ -110,14 +127,14 @@ class ForceReading(NamedTuple):
 
     def of(self, kind: int) -> np.ndarray:
         """The reading of :class:`ReadingType` ``kind``."""
-        return (self.actual, self.general, self.real)[int(kind)]
+        return (self.actual, self.general, self.real)[int(ReadingType(kind)) - 1]
 
 
 @dataclass(frozen=True)
 class AdmittanceAxis:
     """One axis of ``set_admit_ctrl_config``: ``enabled`` (JAKA's ``opt``); ``ft_user`` (N or
-    N·m) the wrench that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/m or
-    N·m/rad) pulling it back to where force control started; ``constant`` (N or N·m) the force
+    N·m) the wrench that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/mm or
+    N·m/rad, the unit requests and the wire give it: :func:`rebound_to_si`) pulling it back to where force control started; ``constant`` (N or N·m) the force
     the tool exerts along the axis under constant-force control; ``normal_track`` JAKA's
     normal tracking."""
 
@@ -131,7 +148,7 @@ class AdmittanceAxis:
 @dataclass(frozen=True)
 class ToolDriveAxis:
     """One axis of ``set_tool_drive_config``: ``enabled`` (``opt``); ``rigidity`` (N or N·m)
-    the hand's force that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/m or
+    the hand's force that moves the axis at :data:`COMPLIANT_SPEED`; ``rebound`` (N/mm or
     N·m/rad) as in :class:`AdmittanceAxis`."""
 
     enabled: bool = False
@@ -166,11 +183,11 @@ class SensorPayload:
 
 @dataclass(frozen=True)
 class IdentificationStatus:
-    """Payload identification (JAKA's ``get_torq_sensor_identify_staus``): ``state`` 0 done
-    (or never run), 1 running, 2 failed; ``progress`` 0–1; ``message`` what it does or did;
+    """Payload identification (JAKA's ``get_torq_sensor_identify_staus``): ``state`` an
+    :class:`IdentificationState`; ``progress`` 0–1; ``message`` what it does or did;
     ``result`` the payload found (None until one is)."""
 
-    state: int = 0
+    state: IdentificationState = IdentificationState.DONE
     progress: float = 0.0
     message: str = "no identification has run"
     result: Optional[SensorPayload] = None
@@ -197,15 +214,10 @@ def wrench_text(w) -> str:
 
 
 def rebound_to_si(axis: int, value: float) -> float:
-    """A rebound in the unit requests and the wire give it — N/mm on x y z (a stiffness in the
-    length unit payload centroids and JAKA's poses use), N·m/rad on rx ry rz — → N/m or
-    N·m/rad."""
+    """A rebound as the facet, requests and the wire give it — N/mm on x y z (a stiffness in
+    the length unit payload centroids and JAKA's poses use), N·m/rad on rx ry rz — → N/m or
+    N·m/rad: the one conversion, where a control law works in SI (the twin's)."""
     return float(value) * 1000.0 if axis < 3 else float(value)
-
-
-def rebound_from_si(axis: int, value: float) -> float:
-    """:func:`rebound_to_si`'s inverse."""
-    return float(value) / 1000.0 if axis < 3 else float(value)
 
 
 def _six(value: float = 0.0) -> np.ndarray:

@@ -1,9 +1,11 @@
-"""Robot programs as a backend offers them: the optional facet ``backend.programs`` (None where a
-backend has none).
+"""Robot programs as a backend offers them: the facet ``backend.programs`` — never None: a
+backend without programs offers :class:`NoPrograms`, which refuses every request with -9.
 
 A controller keeps and runs its own programs (JAKA's program commands, docs/protocol.md); the
 twin runs the driver's own program engine (:mod:`jaka_driver.programs`, the format of
-docs/programs.md) on programs from a folder, and each step of a program goes through an
+docs/programs.md) on programs from a folder — handed to it by whoever builds it (the node, the
+emulator), as a controller's parts are handed to it, so that ``sim/`` does not build what a
+floor above it is — and each step of a program goes through an
 executor the driver binds at construction (:meth:`Programs.bind`) — RobotDriver, so that a
 step passes the same checks as the service call it stands for. The node reaches programs only
 through RobotDriver, whatever backend it has.
@@ -16,7 +18,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import IntEnum
-from ..common.results import Result
+from ..common.results import Code, Result
 
 
 class ProgramState(IntEnum):
@@ -100,3 +102,26 @@ class Programs(ABC):
     @abstractmethod
     def set_variable(self, var_id: int, value: float, alias: str) -> Result:
         """Give user variable ``var_id`` the ``value`` and the name ``alias``."""
+
+    def reset(self) -> None:
+        """A fresh start (the twin's reset): no program running or loaded, no user variables.
+        Nothing to do where programs are not the backend's own."""
+
+
+class NoPrograms(Programs):
+    """A backend without programs: every request is refused with -9 and ``reason``; the
+    state is idle with nothing loaded."""
+
+    def __init__(self, reason: str):
+        self._refusal = Result.failure(Code.WRONG_MODE, reason)
+
+    def status(self) -> ProgramStatus:
+        return ProgramStatus()
+
+    def _refuse(self, *_args) -> Result:
+        return self._refusal
+
+    load = loaded = play = pause = resume = variables = set_variable = _refuse
+
+    def stop(self) -> Result:
+        return Result.success("no program runs")

@@ -7,6 +7,7 @@ limits and the numbers defined once.
   :class:`CommandRefused`;
 * :mod:`.frames` — :class:`FrameTable`, tool and user frames by id;
 * :mod:`.joint_limits` — a joint target against the position and speed limits;
+* :mod:`.values` — a request's values read as numbers (-2 naming field, value and limit);
 * :mod:`.constants` — the controller cycle and the other numbers the layers share.
 """
 from .constants import IN_POSITION, SERVO_CYCLE
@@ -17,4 +18,4 @@ from .results import Code, CommandRefused, Result
 
 __all__ = ["SERVO_CYCLE", "IN_POSITION", "FrameTable", "TOOL", "USER_FRAME", "outside_limits",
            "fastest_step", "MODEL_NAMES", "RobotModel", "load_model", "Code", "CommandRefused",
-           "Result", "constants", "frames", "joint_limits", "models", "results", "transforms"]
+           "Result", "constants", "frames", "joint_limits", "models", "results", "transforms", "values"]

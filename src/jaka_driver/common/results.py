@@ -6,9 +6,10 @@ Every service of the driver answers with a code and a message (docs/interface.md
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import Any
+from typing import Any, Callable
 
 
 class Code(IntEnum):
@@ -67,3 +68,14 @@ class CommandRefused(Exception):
 def invalid(message: str) -> CommandRefused:
     """Shorthand for the commonest refusal, -2 invalid parameter."""
     return CommandRefused(Code.INVALID_PARAMETER, message)
+
+
+def answers(method: Callable) -> Callable:
+    """A refusal raised inside ``method`` becomes its Result."""
+    @functools.wraps(method)
+    def wrapper(*args, **kwargs) -> Result:
+        try:
+            return method(*args, **kwargs)
+        except CommandRefused as refusal:
+            return refusal.result()
+    return wrapper

@@ -17,11 +17,10 @@ so backend methods never raise.
 """
 from __future__ import annotations
 
-import functools
 import time
 from typing import Any, Callable, Mapping, Optional, TypeVar
 
-from ..common.results import Code, CommandRefused, Result
+from ..common.results import Code, CommandRefused, Result, answers
 from ..protocol import errors
 from ..protocol.replies import Reply
 from ..protocol.status_packet import StatusPacket
@@ -34,17 +33,6 @@ T = TypeVar("T")
 #: call otherwise); :meth:`Commander.settled` does the same.
 SETTLE_POLL = 0.1       # s
 SETTLE_TIMEOUT = 1.0    # s
-
-
-def answers(method: Callable) -> Callable:
-    """A refusal raised inside ``method`` becomes its Result."""
-    @functools.wraps(method)
-    def wrapper(*args, **kwargs) -> Result:
-        try:
-            return method(*args, **kwargs)
-        except CommandRefused as refusal:
-            return refusal.result()
-    return wrapper
 
 
 class Commander:

@@ -1,6 +1,8 @@
 """The flange force/torque sensor and force control on a controller:
 :class:`~jaka_driver.backend.force.Force` with JAKA's commands, sent as JAKA's SDK sends them
-(docs/protocol.md, "Torque sensor"; the encoders are :mod:`jaka_driver.protocol.torque_sensor`).
+(docs/protocol.md, "Torque sensor"; the encoders are :mod:`jaka_driver.protocol.torque_sensor`)
+— the transport of :class:`~jaka_driver.backend.force_rules.ForceRules`, where the modes, what
+may start while what runs, the refusals and the answers are written once for both backends.
 
 **Each setting is read back** as JAKA's SDK reads a setting back (its get every 100 ms for up to
 1 s, :meth:`~.commander.Commander.settled`; else refused with 2: the controller did not do it)
@@ -29,7 +31,7 @@ What the controller would refuse itself comes back as 2 with its message.
 
 Wire units where JAKA's SDK passes a value unconverted and no controller's unit is on record
 (one choice, docs/protocol.md): ``ftReboundFK`` and tool drive's ``rebound`` N/mm on x y z and
-N·m/rad on rx ry rz (the request's own, :func:`~jaka_driver.backend.force.rebound_to_si`),
+N·m/rad on rx ry rz (the request's and the facet's own: sent and read back unconverted),
 ``torqueSensorFilter`` Hz; forces N, moments N·m, mass kg, centroid mm, joints deg as on
 record. The facet's units otherwise (jaka_driver.backend.force).
 """
@@ -39,16 +41,15 @@ import dataclasses
 import logging
 import threading
 import time
-from typing import Callable, Optional, Sequence
+from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..backend.completion import Completion
-from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
-                             ForceMode, ForceReading, ForceSettings, IdentificationStatus,
-                             KeptSettings,
-                             SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
-                             rebound_from_si, rebound_to_si, wrench_text)
+from ..backend.force import (AXES, AdmittanceAxis, ComplianceType, ForceMode, ForceReading,
+                             ForceSettings, IdentificationState, IdentificationStatus,
+                             SensorPayload, ToolDriveAxis, VelocityCompliance)
+from ..backend.force_rules import ForceRules
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..common.sensor_spec import ForceSensorSpec
@@ -59,8 +60,9 @@ from ..protocol.replies import reply_payload
 from ..protocol.status_packet import StatusPacket
 from .arm_identity import ArmIdentity
 from .arm_settings import PACKET_CATCH_UP
-from .commander import SETTLE_TIMEOUT, Commander, answers
+from .commander import SETTLE_TIMEOUT, Commander
 from .connection import ControllerLink
+from .parts import hand_in
 from .payload_identification import follow_identification, identification_plan
 from .running_motion import ForceControlRun, IdentificationRun, RunningMotion, keeps_out
 from .status_view import StatusView, sensor_reading
@@ -71,30 +73,24 @@ log = logging.getLogger(__name__)
 READBACK = 1e-3
 
 
-class ControllerForce(Force):
+class ControllerForce(ForceRules):
     """Force control on a controller whose arm, of ``model``, carries the sensor ``spec`` (see
     the module). What it works with is handed to it, as to the backend's other parts
     (:class:`~.parts.RequestPart`): requests through ``send`` over ``link``, the latest packet
     from ``view``, the one slot of what runs in ``motion``, motion allowed by ``identity``,
     ``kinematics()`` the local kinematics (the flange's orientation for a reading without
-    ``real``). Not a RequestPart: its ``settings()`` is the facet's, not the arm's."""
+    ``real``). Not a RequestPart: its ``settings()`` is the facet's, not the arm's. The rules
+    are :class:`~jaka_driver.backend.force_rules.ForceRules`'; this is their transport: what
+    the controller was last read back or accepted as is kept (the sensor's own state and tool
+    payload come from the packets)."""
+
+    SENSOR_OFF_SOURCE = ", as the controller reports it"
 
     def __init__(self, spec: ForceSensorSpec, model: RobotModel, send: Commander,
                  link: ControllerLink, view: StatusView, motion: RunningMotion,
                  identity: ArmIdentity, kinematics: Callable[[], Kinematics]):
-        self.model = model
-        self.send = send
-        self.link = link
-        self.view = view
-        self.motion = motion
-        self.identity = identity
-        self.kinematics = kinematics
-        self._spec = spec
-        #: what the controller was last read back or accepted as (the sensor's own state and
-        #: tool payload come from the packets)
-        self._kept = KeptSettings(ForceSettings(mounted=True, range=spec.range.copy(),
-                                                soft_limit=spec.range.copy()))
-        self._velocity_on = False
+        super().__init__(spec)
+        hand_in(self, model, send, link, view, motion, identity, kinematics)
 
     # ---- the packets -----------------------------------------------------------------------
     def reading(self, status: StatusPacket, q: np.ndarray) -> Optional[ForceReading]:
@@ -109,10 +105,6 @@ class ControllerForce(Force):
         return None if ts is None else ts.status
 
     # ---- what it is and does ---------------------------------------------------------------
-    @property
-    def absent(self) -> Optional[str]:
-        return None
-
     def settings(self) -> ForceSettings:
         latest = self.view.latest
         ts = None if latest is None else latest.torque_sensor
@@ -123,16 +115,14 @@ class ControllerForce(Force):
         return dataclasses.replace(s, sensor_on=bool(ts is not None and ts.status != 0),
                                    mode=self._mode())
 
-    def _mode(self) -> str:
+    def sensor_on(self) -> bool:
+        return bool(self._sensor_status())
+
+    def running_mode(self) -> Optional[str]:
         if self.motion.running(IdentificationRun) is not None:
             return ForceMode.IDENTIFYING
         run = self.motion.running(ForceControlRun)
-        if run is not None:
-            return run.mode
-        return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
-
-    def identification_status(self) -> IdentificationStatus:
-        return self._kept.identification
+        return None if run is None else run.mode
 
     def read_all(self) -> None:
         """Every setting the controller can be asked for, as it has it now (at every
@@ -165,25 +155,31 @@ class ControllerForce(Force):
                 log.info("the controller's torque-sensor %s is unknown: %s", what,
                          refusal.message)
 
-    # ---- refusals only the facet can make ---------------------------------------------------
-    def _require_sensor_on(self, what: str) -> None:
-        if not self._sensor_status():
-            raise CommandRefused(Code.WRONG_MODE, f"{what} refused: the force/torque sensor is "
-                                 "off, as the controller reports it (switch it on first)")
+    # ---- the transport's own refusals ----------------------------------------------------------
+    def _require_arm_ready(self, what: str) -> None:
+        self.identity.require_motion(what)
 
-    def _require_force_off(self, what: str) -> None:
-        mode = self._mode()
-        if mode != ForceMode.OFF:
-            raise CommandRefused(Code.BUSY, f"{what} refused while {mode.replace('_', ' ')} "
-                                 "runs (disable_force_control first)")
+    def _check_tool_drive(self, s: ForceSettings) -> None:
+        if s.compliance_type != ComplianceType.NONE or any(a.enabled for a in s.admittance):
+            raise CommandRefused(Code.WRONG_MODE, "tool drive refused: a controller starts "
+                                 "tool drive and admittance with one command "
+                                 "(enable_admittance_ctrl), and with "
+                                 + ("compliance type " + ComplianceType(s.compliance_type)
+                                    .name.lower() if s.compliance_type else
+                                    "an admittance axis on") + " it would start that instead: "
+                                 "set the compliance type 0 and every admittance axis's opt 0 "
+                                 "first")
+
+    def _check_poses(self, poses: Sequence[np.ndarray]) -> None:
+        if len(poses) != 1:
+            raise CommandRefused(Code.INVALID_PARAMETER, "payload identification on a "
+                                 "controller takes one end pose "
+                                 "(start_torq_sensor_payload_identify identifies on the way "
+                                 f"there); got {len(poses)} poses")
 
     # ---- the sensor --------------------------------------------------------------------------
-    @answers
-    def set_sensor_on(self, on: bool) -> Result:
+    def _send_sensor_on(self, on: bool) -> str:
         """``set_torque_sensor_mode``; no get: confirmed by a packet showing it (1 s)."""
-        on = bool(on)
-        if not on:
-            self._require_force_off("switching the sensor off")
         self.send.accepted(wire.set_torque_sensor_mode(on))
         if not self.view.wait_until(lambda s: s.torque_sensor is not None
                                     and bool(s.torque_sensor.status) == on, SETTLE_TIMEOUT):
@@ -191,72 +187,56 @@ class ControllerForce(Force):
                                  "the controller acknowledged set_torque_sensor_mode but its "
                                  f"status packets still show it {'off' if on else 'on'} after "
                                  f"{SETTLE_TIMEOUT:g} s")
-        return Result.success(f"force/torque sensor {'on' if on else 'off'} (the status "
-                              "packets show it)")
+        return " (the status packets show it)"
 
-    @answers
-    def zero(self) -> Result:
+    def _send_zero(self) -> str:
         """``zero_end_sensor`` (no get); answered once a packet from after the reply is in,
         so the next sample is zeroed."""
-        self._require_sensor_on("zeroing")
-        self._require_force_off("zeroing")
         self.send.accepted(wire.zero_end_sensor())
         self.view.wait_for_packet(time.time(), 4 * self.link.call_timeout)
-        return Result.success("sensor zeroed (zero_end_sensor accepted)")
+        return "sensor zeroed (zero_end_sensor accepted)"
 
-    @answers
-    def set_tool_payload(self, mass: float, centroid: np.ndarray) -> Result:
-        self._require_force_off("the sensor's tool payload")
-        c_mm = np.asarray(centroid, float) * 1000.0
-        request = wire.set_tool_payload(mass, c_mm)
+    def _send_tool_payload(self, payload: SensorPayload) -> Tuple[SensorPayload, str]:
+        c_mm = payload.centroid * 1000.0
+        request = wire.set_tool_payload(payload.mass, c_mm)
         sent = float(request["mass"])       # the wire's 2 decimals
         read = self.send.settled(
             request, wire.get_tool_payload(), reply_payload,
             lambda v: abs(v[0] - sent) < READBACK and np.allclose(v[1], c_mm, atol=READBACK),
             "the sensor's tool payload")
-        self._kept.update(tool_payload=SensorPayload(float(read[0]), np.asarray(read[1]) / 1000.0))
+        kept = SensorPayload(float(read[0]), np.asarray(read[1]) / 1000.0)
+        self._kept.update(tool_payload=kept)
         # the packets carry it too (settings() reads it there): answer once one shows it
         self.view.wait_until(lambda status: status.torque_sensor is not None and abs(
             status.torque_sensor.payload_mass - read[0]) < READBACK, PACKET_CATCH_UP)
-        return Result.success(f"sensor tool payload {read[0]:g} kg at ({read[1][0]:.1f}, "
-                              f"{read[1][1]:.1f}, {read[1][2]:.1f}) mm (read back)")
+        return kept, " (read back)"
 
-    @answers
-    def set_filter(self, cutoff_hz: float) -> Result:
-        hz = float(cutoff_hz)
-        read = self.send.settled(wire.set_torque_sensor_filter(hz),
+    def _send_filter(self, cutoff_hz: float) -> Tuple[float, str]:
+        read = self.send.settled(wire.set_torque_sensor_filter(cutoff_hz),
                                  wire.get_torque_sensor_filter(), wire.reply_torque_sensor_filter,
-                                 lambda v: abs(v - hz) < READBACK, "the sensor filter")
+                                 lambda v: abs(v - cutoff_hz) < READBACK, "the sensor filter")
         self._kept.update(filter_hz=float(read))
-        return Result.success("sensor filter off (read back)" if hz == 0 else
-                              f"sensor filter {read:g} Hz (read back)")
+        return float(read), " (read back)"
 
-    @answers
-    def set_soft_limit(self, limit: np.ndarray) -> Result:
-        limit = np.asarray(limit, float)
+    def _send_soft_limit(self, limit: np.ndarray) -> Tuple[np.ndarray, str]:
         read = self.send.settled(wire.set_torque_sensor_soft_limit(limit),
                                  wire.get_torque_sensor_soft_limit(),
                                  wire.reply_torque_sensor_soft_limit,
                                  lambda v: np.allclose(v, limit, atol=READBACK),
                                  "the sensor soft limit")
         self._kept.update(soft_limit=read)
-        return Result.success("sensor soft limit " + wrench_text(read) + " (read back)")
+        return read, " (read back)"
 
     # ---- settings of force control -----------------------------------------------------------
-    @answers
-    def set_admittance(self, axis: int, config: AdmittanceAxis) -> Result:
-        self._require_force_off("changing the admittance")
+    def _send_admittance(self, axis: int, config: AdmittanceAxis) -> Tuple[AdmittanceAxis, str]:
         request = wire.set_admit_ctrl_config(axis, config.enabled, config.ft_user,
                                              config.constant, config.normal_track,
-                                             rebound_from_si(axis, config.rebound))
+                                             config.rebound)
         sent = wire.AdmitRow(int(config.enabled), float(request["ftUser"]),
                              float(request["ftReboundFK"]), float(request["ftConstant"]),
                              int(config.normal_track))
-        row = self._set_axis("admittance", axis, request, sent, wire.get_admit_ctrl_config(),
-                             wire.reply_admit_ctrl_config, _admittance_axis)
-        return Result.success(f"admittance {AXES[axis]}: " + (
-            f"on, ft_user {row.ft_user:g}, rebound {sent.ft_rebound:g}, constant "
-            f"{row.constant:g}" if row.enabled else "off") + " (read back)")
+        return self._set_axis("admittance", axis, request, sent, wire.get_admit_ctrl_config(),
+                              wire.reply_admit_ctrl_config, _admittance_axis), " (read back)"
 
     def _set_axis(self, table: str, axis: int, request, sent, readback, reply, as_axis):
         """Send ``request`` (one axis of ``table``), read the table back until the axis's row
@@ -268,66 +248,40 @@ class ControllerForce(Force):
         self._kept.update_row(table, axis, row)
         return row
 
-    @answers
-    def set_compliance_type(self, compensation: bool, kind: int) -> Result:
-        self._require_force_off("changing the compliance type")
-        want = (int(bool(compensation)), int(kind))
+    def _send_compliance_type(self, compensation: bool, kind: int) -> str:
+        want = (int(compensation), kind)
         self.send.settled(wire.set_compliant_type(*want), wire.get_compliant_type(),
                           wire.reply_compliant_type, lambda v: tuple(v) == want,
                           "the compliance type")
-        self._kept.update(compensation=bool(compensation), compliance_type=int(kind))
-        return Result.success(f"compliance type {ComplianceType(kind).name.lower()}, "
-                              f"{'compensated' if compensation else 'uncompensated'} wrench "
-                              "(read back)")
+        return " (read back)"
 
-    @answers
-    def set_velocity_compliance(self, config: VelocityCompliance) -> Result:
+    def _send_velocity_compliance(self, config: VelocityCompliance) -> str:
         """``set_vel_compliant_ctrl``: the controller has no get of it."""
         self.send.accepted(wire.set_vel_compliant_ctrl(config.level, config.rates))
-        self._kept.update(velocity=config)
-        return Result.success(f"velocity compliance level {config.level}, rates "
-                              f"{', '.join(f'{r:g}' for r in config.rates)} (accepted; the "
-                              "controller has no get of it)")
+        return " (accepted; the controller has no get of it)"
 
-    @answers
-    def set_tool_drive(self, axis: int, config: ToolDriveAxis) -> Result:
-        self._require_force_off("changing the tool drive")
+    def _send_tool_drive(self, axis: int, config: ToolDriveAxis) -> Tuple[ToolDriveAxis, str]:
         request = wire.set_tool_drive_config(axis, config.enabled, config.rigidity,
-                                             rebound_from_si(axis, config.rebound))
+                                             config.rebound)
         sent = wire.ToolDriveRow(int(config.enabled), float(request["rigidity"]),
                                  float(request["rebound"]))
-        row = self._set_axis("tool_drive", axis, request, sent, wire.get_tool_drive_config(),
-                             wire.reply_tool_drive_config, _tool_drive_axis)
-        return Result.success(f"tool drive {AXES[axis]}: " + (
-            f"on, rigidity {row.rigidity:g}, rebound {sent.rebound:g}" if row.enabled
-            else "off") + " (read back)")
+        return self._set_axis("tool_drive", axis, request, sent, wire.get_tool_drive_config(),
+                              wire.reply_tool_drive_config, _tool_drive_axis), " (read back)"
 
-    @answers
-    def set_frame(self, frame: int) -> Result:
-        self._require_force_off("changing the force-control frame")
+    def _send_frame(self, frame: int) -> str:
         self.send.settled(wire.set_ft_ctrl_frame(frame), wire.get_ft_ctrl_frame(), _ft_frame,
                           lambda v: v == frame, "the force-control frame")
-        self._kept.update(frame=int(frame))
-        return Result.success(f"force control in the {frame_name(frame)} frame (read back)")
+        return " (read back)"
 
-    @answers
-    def set_tool_drive_frame(self, frame: int) -> Result:
-        self._require_force_off("changing the tool drive frame")
+    def _send_tool_drive_frame(self, frame: int) -> str:
         self.send.settled(wire.set_tool_drive_frame(frame), wire.get_tool_drive_frame(),
                           _tool_drag_frame, lambda v: v == frame, "the tool drive frame")
-        self._kept.update(tool_drive_frame=int(frame))
-        return Result.success(f"tool drive in the {frame_name(frame)} frame (read back)")
+        return " (read back)"
 
-    @answers
-    def set_condition(self, wrench: np.ndarray) -> Result:
+    def _send_condition(self, wrench: np.ndarray) -> str:
         """``set_compliance_condition``: the controller has no get of it."""
-        wrench = np.asarray(wrench, float)
         self.send.accepted(wire.set_compliance_condition(wrench))
-        self._kept.update(condition=wrench.copy())
-        checked = [f"{WRENCH_NAMES[i]} {v:g}" for i, v in enumerate(wrench) if v > 0]
-        return Result.success("compliance condition " + (", ".join(checked) if checked else
-                                                         "off (nothing checked)")
-                              + " (accepted; the controller has no get of it)")
+        return " (accepted; the controller has no get of it)"
 
     # ---- running force control ---------------------------------------------------------------
     def _switch(self, on: bool, what: str) -> None:
@@ -336,44 +290,10 @@ class ControllerForce(Force):
         self.send.settled(wire.enable_admittance_ctrl(on), wire.get_tool_drive_stat(),
                           wire.reply_tool_drive_stat, lambda v: bool(v[0]) == on, what)
 
-    @answers
-    def enable_admittance(self, on: bool) -> Result:
-        if not on:
-            return self._end(ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
-                             ForceMode.VELOCITY_COMPLIANCE)
-        s = self.settings()
-        if s.compliance_type == ComplianceType.VELOCITY:
-            self._require_sensor_on("velocity compliance")
-            self._require_force_off("velocity compliance")
-            self._switch(True, "velocity compliance on")
-            self._velocity_on = True
-            return Result.success("velocity compliance on: moves slow down as the wrench nears "
-                                  "the compliance condition")
-        mode = (ForceMode.CONSTANT_FORCE if s.compliance_type == ComplianceType.CONSTANT_FORCE
-                else ForceMode.ADMITTANCE)
-        return self._start(mode, s.frame)
+    def _start_velocity_compliance(self) -> None:
+        self._switch(True, "velocity compliance on")
 
-    @answers
-    def enable_tool_drive(self, on: bool) -> Result:
-        if not on:
-            return self._end(ForceMode.TOOL_DRIVE)
-        s = self.settings()
-        if s.compliance_type != ComplianceType.NONE or any(a.enabled for a in s.admittance):
-            raise CommandRefused(Code.WRONG_MODE, "tool drive refused: a controller starts "
-                                 "tool drive and admittance with one command "
-                                 "(enable_admittance_ctrl), and with "
-                                 + ("compliance type " + ComplianceType(s.compliance_type)
-                                    .name.lower() if s.compliance_type else
-                                    "an admittance axis on") + " it would start that instead: "
-                                 "set the compliance type 0 and every admittance axis's opt 0 "
-                                 "first")
-        return self._start(ForceMode.TOOL_DRIVE, s.tool_drive_frame)
-
-    def _start(self, mode: str, frame: int) -> Result:
-        label = mode.replace("_", " ")
-        self.identity.require_motion(label)
-        self._require_sensor_on(label)
-        self._require_force_off(label)
+    def _start_run(self, mode: str, label: str, frame: int, s: ForceSettings) -> None:
         run = ForceControlRun(mode, self._switch_off_quietly)
         self.motion.take(run, keeps_out(label))
         try:
@@ -381,7 +301,6 @@ class ControllerForce(Force):
         except CommandRefused:
             run.end()
             raise
-        return Result.success(f"{label} on in the {frame_name(frame)} frame")
 
     def _switch_off_quietly(self) -> None:
         """Force control off when its run is aborted (stop_move, shutdown), if the link is up;
@@ -393,45 +312,25 @@ class ControllerForce(Force):
         except CommandRefused as refusal:
             log.warning("disable_force_control after a stop failed: %s", refusal.message)
 
-    def _end(self, *modes: str, quiet: bool = False) -> Result:
-        """End force control if it runs in one of ``modes``."""
-        mode = self._mode()
-        if mode not in modes:
-            return Result.success("no force control was on" if quiet else
-                                  f"{' / '.join(m.replace('_', ' ') for m in modes)} was not on")
+    def _stop(self, mode: str) -> None:
         self._switch(False, f"{mode.replace('_', ' ')} off")
-        return self._ended(mode)
+        self._end_run()
 
-    def _ended(self, mode: str) -> Result:
+    def _end_run(self) -> None:
         """Force control is off on the controller (it said so): off here too."""
-        self._velocity_on = False
         run = self.motion.running(ForceControlRun)
         if run is not None:
             run.end()
-        if mode in (ForceMode.OFF, ForceMode.IDENTIFYING):
-            return Result.success("no force control was on")
-        return Result.success(f"{mode.replace('_', ' ')} off: the arm comes to rest")
 
-    @answers
-    def disable(self) -> Result:
-        """``disable_force_control``, read back as ``enable_flag`` 0; accepted whatever runs
+    def _send_disable(self, mode: str) -> None:
+        """``disable_force_control``, read back as ``enable_flag`` 0; sent whatever runs
         (also when the driver knows of nothing running: a pendant may have started it)."""
-        mode = self._mode()
         self.send.settled(wire.disable_force_control(), wire.get_tool_drive_stat(),
                           wire.reply_tool_drive_stat, lambda v: not v[0], "force control off")
-        return self._ended(mode)
+        self._end_run()
 
     # ---- payload identification --------------------------------------------------------------
-    @answers
-    def start_identification(self, poses: Sequence[np.ndarray]) -> Result:
-        what = "payload identification"
-        if len(poses) != 1:
-            raise CommandRefused(Code.INVALID_PARAMETER, f"{what} on a controller takes one end "
-                                 f"pose (start_torq_sensor_payload_identify identifies on the "
-                                 f"way there); got {len(poses)} poses")
-        self.identity.require_motion(what)
-        self._require_sensor_on(what)
-        self._require_force_off(what)
+    def _identify(self, what: str, poses: Sequence[np.ndarray]) -> Result:
         q_end = np.asarray(poses[0], float)
         latest = self.view.latest
         planned = identification_plan(self.model, None if latest is None
@@ -443,7 +342,8 @@ class ControllerForce(Force):
         except CommandRefused as refusal:
             completion.finish(refusal.result())
             raise
-        self._kept.report(IdentificationStatus(1, 0.0, f"{what} started"))
+        self._kept.report(IdentificationStatus(IdentificationState.RUNNING, 0.0,
+                                                f"{what} started"))
         threading.Thread(target=follow_identification,
                          args=(self.send, completion, planned, self._kept.report),
                          name="jaka-identify", daemon=True).start()
@@ -458,12 +358,12 @@ def _same_row(read, sent) -> bool:
 
 
 def _admittance_axis(axis: int, row: wire.AdmitRow) -> AdmittanceAxis:
-    return AdmittanceAxis(bool(row.opt), float(row.ft_user), rebound_to_si(axis, row.ft_rebound),
+    return AdmittanceAxis(bool(row.opt), float(row.ft_user), float(row.ft_rebound),
                           float(row.ft_constant), bool(row.ft_normal_track))
 
 
 def _tool_drive_axis(axis: int, row: wire.ToolDriveRow) -> ToolDriveAxis:
-    return ToolDriveAxis(bool(row.opt), float(row.rigidity), rebound_to_si(axis, row.rebound))
+    return ToolDriveAxis(bool(row.opt), float(row.rigidity), float(row.rebound))
 
 
 def _ft_frame(reply) -> int:

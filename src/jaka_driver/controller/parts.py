@@ -29,11 +29,19 @@ class RequestPart:
     def __init__(self, model: RobotModel, send: Commander, link: ControllerLink,
                  view: StatusView, motion: RunningMotion, identity: ArmIdentity,
                  kinematics: Callable[[], Kinematics], settings: ArmSettings):
-        self.model = model
-        self.send = send
-        self.link = link
-        self.view = view
-        self.motion = motion
-        self.identity = identity
-        self.kinematics = kinematics
+        hand_in(self, model, send, link, view, motion, identity, kinematics)
         self.settings = settings
+
+
+def hand_in(part, model: RobotModel, send: Commander, link: ControllerLink, view: StatusView,
+            motion: RunningMotion, identity: ArmIdentity,
+            kinematics: Callable[[], Kinematics]) -> None:
+    """Give ``part`` what every part of the backend works with (:class:`RequestPart`'s
+    attributes but the arm's settings: the force facet has its own ``settings()``)."""
+    part.model = model
+    part.send = send
+    part.link = link
+    part.view = view
+    part.motion = motion
+    part.identity = identity
+    part.kinematics = kinematics

@@ -13,7 +13,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..backend.completion import Completion
-from ..backend.force import IdentificationStatus, SensorPayload
+from ..backend.force import IdentificationState, IdentificationStatus, SensorPayload
 from ..common.models import RobotModel
 from ..common.results import Code, CommandRefused, Result
 from ..motion.profiles import joint_move_profile
@@ -56,28 +56,28 @@ def follow_identification(send: Commander, completion: Completion, planned: floa
         elapsed = time.monotonic() - t0
         try:
             state = send.read(wire.get_torq_sensor_identify_staus(), wire.reply_identify_status)
-            if state == 1:
+            if state == IdentificationState.RUNNING:
                 seen_running = True
-                report(IdentificationStatus(1, min(0.99, elapsed / planned),
+                report(IdentificationStatus(IdentificationState.RUNNING, min(0.99, elapsed / planned),
                                             f"{WHAT} running ({elapsed:.1f} s)"))
                 continue
-            if state == 0 and not seen_running and elapsed < IDENTIFY_START_GRACE:
+            if state == IdentificationState.DONE and not seen_running and elapsed < IDENTIFY_START_GRACE:
                 continue            # the previous run's "done": not begun yet
-            if state != 0:
+            if state != IdentificationState.DONE:
                 raise CommandRefused(Code.CONTROLLER_REJECTED, f"{WHAT} failed: the "
                                      f"controller reports identify_status {state}")
             mass, centroid_mm = send.read(wire.get_torq_sensor_payload_identify_result(),
                                           wire.reply_identify_result)
         except CommandRefused as refusal:
-            report(IdentificationStatus(2, 0.0, refusal.message))
+            report(IdentificationStatus(IdentificationState.FAILED, 0.0, refusal.message))
             completion.finish(refusal.result())
             return
         payload = SensorPayload(float(mass), np.asarray(centroid_mm, float) / 1000.0)
         message = (f"{WHAT} done in {elapsed:.1f} s: {payload.mass:.3f} kg at "
                    f"({centroid_mm[0]:.1f}, {centroid_mm[1]:.1f}, {centroid_mm[2]:.1f}) mm")
-        report(IdentificationStatus(0, 1.0, message, payload))
+        report(IdentificationStatus(IdentificationState.DONE, 1.0, message, payload))
         completion.finish(Result.success(message, payload))
         return
     result = completion.result
     if result is not None and not result.ok:
-        report(IdentificationStatus(2, 0.0, result.message))
+        report(IdentificationStatus(IdentificationState.FAILED, 0.0, result.message))

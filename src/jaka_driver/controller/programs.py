@@ -46,12 +46,6 @@ STATE_POLL = 0.25
 _STATES = {0: ProgramState.IDLE, 1: ProgramState.RUNNING, 2: ProgramState.PAUSED}
 
 
-def _program_name(name: str) -> str:
-    """A program's name without the ".jks" JAKA's SDK appends."""
-    name = str(name).strip()
-    return name[:-len(wire.JKS)] if name.endswith(wire.JKS) else name
-
-
 class ControllerPrograms(Programs):
     """The controller's programs through ``send`` (see the module). :meth:`start` and
     :meth:`stop_polling` run and end the state poll."""
@@ -100,7 +94,7 @@ class ControllerPrograms(Programs):
                 before = self._status
             name = before.name
             if state != before.state or not name:
-                name = _program_name(self.send.read(wire.get_loaded_program(),
+                name = wire.without_jks(self.send.read(wire.get_loaded_program(),
                                                     wire.reply_loaded_program))
         except CommandRefused as refusal:
             # an unreadable state leaves the one read last, as JAKA's SDK leaves its output
@@ -127,14 +121,14 @@ class ControllerPrograms(Programs):
 
     @answers
     def load(self, name: str) -> Result:
-        program = _program_name(name)
+        program = wire.without_jks(name)
         self._sent(wire.load_program(program), "load_program sent")
         return Result.success(f"program {program!r} loaded (load_program "
                               f"{program}{wire.JKS})")
 
     @answers
     def loaded(self) -> Result:
-        name = _program_name(self.send.read(wire.get_loaded_program(),
+        name = wire.without_jks(self.send.read(wire.get_loaded_program(),
                                             wire.reply_loaded_program))
         return Result.success(f"program {name!r} loaded" if name else "no program loaded",
                               name)

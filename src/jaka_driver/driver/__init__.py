@@ -12,7 +12,7 @@
   duration;
 * :mod:`.force_requests` — the force/torque sensor and force control, offered as
   ``driver.force`` (:class:`~.force_requests.ForceRequests`); their field checks
-  :mod:`.force_checks`;
+  :mod:`jaka_driver.backend.force_checks`, which the emulator applies too;
 * :mod:`.tool_io_requests` — the tool connector (supply, pins, RS485 channels, frames,
   signals), offered as ``driver.tool_io`` (:class:`~.tool_io_requests.ToolIORequests`);
 * :mod:`.camera_requests` — the cameras, offered as ``driver.cameras``;

@@ -20,16 +20,16 @@ and nowhere else.
 """
 from __future__ import annotations
 
-import math
 from typing import Optional, Sequence
 
 import numpy as np
 
 from ..common.constants import MAX_TOOL_ROTATION_SPEED, SERVO_CYCLE
-from ..common.joint_limits import fastest_step, outside_limits
+from ..common.joint_limits import fastest_step
 from ..common.models import IO_PATHS, IO_SIGNALS, IO_TYPES, PAYLOAD_MARGIN, RobotModel, io_level
 from ..common.results import CommandRefused, invalid
 from ..common.transforms import pose_mm_to_matrix
+from ..common.values import finite, integer_in, joint_targets, unit_text as _u, vector
 from ..motion.circular_path import MAX_TURNS, circle_duration
 from ..motion.linear_path import line_duration
 from ..motion.profiles import SyncJointProfile
@@ -44,38 +44,6 @@ TOOL_REACH_MM = 1000.0          # |tool offset| bound
 USER_REACH_MM = 10000.0         # |user frame origin| bound
 CENTROID_REACH_MM = 1000.0      # |payload centroid| from the flange
 ANALOG_LIMIT = 10.0             # V; analog outputs are ±10 V
-
-
-def vector(name: str, values: Sequence[float], n: int = 6) -> np.ndarray:
-    """``values`` as a float array of exactly ``n`` finite numbers."""
-    try:
-        length = len(values)
-    except TypeError:
-        raise invalid(f"{name} must be a list of {n} numbers") from None
-    if length != n:
-        raise invalid(f"{name} has {length} values, expected {n}")
-    out = np.asarray(values, dtype=float)
-    for i, v in enumerate(out):
-        if not math.isfinite(v):
-            raise invalid(f"{name}[{i}] is {v}, expected a finite number")
-    return out
-
-
-def finite(name: str, value: float, unit: str = "") -> float:
-    value = float(value)
-    if not math.isfinite(value):
-        raise invalid(f"{name} is {value}{_u(unit)}, expected a finite number")
-    return value
-
-
-def joint_targets(name: str, values: Sequence[float], model: RobotModel) -> np.ndarray:
-    """Six joint angles (rad) inside the model's position limits."""
-    q = vector(name, values)         # finite: the limits comparison below sees no NaN
-    i = outside_limits(model, q)
-    if i is not None:
-        raise invalid(f"{model.joint_names[i]} target {q[i]:.4f} rad is outside "
-                      f"[{model.lower[i]:.2f}, {model.upper[i]:.2f}] rad")
-    return q
 
 
 def speed(name: str, value: float, limit: float, unit: str, *, default: float | None = None,
@@ -100,12 +68,6 @@ def speed(name: str, value: float, limit: float, unit: str, *, default: float | 
             notes.append(f"{name} {value:g} clamped to the limit {limit:g}{_u(unit)}")
         return limit
     return value
-
-
-def integer_in(name: str, value: int, lo: int, hi: int) -> int:
-    if not lo <= int(value) <= hi:
-        raise invalid(f"{name} is {value}, expected {lo}–{hi}")
-    return int(value)
 
 
 def io_signal(value: str) -> str:
@@ -303,6 +265,3 @@ def _slow_field(mvvelo: float, mvacc: float, v_unit: str, a_unit: str, *,
 def _length(T_start: np.ndarray, T_goal: np.ndarray) -> float:
     return float(np.linalg.norm(T_goal[:3, 3] - T_start[:3, 3]))
 
-
-def _u(unit: str) -> str:
-    return f" {unit}" if unit else ""

@@ -3,12 +3,13 @@
 backend's force capability (jaka_driver.backend.force), whichever backend it is.
 
 Order of checks (docs/interface.md, "Force"): a sensor at all (-9, saying how to mount one:
-nothing a request changes can fix that) → the request's fields (-2, :mod:`.force_checks`) →
-the arm's state where the request moves the arm or acts on its readings (the checks of a move:
-e-stop, power, enable, an error, drag mode -9, servo mode -9, another motion -10) → the
-capability's own (the sensor off -9, force control running -10). A refused request changes
-nothing. Methods take the request's units (:mod:`.force_checks`) and answer a
-:class:`Result`; they never raise, and are safe from many threads at once, as RobotDriver's.
+nothing a request changes can fix that) → the request's fields (-2,
+:mod:`jaka_driver.backend.force_checks`) → the arm's state where the request moves the arm or
+acts on its readings (the checks of a move: e-stop, power, enable, an error, drag mode -9,
+servo mode -9, another motion -10) → the capability's own (the sensor off -9, force control
+running -10). A refused request changes nothing. Methods take the request's units
+(:mod:`jaka_driver.backend.force_checks`) and answer a :class:`Result`; they never raise, and
+are safe from many threads at once, as RobotDriver's.
 """
 from __future__ import annotations
 
@@ -16,10 +17,10 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from ..backend import force_checks as fcheck
 from ..backend.force import IdentificationStatus, ReadingType
 from ..common.results import Code, CommandRefused, Result
 from . import checks as check
-from . import force_checks as fcheck
 from .door import Door, RequestPart, answers
 
 
@@ -62,10 +63,11 @@ class ForceRequests(RequestPart):
 
     @answers
     def sensor_data(self, kind: int) -> Result:
-        """The latest reading of ``kind`` (0 actual, 1 general, 2 real): ``value`` = (wrench
+        """The latest reading of ``kind`` (1 actual, 2 general, 3 real:
+        :class:`ReadingType`, as JAKA numbers them): ``value`` = (wrench
         (6, N and N·m, sensor frame), status, errcode)."""
         self._sensor()
-        k = ReadingType(check.integer_in("type", kind, 0, 2))
+        k = ReadingType(check.integer_in("type", kind, *ReadingType.span()))
         reading = self.backend.state().force
         if reading is None:
             raise CommandRefused(Code.WRONG_MODE, "no reading: the force/torque sensor is off "
@@ -239,15 +241,3 @@ class ForceRequests(RequestPart):
         """End every force control; accepted whatever runs."""
         self._sensor()
         return self._force.disable()
-
-    # ---- the twin's hand ----------------------------------------------------------------------
-    @answers
-    def push_tool(self, wrench: Sequence[float], duration: float) -> Result:
-        """Push the twin's tool (Twin.push_tool): ``wrench`` N and N·m along the base's axes,
-        for ``duration`` s (0: let go). -9 on a controller."""
-        twin = self.backend.twin
-        if twin is None:
-            raise CommandRefused(Code.WRONG_MODE, "push_tool refused: this backend is a "
-                                 "controller, not a twin (push the real tool by hand)")
-        w, t = fcheck.push(wrench, duration)
-        return twin.push_tool(w, t)

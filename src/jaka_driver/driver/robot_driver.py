@@ -11,13 +11,14 @@ The methods take the values of the service requests in their own units (docs/int
 RobotDriver is assembled from parts, one per subject, each handed the door's core
 (:class:`~.door.Door`: the backend, the motion lock, the watchdogs, the state checks) and
 passed each request of its subject: moves (:mod:`.moves`), jogs (:mod:`.jogs`), servo mode and
-the servo filter (:mod:`.servo_requests`), programs (:mod:`.program_requests`), settings and
-kinematics (:mod:`.arm_settings`), the twin's own requests (:mod:`.twin_requests`), the
-force/torque sensor and force control (:mod:`.force_requests`, offered as ``driver.force``),
-trajectory recording (:mod:`.recording_requests`, ``driver.recording``), the tool connector
-(:mod:`.tool_io_requests`, ``driver.tool_io``) and the gripper on it (:mod:`.gripper_requests`,
-``driver.gripper``), the cameras (:mod:`.camera_requests`, ``driver.cameras``). What a request
-does is documented in its part.
+the servo filter (:mod:`.servo_requests`), settings and kinematics (:mod:`.arm_settings`).
+Each facet of the backend has its one door, offered as an attribute: the twin's own requests
+``driver.twin`` (:mod:`.twin_requests`), robot programs ``driver.programs``
+(:mod:`.program_requests`), the force/torque sensor and force control ``driver.force``
+(:mod:`.force_requests`), trajectory recording ``driver.recording`` (:mod:`.recording_requests`),
+the tool connector ``driver.tool_io`` (:mod:`.tool_io_requests`) and the gripper on it
+``driver.gripper`` (:mod:`.gripper_requests`), the cameras ``driver.cameras``
+(:mod:`.camera_requests`). What a request does is documented in its part.
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..backend import Backend, Camera, ProgramStatus
+from ..backend import Backend
 from ..backend.robot_state import RobotState
 from ..common.results import Result
 from ..conventions import DOCUMENT, Conventions
@@ -69,9 +70,11 @@ class RobotDriver:
         self._moves = MoveRequests(door)
         self._jogs = JogRequests(door)
         self._servo = ServoRequests(door)
-        self._programs = ProgramRequests(door)
+        #: robot programs (driver/program_requests.py): load, play, pause, resume, stop, variables
+        self.programs = ProgramRequests(door)
         self._settings = SettingRequests(door)
-        self._twin = TwinRequests(door, self._servo.forget)
+        #: what only a twin can do (driver/twin_requests.py): -9 without a twin
+        self.twin = TwinRequests(door, self._servo.forget)
         #: the force/torque sensor and force control (driver/force_requests.py)
         self.force = ForceRequests(door, self._moves.run_move)
         #: trajectory recording and its replay programs (driver/recording_requests.py)
@@ -82,6 +85,10 @@ class RobotDriver:
         #: the gripper on the tool connector (driver/gripper_requests.py)
         self.gripper = NoGripper() if gripper == "none" else GripperRequests(
             door, gripper, gripper_setup or ConnectorSetup())
+        if self.gripper.absent is None:
+            # a twin's reset switches the tool supply off and deletes the signals: the gripper
+            # is set up again as at the node's start
+            self.twin.after_reset(self.gripper.set_up)
         #: the twin's cameras (driver/camera_requests.py)
         self.cameras = CameraRequests(door)
         if backend.programs is not None:     # a program's steps come through this door
@@ -174,34 +181,6 @@ class RobotDriver:
         set_servo_filter`)."""
         return self._servo.set_servo_filter(filter_type, **params)
 
-    # ---- programs: ProgramRequests (program_requests.py) -------------------------------------
-    def load_program(self, name: str) -> Result:
-        return self._programs.load_program(name)
-
-    def loaded_program(self) -> Result:
-        return self._programs.loaded_program()
-
-    def play_program(self) -> Result:
-        return self._programs.play_program()
-
-    def pause_program(self) -> Result:
-        return self._programs.pause_program()
-
-    def resume_program(self) -> Result:
-        return self._programs.resume_program()
-
-    def stop_program(self) -> Result:
-        return self._programs.stop_program()
-
-    def program_status(self) -> ProgramStatus:
-        return self._programs.program_status()
-
-    def program_variables(self) -> Result:
-        return self._programs.program_variables()
-
-    def set_program_variable(self, var_id: int, value: float, alias: str = "") -> Result:
-        return self._programs.set_program_variable(var_id, value, alias)
-
     # ---- settings and kinematics: SettingRequests (arm_settings.py) --------------------------
     def set_speed_ratio(self, ratio: float) -> Result:
         return self._settings.set_speed_ratio(ratio)
@@ -253,41 +232,3 @@ class RobotDriver:
 
     def get_ik(self, ref_joint: Sequence[float], cartesian_pose: Sequence[float]) -> Result:
         return self._settings.get_ik(ref_joint, cartesian_pose)
-
-    # ---- what only a twin can do: TwinRequests (twin_requests.py) ----------------------------
-    @property
-    def has_twin(self) -> bool:
-        return self._twin.has_twin
-
-    def emergency_stop(self, pressed: bool) -> Result:
-        return self._twin.emergency_stop(pressed)
-
-    def protective_stop(self) -> Result:
-        return self._twin.protective_stop()
-
-    def set_input(self, signal: str, type: int, index: int, value: float) -> Result:  # noqa: A002
-        return self._twin.set_input(signal, type, index, value)
-
-    def reset_twin(self, joints: Sequence[float] = ()) -> Result:
-        """The twin's fresh start; a gripper's tool connector is set up again as at the
-        node's start (the reset switched the supply off and deleted the signals)."""
-        result = self._twin.reset_twin(joints)
-        if result.ok and self.gripper.absent is None:
-            set_up = self.gripper.set_up()
-            if not set_up.ok:          # the reset happened: say so, and what did not
-                return Result(result.code, f"{result.message}; the gripper's set-up was "
-                              f"refused ({set_up.code}): {set_up.message}", result.value)
-        return result
-
-    def pause_twin(self, pause: bool) -> Result:
-        return self._twin.pause_twin(pause)
-
-    def step_twin(self, cycles: int) -> Result:
-        return self._twin.step_twin(cycles)
-
-    def camera(self, width: int, height: int) -> Camera:
-        return self._twin.camera(width, height)
-
-    def twin_parts(self) -> dict:
-        """The twin's parts: name → 4x4 pose (m, base frame); {} on a controller."""
-        return self._twin.parts()

@@ -1,5 +1,6 @@
-"""What only a twin can do, through the door (``backend.twin``): its faults and inputs (the
-world acting on the arm), its reset, the pause and steps of its simulated time, and its
+"""What only a twin can do, through the door: ``driver.twin`` (:class:`TwinRequests`), the one
+door of the ``backend.twin`` facet — its faults and inputs (the world acting on the arm,
+the hand on its tool included), its reset, the pause and steps of its simulated time, and its
 camera. In simulated time each acts between two cycles, at the sim time it arrived, as every
 request does. On a backend without a twin each is answered -9.
 """
@@ -8,6 +9,7 @@ from __future__ import annotations
 from typing import Callable, Sequence
 
 from ..backend import Camera, Twin
+from ..backend import force_checks as fcheck
 from ..common.results import Code, CommandRefused, Result, invalid
 from . import checks as check
 from .door import Door, RequestPart, answers
@@ -28,11 +30,17 @@ class TwinRequests(RequestPart):
     def __init__(self, door: Door, forget_servo: Callable[[], None]):
         super().__init__(door)
         self._forget_servo = forget_servo
+        self._after_reset: list[Callable[[], Result]] = []
+
+    def after_reset(self, set_up: Callable[[], Result]) -> None:
+        """Run ``set_up()`` after each reset that succeeded (a device on the tool connector set
+        up again as at start: the reset switched the tool supply off and deleted the signals)."""
+        self._after_reset.append(set_up)
 
     @property
-    def has_twin(self) -> bool:
+    def present(self) -> bool:
         """The backend offers what only a twin can do (:class:`~jaka_driver.backend.Twin`):
-        the node then serves its fault, input and snapshot services."""
+        the node then serves its fault, input, hand and snapshot services."""
         return self.backend.twin is not None
 
     def _twin(self, refusal: str) -> Twin:
@@ -71,7 +79,7 @@ class TwinRequests(RequestPart):
                                                                        int(index), v)
 
     @answers
-    def reset_twin(self, joints: Sequence[float] = ()) -> Result:
+    def reset(self, joints: Sequence[float] = ()) -> Result:
         """A twin back to a fresh start (:meth:`jaka_driver.backend.Twin.reset`) at ``joints``
         (rad; empty: home); the driver forgets its jogs and servo stream. -9 without a twin.
         In sim time it happens between two cycles, at the sim time the request arrived."""
@@ -79,22 +87,37 @@ class TwinRequests(RequestPart):
         q = check.joint_targets("joints", joints, self.model) if len(joints) else None
         self.door.forget_jogs()
         self._forget_servo()
-        return twin.reset(q)
+        result = twin.reset(q)
+        for set_up in self._after_reset if result.ok else ():
+            again = set_up()
+            if not again.ok:            # the reset happened: say so, and what did not
+                return Result(result.code, f"{result.message}; setting up again after it was "
+                              f"refused ({again.code}): {again.message}", result.value)
+        return result
 
     @answers
-    def pause_twin(self, pause: bool) -> Result:
+    def pause(self, pause: bool) -> Result:
         """Stop (True) or run on (False) the twin's simulated time."""
         twin = self._twin(NOT_A_TWIN)
         return twin.pause() if pause else twin.unpause()
 
     @answers
-    def step_twin(self, cycles: int) -> Result:
+    def step(self, cycles: int) -> Result:
         """While paused, run ``cycles`` (1–:data:`MAX_STEP`) 8 ms cycles; ``Result.value`` is the
         sim time (s) after them."""
         twin = self._twin(NOT_A_TWIN)
         if not 1 <= cycles <= MAX_STEP:
             raise invalid(f"cycles is {cycles}, expected 1–{MAX_STEP}")
         return twin.step(cycles)
+
+    @answers
+    def push_tool(self, wrench: Sequence[float], duration: float) -> Result:
+        """Push the twin's tool (Twin.push_tool), as an operator's hand: ``wrench`` N and N·m
+        along the base's axes, for ``duration`` s (0: let go). -9 on a controller."""
+        twin = self._twin("push_tool refused: this backend is a controller, not a twin (push "
+                          "the real tool by hand)")
+        w, t = fcheck.push(wrench, duration)
+        return twin.push_tool(w, t)
 
     def camera(self, width: int, height: int) -> Camera:
         """The twin's offscreen camera (:meth:`jaka_driver.backend.Twin.camera`: made in the

@@ -12,8 +12,11 @@ without hardware. No ROS needed.
   :mod:`.program_commands`, :mod:`.sensor_commands`, :mod:`.force_commands` (an arm with the
   sensor, ``--force-sensor``); :mod:`.wire_fields` reads request fields,
   :mod:`.replies` writes replies (and holds :class:`~.replies.Rejected`, a refusal).
-* :mod:`.twin_controller` — a controller's rules on the twin, SI units; :mod:`.motion_queue` —
-  its motion queue and the thread that starts each move;
+* :mod:`.twin_controller` — a controller's rules on the twin, SI units, assembled by concern:
+  :mod:`.arm_rules` (state refusals, power, limits), :mod:`.arm_moves` (queued moves, jogs,
+  stop, programs), :mod:`.servo_mode`, :mod:`.arm_settings` (frames, payload, drag, collision,
+  servo filter), :mod:`.arm_io` (IO, the outside world's faults, the packet's readings);
+  :mod:`.motion_queue` — its motion queue and the thread that starts each move;
   :mod:`.torque_sensor` — the torque sensor's stored settings and the packet's ``torqsensor``.
 * :mod:`.status_packet` — the status packet's fields.
 * :mod:`.process` — :class:`EmulatorProcess`, the emulator as a subprocess (tests), waiting

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Optional, Union
 
 from ..common.models import RobotModel, load_model, repo_root
+from ..programs import FolderPrograms
 from ..sim import SimBackend
 from .handlers import CommandHandlers
 from .program_steps import ControllerSteps
@@ -80,8 +81,8 @@ class Emulator:
         if programs is not None and not Path(programs).expanduser().is_dir():
             raise ValueError(f"programs folder {programs} is not a folder")
         self.backend = SimBackend(self.model, scene=scene, io_loopback=io_loopback,
-                                  programs=programs, force_sensor=bool(force_sensor),
-                                  gripper=gripper)
+                                  programs=FolderPrograms(programs),
+                                  force_sensor=bool(force_sensor), gripper=gripper)
         self.controller = TwinController(self.backend, self.profile)
         # each step of a program passes this controller's rules, as its commands do
         self.backend.programs.bind(ControllerSteps(self.controller))

@@ -205,7 +205,8 @@ class ArmCommands:
 
     # ---- servo mode -----------------------------------------------------------------------------
     def _steps(self, req) -> int:
-        return integer(req, Field.STEP_NUM, 1, 1000, default=1)
+        # an unsigned int, 0 refused by the SDK itself; no upper bound on record (1000 sent)
+        return integer(req, Field.STEP_NUM, 1, (1 << 32) - 1, default=1)
 
     def _servo_j(self, req) -> Answer:
         self.c.require_servo_mode(Cmd.SERVO_J)

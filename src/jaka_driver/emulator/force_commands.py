@@ -11,9 +11,10 @@ compliant speed limit, the reference point, the sensitivity thresholds) stay sto
 Wire units (docs/protocol.md, "Torque sensor"; JAKA's SDK passes them unconverted, and no
 controller's unit is on record for the first two): ``ftReboundFK`` and ``rebound`` N/mm on x
 y z and N·m/rad on rx ry rz, ``torqueSensorFilter`` Hz; forces N, moments N·m, mass kg,
-centroid mm, the identification's end pose deg, as on record. Values are checked as the
-driver's door checks a request (:mod:`jaka_driver.driver.force_checks`, the sensor's range from
-the arm's configuration) and refused with "1" naming the field.
+centroid mm, the identification's end pose deg, as on record. Values are checked with
+the force settings' value checks the driver's door applies too (:mod:`jaka_driver.backend.
+force_checks`, the sensor's range from the arm's configuration) and refused with "1" naming the
+field.
 
 ``enable_admittance_ctrl`` is the one command of every force control (JAKA's SDK's
 enable_tool_drive sends it too), so ``enable_flag`` 1 starts what the settings describe:
@@ -25,13 +26,13 @@ from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
-from ..backend.force import (AdmittanceAxis, ComplianceType, ForceMode, ToolDriveAxis,
-                             rebound_from_si)
+from ..backend import force_checks as fcheck
+from ..backend.force import (AdmittanceAxis, ComplianceType, ForceMode, ReadingType,
+                             ToolDriveAxis)
 from ..common.results import CommandRefused, Result
-from ..driver import force_checks as fcheck
 from ..protocol.fields import SOFT_LIMIT_KEYS, Field
+from ..protocol.torque_sensor import AXIS_COUNT
 from .replies import ERROR_REQUEST, Answer, Rejected
-from .torque_sensor import AXES
 from .twin_controller import TwinController
 from .wire_fields import integer, joints, number, required, shown, shown_name, vector
 
@@ -64,19 +65,19 @@ class ForceCommands:
                 zip(SOFT_LIMIT_KEYS, map(float, self.force.settings().soft_limit)))}),
             "set_admit_ctrl_config": self._set_admittance,
             "get_admit_ctrl_config": lambda r: Answer({"admitConfig": [
-                [int(a.enabled), float(a.ft_user), rebound_from_si(i, a.rebound),
+                [int(a.enabled), float(a.ft_user), float(a.rebound),
                  float(a.constant), int(a.normal_track)]
-                for i, a in enumerate(self.force.settings().admittance)]}),
+                for a in self.force.settings().admittance]}),
             "set_tool_drive_config": self._set_tool_drive,
             "get_tool_drive_config": lambda r: Answer({"force_ctrl_config": [
-                [int(a.enabled), float(a.rigidity), rebound_from_si(i, a.rebound)]
-                for i, a in enumerate(self.force.settings().tool_drive)]}),
+                [int(a.enabled), float(a.rigidity), float(a.rebound)]
+                for a in self.force.settings().tool_drive]}),
             "set_compliant_type": self._set_compliant_type,
             "get_compliant_type": lambda r: Answer(self._compliant_type()),
             "set_vel_compliant_ctrl": self._set_velocity_compliance,
             "set_compliance_condition": lambda r: self._done(r, self.force.set_condition(
                 self._checked(r, fcheck.wrench_limits, "compliant_condition",
-                              vector(r, "compliant_condition", AXES), self.range,
+                              vector(r, "compliant_condition", AXIS_COUNT), self.range,
                               zero_allowed=True))),
             "set_ft_ctrl_frame": lambda r: self._done(r, self.force.set_frame(
                 integer(r, "ftFrame", 0, 1))),
@@ -144,18 +145,19 @@ class ForceCommands:
             zero_allowed=False)))
 
     def _sensor_data(self, req: Mapping) -> Answer:
-        """One reading of the latest sample: ``type`` 0 actual, 1 general, 2 real; with the
+        """One reading of the latest sample: ``type`` 1 actual, 2 general, 3 real
+        (JAKA's numbering, sent unchanged by its SDK); with the
         sensor off, status 0 and zeros (what the status packet says too)."""
-        kind = integer(req, "type", 0, 2)
+        kind = integer(req, "type", *ReadingType.span())
         reading = self.c.state().force
         if reading is None:
-            return Answer({"status": 0, "errcode": 0, "data": [0.0] * AXES})
+            return Answer({"status": 0, "errcode": 0, "data": [0.0] * AXIS_COUNT})
         return Answer({"status": int(reading.status), "errcode": int(reading.errcode),
                        "data": [float(v) for v in reading.of(kind)]})
 
     # ---- settings of force control ----------------------------------------------------------
     def _set_admittance(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         opt = integer(req, "opt", 0, 1)
         normal_track = integer(req, "ftNnormalTrack", 0, 1)
         # the door refuses normal tracking (JAKA deprecates it): a controller keeps the flag
@@ -167,7 +169,7 @@ class ForceCommands:
         return self._done(req, self.force.set_admittance(axis, config))
 
     def _set_tool_drive(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         config: ToolDriveAxis = self._checked(req, fcheck.tool_drive, axis,
                                               integer(req, "opt", 0, 1),
                                               number(req, "rigidity"), number(req, "rebound"),

@@ -32,22 +32,17 @@ START_STATES = tuple(START_WORDS)
 
 IoSizes = Mapping[Tuple[str, int, int], int]
 
-#: The status packet of the Zu 5s recorded on fw 1.5.14: its keys besides ``len``, in a real
-#: packet's order. The recording is reported by its count (35 with ``len``) and size (3208
-#: bytes), not key by key. JAKA's TCP protocol document lists 39 packet keys (as the public
-#: clients written from it quote it); the four of them left out here are the ones no client on
-#: record reads and the document does not mark obsolete — ``drag_near_limit``, ``funcdi``,
-#: ``curr_tcp_trans_vel``, ``point_key`` (the obsolete ``homed``, ``motion_mode`` and
-#: ``netState`` are what older controllers sent). The keys newer controllers add (``instVel``,
-#: ``motion_line``, the fieldbus and relay arrays, ...) are not in it: docs/protocol.md, "Status
-#: packet", lists every key beyond these with who reads it.
+#: The status packet of the Zu 5s recorded on fw 1.5.14, key by key (docs/protocol.md, "Status
+#: packet", restating the recording: 36 keys with ``len``, 3208 bytes): its keys besides
+#: ``len``, in the recording's order. Not in it: ``extio``, ``tio_key``, ``position``,
+#: ``joint_position``, ``relay_io``, the fieldbus arrays, ``instVel``, ``motion_line``.
 RECORDED_PACKET_KEYS: Tuple[str, ...] = (
-    "drag_status", "extio", "errcode", "errmsg", "monitor_data", "torqsensor", "rapidrate",
-    "enabled", "powered_on", "inpos", "paused", "protective_stop", "emergency_stop",
-    "on_soft_limit", "task_state", "task_mode", "interp_state", "motion_mode",
-    "current_tool_id", "current_user_id", "joint_actual_position", "joint_position",
-    "actual_position", "position", "din", "dout", "ain", "aout", "tio_din", "tio_dout",
-    "tio_ain", "tio_key", "homed", "netState")
+    "drag_status", "errcode", "errmsg", "monitor_data", "torqsensor", "joint_actual_position",
+    "actual_position", "din", "dout", "ain", "aout", "tio_din", "tio_dout", "tio_ain",
+    "task_state", "homed", "task_mode", "interp_state", "enabled", "paused", "rapidrate",
+    "current_tool_id", "current_user_id", "on_soft_limit", "emergency_stop", "drag_near_limit",
+    "funcdi", "powered_on", "inpos", "motion_mode", "curr_tcp_trans_vel", "protective_stop",
+    "point_key", "netState", "timestamp")
 
 
 def _io_sizes(cabinet_digital: int, cabinet_analog: int, tool_analog_in: int,

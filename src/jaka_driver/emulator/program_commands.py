@@ -23,12 +23,10 @@ from __future__ import annotations
 from typing import Callable, Dict, Mapping
 
 from ..protocol.fields import Cmd, Field
+from ..protocol.programs import JKS
 from .replies import Answer, Rejected, done
 from .twin_controller import TwinController
 from .wire_fields import integer, number, text
-
-#: what JAKA's SDK appends to every program name it loads
-JKS = ".jks"
 
 
 class ProgramCommands:

@@ -20,9 +20,10 @@ from __future__ import annotations
 
 from typing import Callable, Dict, Mapping
 
-from ..protocol.fields import Field
+from ..protocol.fields import SOFT_LIMIT_KEYS, Field
+from ..protocol.torque_sensor import AXIS_COUNT
 from .replies import ERROR_REFUSED, ERROR_REQUEST, Answer, Rejected
-from .torque_sensor import AXES, SOFT_LIMIT_KEYS, TorqueSensorSettings
+from .torque_sensor import TorqueSensorSettings
 from .wire_fields import integer, number, required, shown, shown_name, text, vector
 
 NO_SENSOR = "no torque sensor is connected (the emulated arm has none)"
@@ -153,7 +154,7 @@ class SensorCommands:
         return self._store(soft_limit=limits)
 
     def _set_admittance(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         row = [integer(req, "opt", *_INT), number(req, "ftUser"), number(req, "ftReboundFK"),
                number(req, "ftConstant"), integer(req, "ftNnormalTrack", *_INT)]
         with self.s.lock:
@@ -161,7 +162,7 @@ class SensorCommands:
         return Answer()
 
     def _set_tool_drive(self, req: Mapping) -> Answer:
-        axis = integer(req, "axis", 0, AXES - 1)
+        axis = integer(req, "axis", 0, AXIS_COUNT - 1)
         row = [integer(req, "opt", *_INT), number(req, "rigidity"), number(req, "rebound")]
         with self.s.lock:
             self.s.tool_drive[axis] = row
@@ -177,7 +178,7 @@ class SensorCommands:
         return self._store(sensor_compensation=0, compliance_type=0)
 
     def _set_threshold(self, req: Mapping) -> Answer:
-        values = vector(req, "threshold_percent", AXES)
+        values = vector(req, "threshold_percent", AXIS_COUNT)
         if not all(0.0 <= v <= 100.0 for v in values):
             raise Rejected(f"{shown_name(req)}: 'threshold_percent' must be 6 percentages in "
                            f"[0, 100]; got {shown(values.tolist())}", ERROR_REQUEST)

@@ -137,16 +137,19 @@ def wire_filter(model: RobotModel, filter_type: int, params: Mapping[str, float]
                 ) -> ServoFilterSpec:
     """The twin's filter for a ``set_servo_move_filter``'s ``filter_type`` and parameters in
     the wire's units (JAKA's SDK sends them unconverted: Hz, deg/s, deg/s², deg/s³, mm/s,
-    mm/s², mm/s³, buffer counts): converted to the driver's units and checked against the
-    driver's ranges, which take what JAKA's SDK and its examples send
-    (:func:`~jaka_driver.motion.servo_filters.checked_spec`). Out of range: refused with "1",
-    naming the wire's field and value."""
+    mm/s², mm/s³, buffer counts): converted to the driver's units, and what lies above what
+    the twin can run is clamped to it, not refused — JAKA documents no upper bound and no
+    controller is known to refuse one (``servo_move_use_joint_LPF(125.0)`` among them): the
+    emulator adds no range of its own (docs/twin.md, "Servo filters";
+    :func:`~jaka_driver.motion.servo_filters.checked_spec` with ``clamp``). Left to refuse,
+    with "1" naming the wire's field and value: the multi-order mean's three weights all 0
+    (no mean to take)."""
     request = {}
     for key, value in params.items():
         name, factor = _WIRE_TO_REQUEST[key]
         request[name] = value * factor
     try:
-        return checked_spec(model, filter_type, request)
+        return checked_spec(model, filter_type, request, clamp=True)
     except CommandRefused as refusal:
         sent = ", ".join(f"{k} {v:g}" for k, v in params.items())
         raise Rejected(f"set_servo_move_filter: {refusal.message} (the request's {sent}; "

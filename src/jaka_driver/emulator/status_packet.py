@@ -2,7 +2,7 @@
 the port-10004 ``data_request`` reply and the ``get_data`` reply), in wire units — joints deg,
 TCP mm + RPY deg — with the keys, types and array sizes of a real packet, in its key order
 (docs/protocol.md, "Status packet"): the keys the profile's controller sends (the recorded fw
-1.5.14 packet's 35, or every key JAKA's SDK reads), its array sizes.
+1.5.14 packet's 36 with ``len``, or every key JAKA's SDK reads), its array sizes.
 
 Filled from the twin where the twin has the quantity:
 
@@ -15,6 +15,8 @@ Filled from the twin where the twin has the quantity:
 * top-level ``instVel`` = joint speeds (deg/s: the wire's joint unit; the unit of a real
   controller's ``instVel`` is not on record);
 * ``curr_tcp_trans_vel`` = the TCP's speed (mm/s);
+* ``timestamp`` (the recorded fw 1.5.14 packet only) = the sample's time, s (its unit on the
+  real arm is not on record);
 * ``torqsensor`` = the torque sensor's settings (:mod:`.torque_sensor`): with no sensor, none
   running (the recorded two-vector layout); on an arm with the sensor (``--force-sensor``), the
   twin's sensor payload and the sample's actual, general and real wrench;
@@ -218,4 +220,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     fields[S.EXECUTING_LINE] = int(controller.motion_line)
     fields[S.INST_VEL] = np.degrees(st.joint_velocity).tolist()
     keys = controller.profile.packet_keys
-    return fields if keys is None else {key: fields[key] for key in keys}
+    if keys is None:
+        return fields
+    fields["timestamp"] = float(st.stamp)
+    return {key: fields[key] for key in keys}

@@ -17,9 +17,9 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..backend.force import ForceReading
+from ..protocol.fields import SOFT_LIMIT_KEYS
+from ..protocol.torque_sensor import AXIS_COUNT
 
-AXES = 6   # Fx, Fy, Fz, Mx, My, Mz: one row per axis in the admittance and tool-drive tables
-SOFT_LIMIT_KEYS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 
 @dataclass
@@ -41,10 +41,10 @@ class TorqueSensorSettings:
         default_factory=lambda: {key: 0.0 for key in SOFT_LIMIT_KEYS})
     #: per axis: [opt, ft_user, ft_rebound, ft_constant, ft_normal_track]
     admittance: List[list] = field(
-        default_factory=lambda: [[0, 0.0, 0.0, 0.0, 0] for _ in range(AXES)])
+        default_factory=lambda: [[0, 0.0, 0.0, 0.0, 0] for _ in range(AXIS_COUNT)])
     #: per axis: [opt, rigidity, rebound]
     tool_drive: List[list] = field(
-        default_factory=lambda: [[0, 0.0, 0.0] for _ in range(AXES)])
+        default_factory=lambda: [[0, 0.0, 0.0] for _ in range(AXIS_COUNT)])
     sensor_compensation: int = 0
     compliance_type: int = 0
     ft_frame: int = 0                   # 0 tool, 1 world
@@ -54,7 +54,7 @@ class TorqueSensorSettings:
     speed_limit: float = 0.0            # compliant speed limit, as sent
     angular_speed_limit: float = 0.0
     ref_point: int = 0                  # torque reference point
-    threshold_percent: List[float] = field(default_factory=lambda: [0.0] * AXES)
+    threshold_percent: List[float] = field(default_factory=lambda: [0.0] * AXIS_COUNT)
 
     def monitor(self, sensor: Optional[tuple] = None) -> list:
         """The status packet's ``torqsensor``. Without a sensor, the recorded layout
@@ -71,7 +71,7 @@ class TorqueSensorSettings:
                       [float(mass), [int(c) if float(c).is_integer() else float(c)
                                      for c in centroid]]]
         if sensor is None:
-            return [config, [0, 0, [0.0] * AXES, [0.0] * AXES]]
+            return [config, [0, 0, [0.0] * AXIS_COUNT, [0.0] * AXIS_COUNT]]
         return [config, sensor_monitor(sensor[2])]
 
 
@@ -81,7 +81,7 @@ def sensor_monitor(reading: Optional[ForceReading]) -> list:
     zeros). Values are rounded to 0.1 mN and 0.1 mN·m, far below a sensor's noise, to keep the
     packet and get_data within a client's 8192-byte read."""
     if reading is None:
-        return [0, 0, [0.0] * AXES, [0.0] * AXES, [0.0] * AXES]
+        return [0, 0, [0.0] * AXIS_COUNT, [0.0] * AXIS_COUNT, [0.0] * AXIS_COUNT]
     return [int(reading.status), int(reading.errcode)] + [
         _rounded(w) for w in (reading.actual, reading.general, reading.real)]
 

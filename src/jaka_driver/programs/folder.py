@@ -19,14 +19,13 @@ from typing import Callable, List, Optional
 from ..backend.programs import Programs, ProgramStatus
 from ..backend.recording import TRACK_FOLDER
 from ..common.results import Code, Result
+from ..protocol.programs import without_jks
 from .language import ProgramError
 from .parser import parse
 from .runner import ProgramRunner
 from .variables import UserVariables
 
 SUFFIX = ".jdp"
-#: what JAKA's SDK appends to every program name it loads
-JKS = ".jks"
 _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*")
 #: what names a replay program generated from a recording (``track/<name>``, as on JAKA's
 #: controllers): the one folder a name may name
@@ -36,12 +35,13 @@ MAX_NAME = 200
 
 
 def program_name(requested: str) -> str:
-    """The program a requested name means: a trailing ".jks" or ".jdp" taken off."""
+    """The program a requested name means: a trailing ".jks" (JAKA's SDK appends it,
+    :func:`~jaka_driver.protocol.programs.without_jks`) or ".jdp" taken off."""
     name = str(requested).strip()
-    for suffix in (JKS, SUFFIX):
-        if name.endswith(suffix):
-            return name[:-len(suffix)]
-    return name
+    trimmed = without_jks(name)
+    if trimmed != name:
+        return trimmed
+    return name[:-len(SUFFIX)] if name.endswith(SUFFIX) else name
 
 
 class FolderPrograms(Programs):

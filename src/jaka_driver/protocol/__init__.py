@@ -8,6 +8,8 @@ rad, Cartesian poses ``[x, y, z mm, rx, ry, rz rad]``, IO indices 0-based; the w
 * :mod:`.fields` — every name on the wire, and the command table with confidence levels.
 * :mod:`.commands` — request encoders (driver units in, wire dicts out).
 * :mod:`.replies` — reply decoding and typed accessors (re-exported by :mod:`.commands`).
+* :mod:`.request_values` / :mod:`.reply_values` — the encoders' and the accessors' toolkit: a
+  request's values checked and put together, a reply's fields read as JAKA's SDK reads them.
 * :mod:`.torque_sensor` — the torque sensor and force control: requests as JAKA's SDK sends
   them, its replies, and the status packet's ``torqsensor``.
 * :mod:`.tool_io` — the tool connector (TIO): JAKA's twelve requests as its SDK sends them,

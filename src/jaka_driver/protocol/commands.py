@@ -17,9 +17,7 @@ for the medium- and low-confidence entries).
 from __future__ import annotations
 
 import math
-from typing import Any, Dict, Mapping, Optional
-
-import numpy as np
+from typing import Any, Mapping, Optional
 
 from . import units
 from .errors import InvalidArgument
@@ -31,9 +29,9 @@ from .replies import (DHParam, PowerState, Reply, command_names_match,  # noqa: 
                       reply_kine_forward, reply_kine_inverse, reply_motion_state, reply_payload,
                       reply_robot_state, reply_tcp_pos, reply_tool_offsets, reply_user_offsets,
                       reply_value, reply_version)
+from .request_values import Request, command as _cmd, flag, integer as _integer
+from .request_values import number as _number, vector as _vector
 from .wire import encode_json
-
-Request = Dict[str, Any]
 
 
 def encode(request: Mapping[str, Any]) -> bytes:
@@ -48,50 +46,8 @@ def encode(request: Mapping[str, Any]) -> bytes:
         raise InvalidArgument(f"request {name!r} cannot be encoded as JSON: {exc}") from None
 
 
-# ---- validation at the door ------------------------------------------------------------------
-
-def _vector(values, n: int, what: str) -> np.ndarray:
-    try:
-        v = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidArgument(f"{what} must be {n} numbers; got {values!r}") from None
-    if v.shape != (n,):
-        raise InvalidArgument(f"{what} has {v.size} values, expected {n}")
-    if not np.all(np.isfinite(v)):
-        raise InvalidArgument(f"{what} has a value that is not finite: {v.tolist()}")
-    return v
-
-
-def _number(value, what: str, positive: bool = False, lo: float = -math.inf,
-            hi: float = math.inf) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InvalidArgument(f"{what} must be a number; got {value!r}") from None
-    if not math.isfinite(x):
-        raise InvalidArgument(f"{what} must be finite; got {x}")
-    if positive and x <= 0.0:
-        raise InvalidArgument(f"{what} must be > 0; got {x}")
-    if not lo <= x <= hi:
-        raise InvalidArgument(f"{what} = {x} is outside [{lo}, {hi}]")
-    return x
-
-
-def _integer(value, what: str, lo: int = 0, hi: Optional[int] = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InvalidArgument(f"{what} must be an integer; got {value!r}")
-    i = int(value)
-    if i < lo or (hi is not None and i > hi):
-        raise InvalidArgument(f"{what} = {i} is outside [{lo}, {'∞' if hi is None else hi}]")
-    return i
-
-
 def _rel_flag(relative: bool) -> int:
-    return 1 if relative else 0
-
-
-def _cmd(cmd_name: str, /, **fields) -> Request:
-    return {Field.CMD_NAME: cmd_name, **fields}
+    return flag(relative)
 
 
 # ---- power, enable, state ------------------------------------------------------------------

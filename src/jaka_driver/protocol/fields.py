@@ -185,7 +185,7 @@ class Field:
     SENSOR_COMPENSATION = "sensor_compensation"
     COMPLIANCE_TYPE = "compliance_type"       # 0 none, 1 constant force, 2 velocity
     COMM_TYPE = "type"                        # set/get_torque_sensor_comm; also the reading
-    # type of get_torque_sensor_data (0 actual, 1 general, 2 real)
+    # type of get_torque_sensor_data (1 actual, 2 general, 3 real)
     IP_ADDR = "ip_addr"
     PORT = "port"
     SENSOR_FILTER = "torqueSensorFilter"
@@ -599,7 +599,7 @@ _SPECS = (
     CommandSpec(Cmd.GET_FT_CTRL_FRAME, reply=(F.FT_FRAME,)),
     CommandSpec(Cmd.GET_TORQUE_SENSOR_DATA, request=(F.COMM_TYPE,),
                 reply=(F.SENSOR_DATA_STATUS, F.SENSOR_ERRCODE, F.SENSOR_DATA),
-                note="type 0 actual, 1 general, 2 real"),
+                note="type 1 actual, 2 general, 3 real"),
     CommandSpec(Cmd.GET_TOOL_DRIVE_STAT, reply=(F.ENABLE_FLAG, F.DRIVE_STAT),
                 note='(sic) "stat"'),
     CommandSpec(Cmd.SET_TOOL_DRIVE_FRAME, request=(F.TOOL_DRAG_FRAME,)),

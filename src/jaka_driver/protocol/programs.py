@@ -12,10 +12,12 @@ from __future__ import annotations
 
 from typing import List, NamedTuple
 
-from .commands import Request, _cmd, _integer, _number
 from .errors import ProtocolError
 from .fields import Cmd, Field, ProgramState
-from .replies import Reply, _field, _int_field
+from .replies import Reply
+from .reply_values import field as _field, int_field as _int_field
+from .request_values import Request, command as _cmd, integer as _integer
+from .request_values import number as _number
 from .wire import clean_text
 
 #: what JAKA's SDK appends to every program name it loads
@@ -24,6 +26,13 @@ JKS = ".jks"
 PROGRAM_STATES = {ProgramState.IDLE: 0, ProgramState.RUNNING: 1, ProgramState.PAUSED: 2}
 #: the most user variables JAKA's SDK reads from one reply
 MAX_VARIABLES = 100
+
+
+def without_jks(name: str) -> str:
+    """A program's name as a client meant it: blanks around it and the ".jks" JAKA's SDK
+    appends to every name taken off (once)."""
+    name = str(name).strip()
+    return name[:-len(JKS)] if name.endswith(JKS) else name
 
 
 def load_program(name: str) -> Request:

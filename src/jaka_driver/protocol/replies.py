@@ -13,9 +13,7 @@ Replies are read by key, whatever their layout: a real controller puts spaces af
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from types import MappingProxyType
-import math
 from typing import Any, Dict, Mapping, NamedTuple, Tuple
 
 import numpy as np
@@ -23,19 +21,10 @@ import numpy as np
 from . import units
 from .errors import CommandRejected, ProtocolError
 from .fields import ERROR_CODE_OK, IDENTITY_FIELDS, Field
-from .wire import as_flag, clean_text, float_vector
-
-
-@dataclass(frozen=True)
-class Reply:
-    """One controller reply. ``ok`` is ``error_code == "0"``; ``error_msg`` is the controller's
-    own text, kept verbatim; ``fields`` are the remaining keys, in wire units, read-only."""
-
-    cmd_name: str
-    ok: bool
-    error_code: str
-    error_msg: str
-    fields: Mapping[str, Any]
+from .reply_values import Reply
+from .reply_values import field as _field, int_field as _int_field, number as _number
+from .reply_values import table as _table, wire_vector as _wire_vector
+from .wire import as_flag, clean_text
 
 
 _META = (Field.CMD_NAME, Field.ERROR_CODE, Field.ERROR_MSG)
@@ -61,25 +50,6 @@ def command_names_match(sent: str, echoed: str) -> bool:
     def norm(name: str) -> str:
         return name.replace("_", "").lower()
     return norm(sent) == norm(echoed)
-
-
-def _field(reply: Reply, *keys: str) -> Any:
-    if not reply.ok:
-        raise CommandRejected(reply)
-    for key in keys:
-        if key in reply.fields:
-            return reply.fields[key]
-    raise ProtocolError(f"reply to {reply.cmd_name!r} has no {' or '.join(map(repr, keys))}; "
-                        f"its fields are {sorted(reply.fields)}")
-
-
-def _wire_vector(reply: Reply, key: str, n: int) -> np.ndarray:
-    raw = _field(reply, key)
-    v = float_vector(raw, n)
-    if v is None:
-        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} should be {n} finite "
-                            f"numbers; got {raw!r}")
-    return v
 
 
 def reply_joint_pos(reply: Reply) -> np.ndarray:
@@ -154,18 +124,6 @@ def reply_value(reply: Reply) -> float:
     return _number(reply, Field.VALUE)
 
 
-def _number(reply: Reply, key: str) -> float:
-    raw = _field(reply, key)
-    try:
-        value = float(raw)
-    except (TypeError, ValueError, OverflowError):
-        value = math.nan
-    if isinstance(raw, bool) or not math.isfinite(value):
-        raise ProtocolError(f"{key!r} in the reply to {reply.cmd_name!r} is not a finite "
-                            f"number: {raw!r}")
-    return value
-
-
 def reply_din_status(reply: Reply) -> Tuple[int, ...]:
     """``get_digital_input_status`` → cabinet digital inputs as 0/1 ints."""
     raw = _field(reply, Field.DIN_STATUS)
@@ -205,28 +163,6 @@ def reply_identity(reply: Reply) -> Dict[str, str]:
             and not isinstance(value, bool)}
 
 
-def _table(reply: Reply, key: str, rows: int, columns: int) -> np.ndarray:
-    """A reply field that must be a JSON array of ``rows`` arrays of ``columns`` finite numbers
-    (``rows`` 0: any number of rows, at least one) → float array (rows, columns)."""
-    raw = _field(reply, key)
-    where = f"{key!r} in the reply to {reply.cmd_name!r}"
-    if not isinstance(raw, list) or not raw or (rows and len(raw) != rows):
-        shape = f"{rows} rows" if rows else "rows"
-        raise ProtocolError(f"{where} should be an array of {shape} of {columns} numbers; got "
-                            f"{str(raw)[:120]}")
-    table = []
-    for i, row in enumerate(raw):
-        if not isinstance(row, list) or len(row) != columns or not all(
-                isinstance(v, (int, float)) and not isinstance(v, bool) for v in row):
-            raise ProtocolError(f"{where}: row {i} should be {columns} numbers; got "
-                                f"{str(row)[:120]}")
-        table.append([float(v) for v in row])
-    out = np.asarray(table)
-    if not np.all(np.isfinite(out)):
-        raise ProtocolError(f"{where} has a value that is not finite")
-    return out
-
-
 class DHParam(NamedTuple):
     """``get_dh_param``: the arm's own kinematic parameters, in the SDK's units."""
     alpha: np.ndarray
@@ -264,12 +200,3 @@ def _frames_by_id(reply: Reply, key: str) -> Tuple[np.ndarray, ...]:
     0–10); a flat list or any other shape is a :class:`~.errors.ProtocolError` (JAKA's SDK
     crashes on it)."""
     return tuple(units.pose_from_wire(row) for row in _table(reply, key, 0, 6))
-
-
-def _int_field(reply: Reply, *keys: str) -> int:
-    raw = _field(reply, *keys)
-    try:
-        return int(raw)
-    except (TypeError, ValueError, OverflowError):
-        raise ProtocolError(f"{keys[0]!r} in the reply to {reply.cmd_name!r} is not an "
-                            f"integer: {raw!r}") from None

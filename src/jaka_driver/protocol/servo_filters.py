@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import math
 
-from .commands import Request, _cmd, _integer, _number
+from .request_values import Request, command as _cmd, integer as _integer
+from .request_values import number as _number
 from .fields import Cmd, Field, ServoFilter
 
 

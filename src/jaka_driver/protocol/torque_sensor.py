@@ -16,61 +16,36 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Dict, NamedTuple, Optional, Sequence, Tuple
+from typing import Any, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
 from . import units
 from .errors import InvalidArgument, ProtocolError
 from .fields import SOFT_LIMIT_KEYS, Cmd, Field
-from .replies import Reply, _field, _number, _table, _wire_vector, reply_payload
+from .replies import Reply, reply_payload
+from .reply_values import field as _field, number as _number, table as _table
+from .reply_values import wire_vector as _wire_vector
+from .request_values import Request, flag as _flag, integer, number as _float
+from .request_values import sorted_request as _request, vector
 from .wire import Fixed
 
-Request = Dict[str, Any]
-AXES = 6
+#: the axes of force control and the components of a wrench: one row each in the admittance
+#: and tool-drive tables, one number each in a wrench
+AXIS_COUNT = 6
 #: decimals JAKA's SDK writes these fields with (measured: "mass":1.50, "ftReboundFK":0.250);
 #: the value goes out rounded to them, and is read back as such
 MASS_DECIMALS = 2
 REBOUND_DECIMALS = 3
 
 
-def _request(name: str, **fields) -> Request:
-    """A request with its keys in sorted order, as JAKA's SDK writes them (jsoncpp)."""
-    items = {Field.CMD_NAME: name, **fields}
-    return {key: items[key] for key in sorted(items)}
-
-
 def _int(value, what: str, lo: Optional[int] = None, hi: Optional[int] = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InvalidArgument(f"{what} must be an integer; got {value!r}")
-    i = int(value)
-    if (lo is not None and i < lo) or (hi is not None and i > hi):
-        raise InvalidArgument(f"{what} = {i} is outside [{lo}, {hi}]")
-    return i
-
-
-def _float(value, what: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InvalidArgument(f"{what} must be a number; got {value!r}") from None
-    if isinstance(value, bool) or not math.isfinite(x):
-        raise InvalidArgument(f"{what} must be a finite number; got {value!r}")
-    return x
+    """An int; the ranges are the caller's (unbounded unless given)."""
+    return integer(value, what, lo, hi)
 
 
 def _floats(values, n: int, what: str) -> list:
-    try:
-        v = [float(x) for x in values]
-    except (TypeError, ValueError):
-        raise InvalidArgument(f"{what} must be {n} numbers; got {values!r}") from None
-    if len(v) != n or not all(math.isfinite(x) for x in v):
-        raise InvalidArgument(f"{what} must be {n} finite numbers; got {values!r}")
-    return v
-
-
-def _flag(on) -> int:
-    return 1 if on else 0
+    return vector(values, n, what).tolist()
 
 
 # ---- the sensor ----------------------------------------------------------------------------
@@ -133,7 +108,7 @@ def get_torque_sensor_filter() -> Request:
 
 def set_torque_sensor_soft_limit(limit: Sequence[float]) -> Request:
     """``limit`` Fx Fy Fz (N), Mx My Mz (N·m), sent as an object keyed by those names."""
-    values = _floats(limit, AXES, "soft limit")
+    values = _floats(limit, AXIS_COUNT, "soft limit")
     # Fx … Mz is already the sorted order jsoncpp writes an object's keys in
     return _request(Cmd.SET_TORQUE_SENSOR_SOFT_LIMIT, **{
         Field.SENSOR_SOFT_LIMIT: dict(zip(SOFT_LIMIT_KEYS, values))})
@@ -145,8 +120,9 @@ def get_torque_sensor_soft_limit() -> Request:
 
 
 def get_torque_sensor_data(kind: int) -> Request:
-    """One reading: ``kind`` 0 actual, 1 general, 2 real. Reply: :func:`reply_torque_sensor_data`."""
-    return _request(Cmd.GET_TORQUE_SENSOR_DATA, **{Field.COMM_TYPE: _int(kind, "type", 0, 2)})
+    """One reading: ``kind`` 1 actual, 2 general, 3 real (JAKA's header numbers them so and its
+    SDK sends the number unchanged). Reply: :func:`reply_torque_sensor_data`."""
+    return _request(Cmd.GET_TORQUE_SENSOR_DATA, **{Field.COMM_TYPE: _int(kind, "type", 1, 3)})
 
 
 # ---- identification ------------------------------------------------------------------------
@@ -230,7 +206,7 @@ def set_vel_compliant_ctrl(level: int, rates: Sequence[float]) -> Request:
 def set_compliance_condition(wrench: Sequence[float]) -> Request:
     """The wrench (N, N·m) above which motion stops."""
     return _request(Cmd.SET_COMPLIANCE_CONDITION, **{
-        Field.COMPLIANT_CONDITION: _floats(wrench, AXES, "compliance condition")})
+        Field.COMPLIANT_CONDITION: _floats(wrench, AXIS_COUNT, "compliance condition")})
 
 
 def set_ft_ctrl_frame(frame: int) -> Request:
@@ -301,7 +277,7 @@ def get_torque_ref_point() -> Request:
 
 def set_end_sensor_sensitivity_threshold(percent: Sequence[float]) -> Request:
     return _request(Cmd.SET_END_SENSOR_SENSITIVITY_THRESHOLD, **{
-        Field.THRESHOLD_PERCENT: _floats(percent, AXES, "threshold_percent")})
+        Field.THRESHOLD_PERCENT: _floats(percent, AXIS_COUNT, "threshold_percent")})
 
 
 def get_end_sensor_sensitivity_threshold() -> Request:
@@ -346,7 +322,7 @@ class AdmitRow(NamedTuple):
 
 def reply_admit_ctrl_config(reply: Reply) -> Tuple[AdmitRow, ...]:
     """``admitConfig``: 6 rows [opt, ft_user, ft_rebound, ft_constant, ft_normal_track]."""
-    rows = _table(reply, Field.ADMIT_CONFIG, AXES, 5)
+    rows = _table(reply, Field.ADMIT_CONFIG, AXIS_COUNT, 5)
     return tuple(AdmitRow(int(r[0]), r[1], r[2], r[3], int(r[4])) for r in rows)
 
 
@@ -359,7 +335,7 @@ class ToolDriveRow(NamedTuple):
 
 def reply_tool_drive_config(reply: Reply) -> Tuple[ToolDriveRow, ...]:
     """``force_ctrl_config``: 6 rows [opt, rigidity, rebound]."""
-    rows = _table(reply, Field.FORCE_CTRL_CONFIG, AXES, 3)
+    rows = _table(reply, Field.FORCE_CTRL_CONFIG, AXIS_COUNT, 3)
     return tuple(ToolDriveRow(int(r[0]), r[1], r[2]) for r in rows)
 
 
@@ -411,7 +387,7 @@ class SensorData(NamedTuple):
 def reply_torque_sensor_data(reply: Reply) -> SensorData:
     return SensorData(reply_int(reply, Field.SENSOR_DATA_STATUS),
                       reply_int(reply, Field.SENSOR_ERRCODE),
-                      _wire_vector(reply, Field.SENSOR_DATA, AXES))
+                      _wire_vector(reply, Field.SENSOR_DATA, AXIS_COUNT))
 
 
 def reply_tool_drive_stat(reply: Reply) -> Tuple[int, int]:
@@ -425,12 +401,12 @@ def reply_compliant_speed_limit(reply: Reply) -> Tuple[float, float]:
 
 
 def reply_sensitivity_threshold(reply: Reply) -> np.ndarray:
-    return _wire_vector(reply, Field.THRESHOLD_PERCENT, AXES)
+    return _wire_vector(reply, Field.THRESHOLD_PERCENT, AXIS_COUNT)
 
 
 # ---- the status packet's torqsensor ---------------------------------------------------------------
 
-_NAN6 = (math.nan,) * AXES
+_NAN6 = (math.nan,) * AXIS_COUNT
 
 
 @dataclass(frozen=True, eq=False)
@@ -485,7 +461,7 @@ def parse_torqsensor(raw: Any) -> TorqueSensorStatus:
     payload = config[2]
     if not (isinstance(payload, list) and len(payload) == 2):
         raise TypeError("torqsensor's payload is not [mass, [x, y, z]]")
-    vectors = [_vector_of(v, AXES, "a torqsensor wrench") for v in monitor[2:5]]
+    vectors = [_vector_of(v, AXIS_COUNT, "a torqsensor wrench") for v in monitor[2:5]]
     vectors += [np.asarray(_NAN6)] * (3 - len(vectors))
     return TorqueSensorStatus(
         comm_type=comm_type, ip=ip, port=port,

@@ -9,7 +9,7 @@ import rospy
 from jaka_driver_msgs.srv import CircularMove, CircularMoveResponse
 
 from ..driver import RobotDriver
-from .services import _logged, _ret
+from .service_answers import answer_with as _ret, logged as _logged
 
 
 def advertise_circular_move(driver: RobotDriver) -> rospy.Service:

@@ -10,8 +10,8 @@ driver's; ``ft_sensor_enable`` (SetBool) and ``get_ft_sensor_data`` xArm's; the 
 ``set_compliance_condition``, ``set_force_control_frame``, ``enable_admittance``,
 ``set_tool_drive``, ``set_tool_drive_frame``, ``tool_drive_enable``, ``disable_force_control``,
 ``set_ft_sensor_payload`` / ``get_ft_sensor_payload``, ``set_ft_sensor_filter``,
-``set_ft_sensor_soft_limit``. ``~sim/push_tool`` is the twin's hand, advertised only on a
-twin (as the other inputs of ``~sim/``).
+``set_ft_sensor_soft_limit``. The twin's hand on the tool, ``~sim/push_tool``, is among the
+twin's own services (:mod:`.twin_services`).
 
 **Payload identification is an action** (``~identify_ft_sensor_payload``,
 jaka_driver_msgs/IdentifySensorPayloadAction), not start/status services: it moves the arm
@@ -35,17 +35,12 @@ from jaka_driver_msgs.msg import (IdentifySensorPayloadAction, IdentifySensorPay
 from ..backend.force import SENSOR_FRAME
 from ..common.results import Result
 from ..driver import RobotDriver
-from .force_topics import ForceTopics, fill_wrench
+from .force_topics import ForceTopics, fill_wrench, wrench_values
 
 
-def _wrench(w) -> list:
-    return [w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
-
-
-def advertise_force(driver: RobotDriver, also_publish: list, twin: bool) -> list:
+def advertise_force(driver: RobotDriver, also_publish: list) -> list:
     """Every force service, the identification action and the topics; ``also_publish`` is
-    the state publisher's list of per-sample publishers (the wrench topics go there);
-    ``twin``: the backend is a twin (``~sim/push_tool`` too)."""
+    the state publisher's list of per-sample publishers (the wrench topics go there)."""
     f = driver.force
     topics = ForceTopics(driver)
     also_publish.append(topics.publish_sample)
@@ -100,7 +95,7 @@ def advertise_force(driver: RobotDriver, also_publish: list, twin: bool) -> list
         ret("set_ft_sensor_filter", msgs.SetSensorFilter,
             lambda r: f.set_filter(r.cutoff_hz)),
         ret("set_ft_sensor_soft_limit", msgs.SetWrench,
-            lambda r: f.set_soft_limit(_wrench(r.wrench))),
+            lambda r: f.set_soft_limit(wrench_values(r.wrench))),
         ret("set_admittance", msgs.SetAdmittance,
             lambda r: f.set_admittance(r.axis, r.opt, r.ft_user, r.ft_rebound, r.ft_constant,
                                        r.normal_track)),
@@ -109,7 +104,7 @@ def advertise_force(driver: RobotDriver, also_publish: list, twin: bool) -> list
         ret("set_velocity_compliance", msgs.SetVelocityCompliance,
             lambda r: f.set_velocity_compliance(r.level, list(r.rates))),
         ret("set_compliance_condition", msgs.SetWrench,
-            lambda r: f.set_compliance_condition(_wrench(r.wrench))),
+            lambda r: f.set_compliance_condition(wrench_values(r.wrench))),
         ret("set_force_control_frame", msgs.SetForceFrame,
             lambda r: f.set_frame(r.frame)),
         ret("set_tool_drive", msgs.SetToolDrive,
@@ -117,9 +112,6 @@ def advertise_force(driver: RobotDriver, also_publish: list, twin: bool) -> list
         ret("set_tool_drive_frame", msgs.SetForceFrame,
             lambda r: f.set_tool_drive_frame(r.frame)),
     ]
-    if twin:
-        table.append(ret("sim/push_tool", msgs.PushTool,
-                         lambda r: f.push_tool(_wrench(r.wrench), r.duration)))
     table += [set_bool("ft_sensor_enable", f.sensor_enable),
               set_bool("enable_admittance", f.enable_admittance),
               set_bool("tool_drive_enable", f.enable_tool_drive),

@@ -24,12 +24,17 @@ from geometry_msgs.msg import Wrench, WrenchStamped
 
 from jaka_driver_msgs.msg import AdmittanceAxis, ForceControlState, ToolDriveAxis
 
-from ..backend.force import SENSOR_FRAME, ForceSettings, rebound_from_si
+from ..backend.force import SENSOR_FRAME, ForceSettings
 from ..backend.robot_state import RobotState
 from ..driver import RobotDriver
 from ..host import realtime
 
 STATE_CHECK_PERIOD = 0.1        # s (wall) between looks for a change of the force state
+
+
+def wrench_values(msg: Wrench) -> list:
+    """A geometry_msgs/Wrench as ``[Fx, Fy, Fz, Mx, My, Mz]``."""
+    return [msg.force.x, msg.force.y, msg.force.z, msg.torque.x, msg.torque.y, msg.torque.z]
 
 
 def fill_wrench(msg: Wrench, values) -> None:
@@ -40,7 +45,7 @@ def fill_wrench(msg: Wrench, values) -> None:
 
 
 def state_message(s: ForceSettings) -> ForceControlState:
-    """``s`` (SI) as the message (request units)."""
+    """``s`` (the facet's units) as the message (request units)."""
     msg = ForceControlState(
         mounted=s.mounted, sensor_on=s.sensor_on, mode=s.mode, sensor_frame=SENSOR_FRAME,
         range=[float(v) for v in s.range], filter_hz=float(s.filter_hz),
@@ -52,13 +57,13 @@ def state_message(s: ForceSettings) -> ForceControlState:
         tool_drive_frame=int(s.tool_drive_frame),
         condition=[float(v) for v in s.condition])
     msg.admittance = [AdmittanceAxis(opt=int(a.enabled), ft_user=float(a.ft_user),
-                                     ft_rebound=rebound_from_si(i, a.rebound),
+                                     ft_rebound=float(a.rebound),
                                      ft_constant=float(a.constant),
                                      normal_track=int(a.normal_track))
-                      for i, a in enumerate(s.admittance)]
+                      for a in s.admittance]
     msg.tool_drive = [ToolDriveAxis(opt=int(a.enabled), rigidity=float(a.rigidity),
-                                    rebound=rebound_from_si(i, a.rebound))
-                      for i, a in enumerate(s.tool_drive)]
+                                    rebound=float(a.rebound))
+                      for a in s.tool_drive]
     return msg
 
 

@@ -94,15 +94,14 @@ from .gripper_action import GripperActionServer, advertise_gripper_services
 from .gripper_topics import GripperTopics
 from .programs import advertise_programs
 from .recording_services import advertise_recording
-from .services import advertise, advertise_faults
+from .services import advertise
 from .servo_filter import advertise_servo_filter
 from .servo_topics import JointCommandInput
-from .snapshot_service import advertise_snapshot
 from .speed_ratio import SpeedRatio
 from .state_publisher import DEFAULT_RATE_HZ, StatePublisher
 from .trajectory_action import TrajectoryActionServer
-from .twin_control import advertise_twin_control
 from .twin_parts import PartsPublisher
+from .twin_services import advertise_twin
 from .twist_input import TwistInput
 
 
@@ -111,11 +110,13 @@ def make_backend(kind: str, model_name: str, params: dict):
     for a real controller and vice versa."""
     model = load_model(model_name)
     if kind == "sim":
+        from ..programs import FolderPrograms
         from ..sim import SimBackend
+        # the program engine is handed in, as a controller's parts are
         return SimBackend(model, scene=params.get("scene") or None,
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
-                          programs=params.get("programs") or None,
+                          programs=FolderPrograms(params.get("programs") or None),
                           force_sensor=force_sensor_param(params.get("force_sensor", "")),
                           gripper=str(params.get("gripper") or "none"),
                           wrist_camera=bool(params.get("wrist_camera", False)))
@@ -320,9 +321,7 @@ def main() -> int:
         rospy.logfatal(why)
         driver.shutdown()
         return 2
-    if driver.has_twin:                 # what only a twin can do, when the backend offers it
-        advertise_faults(driver)
-        advertise_snapshot(driver)
+    if driver.twin.present:             # the twin's parts, when the backend is a twin
         PartsPublisher(driver, publisher.also_publish)
     TrajectoryActionServer(driver, rospy.get_param("~trajectory_action",
                                                    "~follow_joint_trajectory"))
@@ -330,8 +329,8 @@ def main() -> int:
     status = CommandStatus()
     JointCommandInput(driver, status, p["servo_timeout"])
     TwistInput(driver, status)
-    advertise_twin_control(driver, after_reset=SpeedRatio(driver).refresh)
-    advertise_force(driver, publisher.also_publish, twin=driver.has_twin)
+    advertise_twin(driver, after_reset=SpeedRatio(driver).refresh)   # ~sim/: the twin's own
+    advertise_force(driver, publisher.also_publish)
     advertise_tool_io(driver, publisher.also_publish)
     if driver.gripper.absent is None:
         # the tool connector set up as the launch arguments say, before the action serves

@@ -26,7 +26,7 @@ from jaka_driver_msgs.srv import (GetLoadedProgram, GetLoadedProgramResponse,
 from ..backend import ProgramStatus
 from ..driver import RobotDriver
 from ..host import realtime
-from .services import _logged, _ret
+from .service_answers import answer_with as _ret, logged as _logged
 
 #: s (wall) between two looks at the program's state
 POLL = 0.02
@@ -42,12 +42,12 @@ def advertise_programs(driver: RobotDriver) -> list:
     command = _ret(ProgramCommandResponse)
 
     def loaded(_req):
-        result = driver.loaded_program()
+        result = driver.programs.loaded()
         return GetLoadedProgramResponse(name=(result.value or "") if result.ok else "",
                                         ret=int(result.code), message=result.message)
 
     def variables(_req):
-        result = driver.program_variables()
+        result = driver.programs.variables()
         listed = result.value if result.ok else []
         return GetProgramVariablesResponse(id=[v.id for v in listed],
                                            value=[v.value for v in listed],
@@ -56,13 +56,13 @@ def advertise_programs(driver: RobotDriver) -> list:
 
     table = [
         ("program/load", LoadProgram, lambda r: _ret(LoadProgramResponse)(
-            driver.load_program(r.name))),
-        ("program/play", ProgramCommand, lambda r: command(driver.play_program())),
-        ("program/pause", ProgramCommand, lambda r: command(driver.pause_program())),
-        ("program/resume", ProgramCommand, lambda r: command(driver.resume_program())),
-        ("program/stop", ProgramCommand, lambda r: command(driver.stop_program())),
+            driver.programs.load(r.name))),
+        ("program/play", ProgramCommand, lambda r: command(driver.programs.play())),
+        ("program/pause", ProgramCommand, lambda r: command(driver.programs.pause())),
+        ("program/resume", ProgramCommand, lambda r: command(driver.programs.resume())),
+        ("program/stop", ProgramCommand, lambda r: command(driver.programs.stop())),
         ("program/set_variable", SetProgramVariable, lambda r: _ret(SetProgramVariableResponse)(
-            driver.set_program_variable(r.id, r.value, r.alias))),
+            driver.programs.set_variable(r.id, r.value, r.alias))),
     ]
     services = [rospy.Service(f"~{name}", srv, _logged(name, handler))
                 for name, srv, handler in table]
@@ -85,7 +85,7 @@ class ProgramStatePublisher:
         last = None
         while not rospy.is_shutdown():
             try:
-                status = self._driver.program_status()
+                status = self._driver.programs.status()
                 if status != last:
                     self._pub.publish(state_message(status))
                     last = status

@@ -10,35 +10,18 @@ from __future__ import annotations
 import logging
 
 import rospy
-from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse, Trigger, TriggerResponse
+from std_srvs.srv import Empty, EmptyResponse, SetBool, SetBoolResponse
 
 from jaka_driver_msgs.srv import GetCollisionLevel, GetCollisionLevelResponse
 from jaka_msgs import srv as jaka
 
-from ..common.results import Result
 from ..driver import RobotDriver
+from .service_answers import answer_with as _ret, logged as _logged
 
 log = logging.getLogger(__name__)
 
 GET_IO_FAILED = -999999.0   # the official driver's marker for a failed get_io
 KINEMATICS_FAILED = [9999.0] * 6
-
-
-def _ret(response_type):
-    def answer(result: Result):
-        return response_type(ret=int(result.code), message=result.message)
-    return answer
-
-
-def _logged(name: str, handler):
-    """Log refusals once per call, at the level a user would want to see them."""
-    def serve(request):
-        response = handler(request)
-        ret = getattr(response, "ret", None)
-        if ret is not None and ret != 1:
-            rospy.logwarn("%s refused (%d): %s", name, ret, response.message)
-        return response
-    return serve
 
 
 def advertise(driver: RobotDriver) -> list[rospy.Service]:
@@ -124,27 +107,3 @@ def advertise(driver: RobotDriver) -> list[rospy.Service]:
         rospy.Service("~enable", SetBool, set_bool(d.set_enabled)),
     ]
     return services
-
-
-def advertise_faults(driver: RobotDriver) -> list[rospy.Service]:
-    """Fault injection under ``~sim/``, on what only a twin can do (the driver's twin
-    requests): ``emergency_stop`` (SetBool: true presses, false releases), ``protective_stop``
-    (Trigger), ``set_input`` (jaka_msgs/SetIO on the model's inputs: signal, type, index,
-    value)."""
-    def emergency_stop(req):
-        result = driver.emergency_stop(req.data)
-        rospy.logwarn("sim: %s", result.message)
-        return SetBoolResponse(success=result.ok, message=result.message)
-
-    def protective_stop(_req):
-        result = driver.protective_stop()
-        rospy.logwarn("sim: %s", result.message)
-        return TriggerResponse(success=result.ok, message=result.message)
-
-    def set_input(req):
-        result = driver.set_input(req.signal, req.type, req.index, req.value)
-        return jaka.SetIOResponse(ret=int(result.code), message=result.message)
-
-    return [rospy.Service("~sim/emergency_stop", SetBool, emergency_stop),
-            rospy.Service("~sim/protective_stop", Trigger, protective_stop),
-            rospy.Service("~sim/set_input", jaka.SetIO, set_input)]

@@ -1,4 +1,4 @@
-"""The twin's parts (docs/interface.md, "Twin"), from ``driver.twin_parts()`` only: every 5th
+"""The twin's parts (docs/interface.md, "Twin"), from ``driver.twin.parts()`` only: every 5th
 sample of the arm (25 Hz; in sim time at the same sim times, run after run), each part's pose
 in the base frame as a TF frame named after the part (``base_link`` → ``box``) and the same
 transforms on ``~sim/parts`` (tf2_msgs/TFMessage), so a test can read what the gripper did.
@@ -32,7 +32,7 @@ class PartsPublisher:
         self._count += 1
         if self._count % EVERY:
             return
-        parts = self._driver.twin_parts()
+        parts = self._driver.twin.parts()
         if not parts:
             return
         stamp = rospy.Time.from_sec(st.stamp)

@@ -26,6 +26,7 @@ from ..backend.cameras import HOW_TO_ADD, NoCameras
 from ..backend.clock import make_clock
 from ..backend.completion import Completion
 from ..backend.force import HOW_TO_MOUNT, NoForceSensor
+from ..backend.programs import NoPrograms, Programs
 from ..backend.robot_state import RobotState
 from ..common.camera_spec import cameras_of_scene
 from ..common.constants import IN_POSITION, MAX_TOOL_ROTATION_ACCEL, SERVO_CYCLE
@@ -44,7 +45,6 @@ from ..motion.profiles import joint_move_profile
 from ..motion.servo_filters import FilterType, ServoFilterSpec, make_filter
 from ..motion.trajectory import JointTrajectory
 from ..motion.velocity_jog import VelocityJog
-from ..programs import FolderPrograms
 from . import jog_steps, native_drives
 from .arm_flags import ArmFlags
 from .cameras import SimCameras
@@ -80,17 +80,21 @@ class SimBackend(Backend):
     def __init__(self, model: RobotModel, *, scene: Optional[str] = None,
                  q0: Optional[np.ndarray] = None, io_loopback: bool = False,
                  sim_time: bool = False, real_time_factor: float = 1.0,
-                 programs: Optional[str] = None, force_sensor: Optional[bool] = None,
+                 programs: Optional[Programs] = None, force_sensor: Optional[bool] = None,
                  gripper: str = "none", wrist_camera: bool = False):
         """``sim_time``: the twin owns time (jaka_driver.backend.clock.SimClock, paced at
         ``real_time_factor``, 0 = as fast as possible); otherwise it follows the wall clock.
-        ``programs``: the folder of the programs the twin runs (docs/programs.md).
+        ``programs``: the program engine the twin runs (a
+        :class:`jaka_driver.programs.FolderPrograms`, docs/programs.md), handed in by whoever
+        builds the twin; None: the twin has no programs (:class:`NoPrograms`).
         Cameras: the ``scene`` file's ``cameras:`` and, with ``wrist_camera``, the default
         wrist camera (jaka_driver.common.camera_spec; ValueError if one is wrong)."""
         cameras = cameras_of_scene(scene, wrist_camera)     # refused before anything is built
         super().__init__(model)
         self.clock = make_clock(sim_time, SERVO_CYCLE, real_time_factor)
-        self.programs = FolderPrograms(programs)
+        self.programs = programs if programs is not None else NoPrograms(
+            "no programs on this twin (the node's ~programs parameter, launch argument "
+            "programs)")
         self._kin = Kinematics(model)
         sensor = model.force_sensor.mounted_as(force_sensor)
         self._mj_model = build_twin_model(model, scene, force_sensor=sensor, gripper=gripper)

@@ -1,5 +1,7 @@
 """The twin's force capability: :class:`~jaka_driver.backend.force.Force` on a
-:class:`~.backend.SimBackend` whose arm carries a sensor, offered as ``backend.force``.
+:class:`~.backend.SimBackend` whose arm carries a sensor, offered as ``backend.force`` — the
+transport of :class:`~jaka_driver.backend.force_rules.ForceRules` (the modes, what may start
+while what runs, the refusals and answers are written there, once for both backends).
 
 A facet of the backend, as :mod:`.twin` is: it acts on the same physics loop, flags, kinematics
 and frames, each handed to it by the backend that owns them. What it keeps: the settings
@@ -16,21 +18,20 @@ Units: the facet's (jaka_driver.backend.force).
 from __future__ import annotations
 
 import dataclasses
-from typing import Callable, Optional, Sequence
+from typing import Callable, Optional, Sequence, Tuple
 
 import mujoco
 import numpy as np
 
 from ..backend.clock import SimClock, WallClock
 from ..backend.completion import Completion
-from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ComplianceType, Force,
-                             ForceFrame, ForceMode, ForceSettings, IdentificationStatus,
-                             KeptSettings,
-                             SensorPayload, ToolDriveAxis, VelocityCompliance, frame_name,
-                             wrench_text)
+from ..backend.force import (WRENCH_NAMES, AdmittanceAxis, ForceFrame, ForceMode,
+                             ForceSettings, SensorPayload, ToolDriveAxis, VelocityCompliance,
+                             frame_name, wrench_text)
+from ..backend.force_rules import RUNNING_MODES, ForceRules, fresh_settings, wrench_used
 from ..common.constants import IN_POSITION, SERVO_CYCLE
 from ..common.models import RobotModel
-from ..common.results import Code, Result
+from ..common.results import Code, CommandRefused, Result
 from ..common.sensor_spec import ForceSensorSpec
 from ..kinematics import Kinematics
 from ..motion.profiles import joint_move_profile
@@ -53,16 +54,17 @@ ZERO_TIMEOUT = 2.0
 PACE_STEP = 0.05
 
 
-class SimForce(Force):
+class SimForce(ForceRules):
     """Force control with the sensor ``spec`` on the twin of ``model`` (see the module): its
     ``clock``, ``physics`` loop, ``flags``; ``kinematics`` at the active ``frames()`` (the
     backend's: tool and user frame, 4x4, m); ``velocity_jog(in_tool)`` the backend's velocity
-    jog, which force control drives (its ramp at the speed ratio, as ~twist_command's)."""
+    jog, which force control drives (its ramp at the speed ratio, as ~twist_command's). The
+    rules are :class:`~jaka_driver.backend.force_rules.ForceRules`'; this is their transport."""
 
     def __init__(self, spec: ForceSensorSpec, model: RobotModel, clock: SimClock | WallClock,
                  physics: PhysicsLoop, flags: ArmFlags, kinematics: Kinematics,
                  frames: Callable[[], tuple], velocity_jog: Callable[[bool], VelocityJog]):
-        self._spec = spec
+        super().__init__(spec)
         self._model = model
         self._clock = clock
         self._physics = physics
@@ -71,202 +73,109 @@ class SimForce(Force):
         self._frames = frames
         self._velocity_jog = velocity_jog
         self.readings = SensorReadings(physics.m, spec, SERVO_CYCLE)
-        self._kept = KeptSettings(self._fresh())
-        self._velocity_on = False
-
-    def _fresh(self) -> ForceSettings:
-        return ForceSettings(mounted=True, range=self._spec.range.copy(),
-                             soft_limit=self._spec.range.copy())
 
     def reset(self) -> None:
         """A fresh sensor and force control: off, every setting at its default (call with the
         physics lock held, between cycles)."""
         self.readings.reset()
-        self._kept.reset(self._fresh())
+        self._kept.reset(fresh_settings(self._spec))
         self._velocity_on = False
 
     # ---- what it is and does --------------------------------------------------------------
-    @property
-    def absent(self) -> Optional[str]:
-        return None
-
     def settings(self) -> ForceSettings:
         return dataclasses.replace(self._kept.value, sensor_on=self.readings.on,
                                    filter_hz=self.readings.filter_hz,
                                    tool_payload=self.readings.payload, mode=self._mode())
 
-    def _mode(self) -> str:
+    def sensor_on(self) -> bool:
+        return self.readings.on
+
+    def running_mode(self) -> Optional[str]:
         motion = self._physics.motion
         if isinstance(motion, ForceControlRun) and motion.active and not motion.stopping:
             return motion.mode          # (stopping: off, the arm ramps to rest)
         if isinstance(motion, IdentificationRun) and motion.active:
             return ForceMode.IDENTIFYING
-        return ForceMode.VELOCITY_COMPLIANCE if self._velocity_on else ForceMode.OFF
-
-    def identification_status(self) -> IdentificationStatus:
-        return self._kept.identification
-
-    # ---- refusals only the facet can make ---------------------------------------------------------
-    def _sensor_off(self, what: str) -> Optional[Result]:
-        if not self.readings.on:
-            return Result.failure(Code.WRONG_MODE, f"{what} refused: the force/torque sensor "
-                                  "is off (switch it on first)")
         return None
 
-    def _force_active(self, what: str) -> Optional[Result]:
-        mode = self._mode()
-        if mode != ForceMode.OFF:
-            return Result.failure(Code.BUSY, f"{what} refused while {mode.replace('_', ' ')} "
-                                  "runs (disable_force_control first)")
-        return None
-
-    def _arm_moving(self, what: str) -> Optional[Result]:
+    def _require_arm_still(self, what: str) -> None:
         motion = self._physics.motion
         if motion.active:
-            return Result.failure(Code.BUSY, f"{what} refused: {motion.busy_reason}")
-        return None
+            raise CommandRefused(Code.BUSY, f"{what} refused: {motion.busy_reason}")
 
-    # ---- the sensor ------------------------------------------------------------------------------------
-    def set_sensor_on(self, on: bool) -> Result:
-        if not on:
-            refused = self._force_active("switching the sensor off")
-            if refused:
-                return refused
+    # ---- the sensor, on the physics thread ------------------------------------------------------
+    def _send_sensor_on(self, on: bool) -> str:
         with self._physics.lock:
-            self.readings.on = bool(on)
-        return Result.success(f"force/torque sensor {'on' if on else 'off'}")
+            self.readings.on = on
+        return ""
 
-    def zero(self) -> Result:
-        refused = self._sensor_off("zeroing") or self._force_active("zeroing")
-        if refused:
-            return refused
+    def _send_zero(self) -> str:
         with self._physics.lock:
             done = self.readings.start_zero()
         if not self._clock.wait(done, ZERO_TIMEOUT):
-            return Result.failure(Code.COMMUNICATION_ERROR, f"zeroing did not end within "
-                                  f"{ZERO_TIMEOUT:g} s (the twin's cycles stalled)")
-        return Result.success(f"sensor zeroed over {ZERO_SAMPLES * SERVO_CYCLE:.3f} s: offset "
-                              + wrench_text(self.readings.offset))
+            raise CommandRefused(Code.COMMUNICATION_ERROR, f"zeroing did not end within "
+                                 f"{ZERO_TIMEOUT:g} s (the twin's cycles stalled)")
+        return (f"sensor zeroed over {ZERO_SAMPLES * SERVO_CYCLE:.3f} s: offset "
+                + wrench_text(self.readings.offset))
 
-    def set_tool_payload(self, mass: float, centroid: np.ndarray) -> Result:
-        refused = self._force_active("the sensor's tool payload")
-        if refused:
-            return refused
-        payload = SensorPayload(float(mass), np.asarray(centroid, float).copy())
+    def _send_tool_payload(self, payload: SensorPayload) -> Tuple[SensorPayload, str]:
         with self._physics.lock:
             self.readings.payload = payload
-        c = payload.centroid * 1000.0
-        return Result.success(f"sensor tool payload {mass:g} kg at ({c[0]:.1f}, {c[1]:.1f}, "
-                              f"{c[2]:.1f}) mm")
+        return payload, ""
 
-    def set_filter(self, cutoff_hz: float) -> Result:
+    def _send_filter(self, cutoff_hz: float) -> Tuple[float, str]:
         with self._physics.lock:
             self.readings.set_filter(cutoff_hz)
-        return Result.success("sensor filter off" if cutoff_hz == 0 else
-                              f"sensor filter {cutoff_hz:g} Hz")
+        return cutoff_hz, ""
 
-    def set_soft_limit(self, limit: np.ndarray) -> Result:
-        self._kept.update(soft_limit=np.asarray(limit, float).copy())
-        return Result.success("sensor soft limit " + wrench_text(limit))
+    def _send_soft_limit(self, limit: np.ndarray) -> Tuple[np.ndarray, str]:
+        self._kept.update(soft_limit=limit)
+        return limit, ""
 
-    # ---- settings of force control ----------------------------------------------------------------
-    def set_admittance(self, axis: int, config: AdmittanceAxis) -> Result:
-        refused = self._force_active("changing the admittance")
-        if refused:
-            return refused
+    # ---- settings of force control: kept here, read by the control law each cycle ----------
+    def _send_admittance(self, axis: int, config: AdmittanceAxis) -> Tuple[AdmittanceAxis, str]:
         self._kept.update_row("admittance", axis, config)
-        return Result.success(f"admittance {AXES[axis]}: " + (
-            f"on, ft_user {config.ft_user:g}, rebound {config.rebound:g}, constant "
-            f"{config.constant:g}" if config.enabled else "off"))
+        return config, ""
 
-    def set_compliance_type(self, compensation: bool, kind: int) -> Result:
-        refused = self._force_active("changing the compliance type")
-        if refused:
-            return refused
-        self._kept.update(compensation=bool(compensation), compliance_type=int(kind))
-        return Result.success(f"compliance type {ComplianceType(kind).name.lower()}, "
-                              f"{'compensated' if compensation else 'uncompensated'} wrench")
-
-    def set_velocity_compliance(self, config: VelocityCompliance) -> Result:
-        self._kept.update(velocity=config)
-        return Result.success(f"velocity compliance level {config.level}, rates "
-                              f"{', '.join(f'{r:g}' for r in config.rates)}")
-
-    def set_tool_drive(self, axis: int, config: ToolDriveAxis) -> Result:
-        refused = self._force_active("changing the tool drive")
-        if refused:
-            return refused
+    def _send_tool_drive(self, axis: int, config: ToolDriveAxis) -> Tuple[ToolDriveAxis, str]:
         self._kept.update_row("tool_drive", axis, config)
-        return Result.success(f"tool drive {AXES[axis]}: " + (
-            f"on, rigidity {config.rigidity:g}, rebound {config.rebound:g}"
-            if config.enabled else "off"))
+        return config, ""
 
-    def set_frame(self, frame: int) -> Result:
-        refused = self._force_active("changing the force-control frame")
-        if refused:
-            return refused
-        self._kept.update(frame=int(frame))
-        return Result.success(f"force control in the {frame_name(frame)} frame")
+    def _send_compliance_type(self, compensation: bool, kind: int) -> str:
+        return ""
 
-    def set_tool_drive_frame(self, frame: int) -> Result:
-        refused = self._force_active("changing the tool drive frame")
-        if refused:
-            return refused
-        self._kept.update(tool_drive_frame=int(frame))
-        return Result.success(f"tool drive in the {frame_name(frame)} frame")
+    def _send_velocity_compliance(self, config: VelocityCompliance) -> str:
+        return ""
 
-    def set_condition(self, wrench: np.ndarray) -> Result:
-        self._kept.update(condition=np.asarray(wrench, float).copy())
-        checked = [f"{WRENCH_NAMES[i]} {v:g}" for i, v in enumerate(wrench) if v > 0]
-        return Result.success("compliance condition " + (", ".join(checked) if checked else
-                                                         "off (nothing checked)"))
+    def _send_frame(self, frame: int) -> str:
+        return ""
 
-    # ---- running force control ------------------------------------------------------------------------
-    def enable_admittance(self, on: bool) -> Result:
-        if not on:
-            return self._end(ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
-                             ForceMode.VELOCITY_COMPLIANCE)
-        s = self.settings()
-        if s.compliance_type == ComplianceType.VELOCITY:
-            refused = self._sensor_off("velocity compliance") or self._force_active(
-                "velocity compliance")
-            if refused:
-                return refused
-            self._velocity_on = True
-            return Result.success("velocity compliance on: moves slow down as the wrench nears "
-                                  "the compliance condition")
-        constant = s.compliance_type == ComplianceType.CONSTANT_FORCE
-        laws = AxisLaws.of(s.admittance, lambda a: a.ft_user,
-                           (lambda a: a.constant) if constant else (lambda a: 0.0))
-        mode = ForceMode.CONSTANT_FORCE if constant else ForceMode.ADMITTANCE
-        return self._start(mode, laws, s.frame, s.compensation)
+    def _send_tool_drive_frame(self, frame: int) -> str:
+        return ""
 
-    def enable_tool_drive(self, on: bool) -> Result:
-        if not on:
-            return self._end(ForceMode.TOOL_DRIVE)
-        s = self.settings()
-        laws = AxisLaws.of(s.tool_drive, lambda a: a.rigidity, lambda a: 0.0)
-        return self._start(ForceMode.TOOL_DRIVE, laws, s.tool_drive_frame, s.compensation)
+    def _send_condition(self, wrench: np.ndarray) -> str:
+        return ""
 
-    def disable(self) -> Result:
-        return self._end(ForceMode.ADMITTANCE, ForceMode.CONSTANT_FORCE,
-                         ForceMode.VELOCITY_COMPLIANCE, ForceMode.TOOL_DRIVE, quiet=True)
+    # ---- running force control: a motion source of the physics thread --------------------------
+    def _start_velocity_compliance(self) -> None:
+        """Nothing to start: :meth:`check` paces the moves while it is on."""
 
-    def _start(self, mode: str, laws: AxisLaws, frame: int, compensated: bool) -> Result:
-        label = mode.replace("_", " ")
-        refused = (self._sensor_off(label) or self._force_active(label)
-                   or self._arm_moving(label))
-        if refused:
-            return refused
+    def _start_run(self, mode: str, label: str, frame: int, s: ForceSettings) -> None:
+        self._require_arm_still(label)
+        if mode == ForceMode.TOOL_DRIVE:
+            laws = AxisLaws.of(s.tool_drive, lambda a: a.rigidity, lambda a: 0.0)
+        else:
+            laws = AxisLaws.of(s.admittance, lambda a: a.ft_user,
+                               (lambda a: a.constant) if mode == ForceMode.CONSTANT_FORCE
+                               else (lambda a: 0.0))
+        compensated = s.compensation
         tool, _ = self._frames()
         kin = self._kin
         readings = self.readings
 
         def wrench():
             reading = readings.latest
-            if reading is None:
-                return None
-            return reading.real if compensated else reading.actual
+            return None if reading is None else wrench_used(reading, compensated)
 
         physics = self._physics
         with self._flags.lock:
@@ -277,32 +186,23 @@ class SimForce(Force):
                                   lambda q: kin.tcp_pose(q, tool), kin.flange_pose, tool, q0,
                                   SERVO_CYCLE)
             physics.switch(run)
-        return Result.success(f"{label} on in the {frame_name(frame)} frame")
 
-    def _end(self, *modes: str, quiet: bool = False) -> Result:
-        """End force control if it runs in one of ``modes``: the arm ramps to rest."""
-        ended = []
-        if ForceMode.VELOCITY_COMPLIANCE in modes and self._velocity_on:
-            self._velocity_on = False
-            ended.append("velocity compliance")
+    def _stop(self, mode: str) -> None:
+        """The running force control ramps the arm to rest (velocity compliance: nothing
+        runs, its flag ends)."""
         with self._flags.lock:
             motion = self._physics.motion
             if isinstance(motion, ForceControlRun) and motion.active and not motion.stopping \
-                    and motion.mode in modes:
+                    and motion.mode == mode:
                 motion.stop()
-                ended.append(motion.mode.replace("_", " "))
-        if ended:
-            return Result.success(f"{' and '.join(ended)} off: the arm comes to rest")
-        return Result.success("no force control was on" if quiet else
-                              f"{' / '.join(m.replace('_', ' ') for m in modes)} was not on")
+
+    def _send_disable(self, mode: str) -> None:
+        if mode in RUNNING_MODES:
+            self._stop(mode)
 
     # ---- payload identification ----------------------------------------------------------------------
-    def start_identification(self, poses: Sequence[np.ndarray]) -> Result:
-        refused = (self._sensor_off("payload identification")
-                   or self._force_active("payload identification")
-                   or self._arm_moving("payload identification"))
-        if refused:
-            return refused
+    def _identify(self, what: str, poses: Sequence[np.ndarray]) -> Result:
+        self._require_arm_still(what)
         physics = self._physics
         q0 = physics.servo.setpoint.copy()
         targets = [np.asarray(p, float) for p in poses]
@@ -364,8 +264,7 @@ class SimForce(Force):
         tool, _ = self._frames()
         flange = np.eye(4)
         flange[:3, :3] = self.readings.rotation
-        w = wrench_at_tcp(reading.real if s.compensation else reading.actual, tool, flange,
-                          frame)
+        w = wrench_at_tcp(wrench_used(reading, s.compensation), tool, flange, frame)
         checked = s.condition > 0
         share = np.where(checked, np.abs(w) / np.where(checked, s.condition, 1.0), 0.0)
         i = int(np.argmax(share))

@@ -37,7 +37,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from ..backend.force import COMPLIANT_SPEED, ForceFrame
+from ..backend.force import COMPLIANT_SPEED, ForceFrame, rebound_to_si
 from ..common.transforms import matrix_to_rotvec
 from ..motion.velocity_jog import VelocityJog
 from .motions import Motion
@@ -68,7 +68,8 @@ class AxisLaws:
         gain = [COMPLIANT_SPEED[i] / stiffness_of(a) if a.enabled else 0.0
                 for i, a in enumerate(axes)]
         return cls(gain, [constant_of(a) if a.enabled else 0.0 for a in axes],
-                   [a.rebound if a.enabled else 0.0 for a in axes])
+                   [rebound_to_si(i, a.rebound) if a.enabled else 0.0
+                    for i, a in enumerate(axes)])
 
     def twist(self, wrench: np.ndarray, displacement: np.ndarray) -> np.ndarray:
         """The speeds (6) asked for by ``wrench`` (6, force-control frame) at

@@ -25,7 +25,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from ..backend.completion import Completion
-from ..backend.force import GRAVITY, IdentificationStatus, SensorPayload
+from ..backend.force import GRAVITY, IdentificationState, IdentificationStatus, SensorPayload
 from ..common.results import Code, Result
 from ..motion.trajectory import JointTrajectory
 from .motions import Motion, TrajectoryRun
@@ -113,8 +113,10 @@ class IdentificationRun(Motion):
         self.moving = False
         self._status(f"measuring pose 1 of {len(self._segments) + 1}")
 
-    def _status(self, message: str, state: int = 1, result=None) -> None:
-        progress = 1.0 if state != 1 else min(self._elapsed / self.planned, 0.99)
+    def _status(self, message: str, state: IdentificationState = IdentificationState.RUNNING,
+                result=None) -> None:
+        progress = 1.0 if state != IdentificationState.RUNNING else \
+            min(self._elapsed / self.planned, 0.99)
         self._report(IdentificationStatus(state, progress, message, result))
 
     def next(self, q_sp, qd_sp, q_meas, qd_meas):
@@ -160,17 +162,17 @@ class IdentificationRun(Motion):
         message = (f"payload identified from {len(self._wrenches)} poses: {payload.mass:.3f} "
                    f"kg at ({c[0]:.1f}, {c[1]:.1f}, {c[2]:.1f}) mm (residual "
                    f"{residual:.3f} N)")
-        self._status(message, 0, payload)
+        self._status(message, IdentificationState.DONE, payload)
         self.completion.finish(Result.success(message, payload))
         return q
 
     def _fail(self, why: str, q):
         self.active = self.moving = False
-        self._status(why, 2)
+        self._status(why, IdentificationState.FAILED)
         self.completion.finish(Result.failure(Code.MOTION_STOPPED, why))
         return q
 
     def abort(self, result: Result) -> None:
         """Replaced before finishing (stop_move, a protective stop): it failed."""
-        self._status(f"identification stopped: {result.message}", 2)
+        self._status(f"identification stopped: {result.message}", IdentificationState.FAILED)
         super().abort(result)

@@ -96,8 +96,10 @@ class ServoFilterSpec:
 
 
 def _in(name: str, value: float, lo: float, hi: float, unit: str, *,
-        open_low: bool = True) -> float:
+        open_low: bool = True, clamp: bool = False) -> float:
     value = float(value)
+    if clamp and math.isfinite(value) and value > hi:
+        return hi
     low_ok = value > lo if open_low else value >= lo
     if not (math.isfinite(value) and low_ok and value <= hi):
         bracket = "(" if open_low else "["
@@ -105,20 +107,27 @@ def _in(name: str, value: float, lo: float, hi: float, unit: str, *,
     return value
 
 
-def _buffer(value: float) -> int:
+def _buffer(value: float, clamp: bool = False) -> int:
     lo, hi = BUFFER
+    if clamp and math.isfinite(float(value)) and float(value) == int(value) and value > hi:
+        return hi
     if not (math.isfinite(float(value)) and float(value) == int(value) and lo <= value <= hi):
         raise invalid(f"mmf_buffer is {value:g}, expected a whole number {lo}–{hi} (cycles of "
                       f"{SERVO_CYCLE * 1000:g} ms)")
     return int(value)
 
 
-def checked_spec(model: RobotModel, filter_type: int, params: Dict[str, float]
-                 ) -> ServoFilterSpec:
+def checked_spec(model: RobotModel, filter_type: int, params: Dict[str, float], *,
+                 clamp: bool = False) -> ServoFilterSpec:
     """The :class:`ServoFilterSpec` a request asks for (``params`` by the request's field
     names: ``lpf_cutoff_hz``, ``nlf_max_vr``/``_ar``/``_jr`` rad/s…, ``nlf_max_vp``/``_ap``/
     ``_jp`` mm/s…, ``mmf_buffer``, ``mmf_kp``/``_kv``/``_ka``; the fields the filter does not
-    use are not read), or -2 naming the field, its value and its range."""
+    use are not read), or -2 naming the field, its value and its range.
+
+    ``clamp``: a value above its range is taken as the range's top instead of refused — what
+    the twin can run of a request a controller accepts (the emulator: JAKA documents no upper
+    bound, and a cut-off above the 8 ms cycle's 62.5 Hz filters no differently on the twin
+    than 62.5 Hz does; docs/twin.md, "Servo filters")."""
     try:
         kind = FilterType(int(filter_type))
     except (ValueError, TypeError):
@@ -132,29 +141,32 @@ def checked_spec(model: RobotModel, filter_type: int, params: Dict[str, float]
         return ServoFilterSpec()
     if kind == FilterType.JOINT_LPF:
         return ServoFilterSpec(kind, cutoff=_in("lpf_cutoff_hz", p.get("lpf_cutoff_hz", 0.0),
-                                                *CUTOFF_HZ, " Hz", open_low=False))
+                                                *CUTOFF_HZ, " Hz", open_low=False,
+                                                clamp=clamp))
     if kind in (FilterType.JOINT_NLF, FilterType.CARTESIAN_NLF):
         rotation = kind == FilterType.CARTESIAN_NLF
         v_hi, a_hi = ((LIMIT_FACTOR * MAX_TOOL_ROTATION_SPEED,
                        LIMIT_FACTOR * MAX_TOOL_ROTATION_ACCEL)
                       if rotation else (LIMIT_FACTOR * vmax, LIMIT_FACTOR * amax))
-        v = _in("nlf_max_vr", p.get("nlf_max_vr", 0.0), 0.0, v_hi, " rad/s")
-        a = _in("nlf_max_ar", p.get("nlf_max_ar", 0.0), 0.0, a_hi, " rad/s²")
-        j = _in("nlf_max_jr", p.get("nlf_max_jr", 0.0), 0.0, JERK_PER_ACCEL * a_hi, " rad/s³")
+        v = _in("nlf_max_vr", p.get("nlf_max_vr", 0.0), 0.0, v_hi, " rad/s", clamp=clamp)
+        a = _in("nlf_max_ar", p.get("nlf_max_ar", 0.0), 0.0, a_hi, " rad/s²", clamp=clamp)
+        j = _in("nlf_max_jr", p.get("nlf_max_jr", 0.0), 0.0, JERK_PER_ACCEL * a_hi, " rad/s³", clamp=clamp)
         if not rotation:
             return ServoFilterSpec(kind, velocity=v, accel=a, jerk=j)
         vp_hi, ap_hi = (LIMIT_FACTOR * model.max_tcp_speed * 1e3,
                         LIMIT_FACTOR * model.max_tcp_accel * 1e3)
-        vp = _in("nlf_max_vp", p.get("nlf_max_vp", 0.0), 0.0, vp_hi, " mm/s")
-        ap = _in("nlf_max_ap", p.get("nlf_max_ap", 0.0), 0.0, ap_hi, " mm/s²")
-        jp = _in("nlf_max_jp", p.get("nlf_max_jp", 0.0), 0.0, JERK_PER_ACCEL * ap_hi, " mm/s³")
+        vp = _in("nlf_max_vp", p.get("nlf_max_vp", 0.0), 0.0, vp_hi, " mm/s", clamp=clamp)
+        ap = _in("nlf_max_ap", p.get("nlf_max_ap", 0.0), 0.0, ap_hi, " mm/s²", clamp=clamp)
+        jp = _in("nlf_max_jp", p.get("nlf_max_jp", 0.0), 0.0, JERK_PER_ACCEL * ap_hi, " mm/s³", clamp=clamp)
         return ServoFilterSpec(kind, velocity=v, accel=a, jerk=j, linear_velocity=vp / 1e3,
                                linear_accel=ap / 1e3, linear_jerk=jp / 1e3)
-    buffer = _buffer(p.get("mmf_buffer", 0.0))
+    buffer = _buffer(p.get("mmf_buffer", 0.0), clamp)
     if kind == FilterType.SPEED_FORESIGHT:
         return ServoFilterSpec(kind, buffer=buffer,
-                               kp=_in("mmf_kp", p.get("mmf_kp", 0.0), 0.0, MAX_WEIGHT, ""))
-    kp, kv, ka = (_in(name, p.get(name, 0.0), 0.0, MAX_WEIGHT, "", open_low=False)
+                               kp=_in("mmf_kp", p.get("mmf_kp", 0.0), 0.0, MAX_WEIGHT, "",
+                                      clamp=clamp))
+    kp, kv, ka = (_in(name, p.get(name, 0.0), 0.0, MAX_WEIGHT, "", open_low=False,
+                      clamp=clamp)
                   for name in ("mmf_kp", "mmf_kv", "mmf_ka"))
     if kp + kv + ka <= 0.0:
         raise invalid("mmf_kp, mmf_kv and mmf_ka are all 0: at least one weight must be > 0")

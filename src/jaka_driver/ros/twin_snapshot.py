@@ -1,10 +1,5 @@
-"""``~sim/snapshot`` (std_srvs/Trigger): a PNG of the twin as it stands now.
-
-The picture goes to the file named by the private parameter ``~snapshot_path``, read at every
-call (``rosparam set /jaka_driver/snapshot_path /tmp/arm.png`` redirects the next one); by
-default ``$ROS_HOME/<node name>_snapshot.png``. The answer's ``message`` is the path written, or
-why nothing was. 800 × 600 px, the twin's camera (:meth:`RobotDriver.camera
-<jaka_driver.driver.RobotDriver.camera>`).
+"""Pictures of the twin as it stands now, for ``~sim/snapshot`` (:mod:`.twin_services`): a PNG,
+800 × 600 px, from the twin's camera (``driver.twin.camera``).
 
 A picture takes ~0.1 s of CPU in Mesa's software rasteriser. It is made in one worker thread at
 a lower scheduling priority (Mesa's own threads inherit it) so that the 125 Hz state publisher
@@ -17,10 +12,8 @@ from __future__ import annotations
 import os
 import queue
 import threading
-from pathlib import Path
 
 import rospy
-from std_srvs.srv import Trigger, TriggerResponse
 
 from ..driver import RobotDriver
 
@@ -69,7 +62,7 @@ class SnapshotWorker:
     def _render(self, path: str) -> tuple[bool, str]:
         try:
             if self._camera is None:
-                self._camera = self._driver.camera(WIDTH, HEIGHT)
+                self._camera = self._driver.twin.camera(WIDTH, HEIGHT)
             q = self._driver.state().joint_position
             written = self._camera.save(q, path)
         except (ImportError, RuntimeError) as exc:
@@ -80,19 +73,3 @@ class SnapshotWorker:
         joints = ", ".join(f"{v:.4f}" for v in q)
         return True, (f"{written} ({WIDTH}x{HEIGHT} px): {self._driver.model.name} at "
                       f"[{joints}] rad")
-
-
-def advertise_snapshot(driver: RobotDriver) -> list[rospy.Service]:
-    """``~sim/snapshot``, on the twin's camera (a driver with a twin: ``driver.has_twin``)."""
-    worker = SnapshotWorker(driver)
-
-    def snapshot(_req):
-        # Absolute in the answer: roslaunch runs nodes in $ROS_HOME, not the caller's folder.
-        path = os.path.abspath(Path(str(rospy.get_param("~snapshot_path", "")
-                                        or default_path())).expanduser())
-        ok, message = worker.take(path)
-        if not ok:
-            rospy.logwarn("sim/snapshot: %s", message)
-        return TriggerResponse(success=ok, message=message)
-
-    return [rospy.Service("~sim/snapshot", Trigger, snapshot)]

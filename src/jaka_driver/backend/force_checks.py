@@ -1,6 +1,7 @@
-"""The door's checks of force requests, in one place, as :mod:`.checks` for the others: each
-raises :class:`CommandRefused` (-2) naming the field, the value and the limit, and returns the
-value in SI (jaka_driver.backend.force's units).
+"""The value checks of force requests, in one place below the driver's door and the emulator,
+which both apply them (a controller's ranges are the arm's: its sensor's range from the arm's
+configuration): each raises :class:`CommandRefused` (-2) naming the field, the value and the
+limit, and returns the value in the facet's units (:mod:`.force`'s: SI, and a rebound as requests give it).
 
 Request units: N and N·m; ``rebound`` N/mm on x y z and N·m/rad on rx ry rz (a stiffness in
 the request's length unit, as payload centroids are mm); the sensor's payload kg at a centroid
@@ -13,11 +14,10 @@ from typing import Sequence
 
 import numpy as np
 
-from ..backend.force import (AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis,
-                             VelocityCompliance, rebound_to_si)
+from ..common import values as check
 from ..common.models import RobotModel
 from ..common.results import invalid
-from . import checks as check
+from .force import AXES, WRENCH_NAMES, AdmittanceAxis, ToolDriveAxis, VelocityCompliance
 
 #: Hz, the highest cut-off of the sensor filter (above it the filter would do nothing at the
 #: 8 ms cycle force control runs at)
@@ -58,13 +58,14 @@ def wrench_limits(name: str, values: Sequence[float], sensor_range: np.ndarray, 
 
 
 def _rebound(i: int, value: float, enabled: bool = True) -> float:
-    """A rebound (request units) → N/m or N·m/rad; its range is checked on an enabled axis."""
+    """A rebound (N/mm or N·m/rad, the facet's unit too); its range is checked on an enabled
+    axis."""
     unit = "N/mm" if i < 3 else "N·m/rad"
     r = check.finite("rebound", value, unit)
     if enabled and not 0.0 <= r <= REBOUND_MAX[i]:
         raise invalid(f"rebound on {AXES[i]} is {r:g} {unit}, expected 0–{REBOUND_MAX[i]:g} "
                       f"{unit}")
-    return rebound_to_si(i, r)
+    return r
 
 
 def _stiffness(name: str, i: int, value: float, sensor_range: np.ndarray) -> float:
