@@ -39,8 +39,6 @@ SOURCES = {
     ("arm_commands", "integer", "Field.JNUM"): "clients: jnum, the axis 0–5 (protocol.md)",
     ("arm_commands", "integer", "Field.STEP_NUM"):
         "SDK §6: stepNum an unsigned int, 0 refused; no upper bound (1000 sent)",
-    ("arm_commands", "number", "Field.ANGLE_X"): "SDK header: set_installation_angle 0–180°",
-    ("arm_commands", "number", "Field.ANGLE_Z"): "SDK header: set_installation_angle 0–360°",
     ("arm_commands", "number", "Field.SPEED"): "recorded: a move at speed 0 is refused (clients)",
     ("arm_commands", "number", "Field.ACCEL"): "recorded: a move at accel 0 is refused (clients)",
     ("arm_commands", "integer", "Field.COORD_MAP"): "clients: coord_map 0–2 (protocol.md)",
@@ -91,7 +89,6 @@ SOURCES = {
     ("sensor_commands", "integer", "'ref_point'"): NOT_ON_RECORD,
     ("setting_commands", "integer", "key"):
         "SDK §2: frames by id 0–10 (the tables of 11 rows); SDK §6: mmf_max_buf an int >= 1",
-    ("setting_commands", "integer", "spelt"): "SDK: tio_vout_ena / tio_vout_vol, 0|1 each",
     ("setting_commands", "integer", "Field.ID"): "SDK §2: a settable frame id 1–10",
     ("setting_commands", "number", "Field.MASS"): ARM_PAYLOAD,
     ("setting_commands", "number", "Field.RATE_VALUE"): "SDK §3: the speed ratio (0, 1]",
@@ -103,6 +100,18 @@ SOURCES = {
         "refused only: a mean filter's weights all 0",
     ("setting_commands", "integer", "Field.SENSITIVITY_VAL"):
         "clients: set_clsn_sensitivity sensitivityVal 0–5 (protocol.md)",
+    ("mounting_commands", "number", "Field.ANGLE_X"): "SDK header: set_installation_angle 0–180°",
+    ("mounting_commands", "number", "Field.ANGLE_Z"): "SDK header: set_installation_angle 0–360°",
+    ("network_watch", "integer", "Field.MOT_TYPE"):
+        "SDK §11: motType MOT_KEEP 0 / MOT_PAUSE 1 / MOT_ABORT 2",
+    ("network_watch", "number", "Field.TIME_LIMIT"): "SDK §11: timeLimit, a time in ms, >= 0",
+    ("recording_commands", "integer", "Field.TRAJ_MODE"):
+        "SDK §11: set_traj_sample_mode mode 1 on / 0 off",
+    ("tool_io_commands", "_checked", "check_channel"):
+        "SDK header §10: chn_id 0 = RS485H, 1 = RS485L",
+    ("tool_io_commands", "_checked", "check_pin_mode"):
+        "SDK header §10: pin_type 0 DI, 1 DO, 2 AI",
+    ("tool_io_commands", "integer", "key"): "SDK §10: a C int of the request (its width)",
     ("arm_moves", "check_limits", "q"): ARM_JOINTS,
     ("arm_moves", "check_limits", "target()"): ARM_JOINTS,
     ("servo_mode", "check_limits", "q"): ARM_JOINTS,

@@ -1,12 +1,13 @@
 """The node reaches the arm only through RobotDriver: no module of ``ros/`` touches
-``driver.backend`` or a twin's capability (``….twin.…``), so every request — the twin's faults,
+``driver.backend`` or a twin's capability (``backend.twin.…``: only the door's ``driver.twin.…``,
+:class:`~jaka_driver.driver.twin_requests.TwinRequests`), so every request — the twin's faults,
 inputs, reset, pause and step too — is checked and timed by the door (in sim time, between two
 cycles). Static reads of the files; nothing is imported or started."""
 import re
 from pathlib import Path
 
 ROS = Path(__file__).resolve().parents[2] / "src" / "jaka_driver" / "ros"
-AROUND_THE_DOOR = re.compile(r"driver.backend|\.twin\.")
+AROUND_THE_DOOR = re.compile(r"driver\.backend|(?<!driver)\.twin\.")
 
 
 def test_no_module_of_the_node_reaches_around_robot_driver():
