@@ -10,9 +10,10 @@ units (:mod:`.contract`), and what travels across it.
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
-* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
+* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`; timers on
+  either (:class:`Timer`).
 """
-from .clock import SimClock, WallClock, make_clock
+from .clock import SimClock, Timer, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
 from .force import Force, ForceReading, ForceSettings, NoForceSensor
@@ -22,4 +23,5 @@ from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",
            "UserVariable", "Force", "ForceReading", "ForceSettings", "NoForceSensor",
-           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "make_clock"]
+           "RobotState", "MotionState", "Completion", "WallClock", "SimClock", "Timer",
+           "make_clock"]
