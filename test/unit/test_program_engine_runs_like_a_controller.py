@@ -6,6 +6,7 @@ rest not run); a failing step ends it with its line and the executor's message; 
 from outside are seen by the program; loops run their count (a variable's too)."""
 from __future__ import annotations
 
+import contextlib
 import threading
 
 import pytest
@@ -36,6 +37,10 @@ class HandClock:
         with self._cond:
             self.t += dt
             self._cond.notify_all()
+
+    def hold(self, react: bool = True):
+        """The program's thread holds time while it runs: this clock moves only by hand."""
+        return contextlib.nullcontext()
 
     def wait(self, event: threading.Event, timeout: float) -> bool:
         with self._cond:
