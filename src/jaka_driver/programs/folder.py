@@ -14,7 +14,7 @@ import re
 from pathlib import Path
 from typing import Callable, List, Optional
 
-from ..backend.programs import Programs, ProgramStatus
+from ..backend.programs import Programs, ProgramState, ProgramStatus
 from ..common.results import Code, Result
 from .language import ProgramError
 from .parser import parse
@@ -99,6 +99,11 @@ class FolderPrograms(Programs):
 
     def status(self) -> ProgramStatus:
         return self._runner.status()
+
+    def state_now(self) -> ProgramState:
+        """The state alone, read without a lock (the twin's physics thread records it with
+        each sample and must not wait for a lock a request may hold)."""
+        return self._runner.state_now
 
     def variables(self) -> Result:
         listed = self._table.listed()

@@ -76,6 +76,11 @@ class ProgramRunner:
             name = self._program.name if self._program is not None else ""
             return ProgramStatus(self._state, name, self._line, self._error)
 
+    @property
+    def state_now(self) -> ProgramState:
+        """The state, without the lock (one attribute read): for a thread that must not wait."""
+        return self._state
+
     def load(self, program: Program) -> Result:
         with self._lock:
             if self._state != ProgramState.IDLE:
