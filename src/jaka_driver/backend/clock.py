@@ -34,8 +34,10 @@ them for determinism; docs/twin.md "Simulated time" tells users):
 - **Paused, it steps only when told.** :meth:`SimClock.pause` stops the cycles whatever
   else would let them run; :meth:`SimClock.step` lets exactly N more run, then stands still
   again; :meth:`SimClock.unpause` lets time run on. The steps keep every other rule: a
-  request, or a watchdog acting, stops them as it stops running time (the thread that asked
-  for the steps lets them run while it waits, as a waiter does).
+  request, or a program's step, stops them as it stops running time (the thread that asked
+  for the steps lets them run while it waits, as a waiter does), and the step is answered
+  once what its last cycle woke has acted: a request after the step comes after that, as
+  it would after N cycles at real time.
 - **Timers act at their cycle's end.** A callback scheduled with :meth:`SimClock.call_at`
   for sim time ``t`` runs in the physics thread when the first cycle ending at or after ``t``
   has ticked, before anything else may act between that cycle and the next (requests, woken
@@ -316,7 +318,13 @@ class SimClock:
             self._waiting[tid] = _Waiter(target, None)
             self._cond.notify_all()
             try:
-                return self._cond.wait_for(lambda: self.cycles >= target, timeout)
+                # done once the cycles have run and whatever they woke (a program's next step,
+                # a blocking move's return) has acted: a request after the steps comes after
+                # those, as it would after N cycles at real time
+                return self._cond.wait_for(
+                    lambda: (self.cycles >= target
+                             and self._awake_holder(time.monotonic(), but=tid) is None),
+                    timeout)
             finally:
                 del self._waiting[tid]
                 if tid in self._holds:
@@ -327,7 +335,23 @@ class SimClock:
         again = wall + WALL_SLICE
         if self._paused and self._step_budget <= 0:
             return again
+        until = self._awake_holder(wall)
+        if until is not None:
+            return min(again, until)
+        if wall < self._reaction_until:
+            return self._reaction_until
+        if self._stream_cycle == self.cycles - 1 and wall < self._gap_started + REACTION_WINDOW:
+            return self._gap_started + REACTION_WINDOW
+        if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
+            return again
+        return None
+
+    def _awake_holder(self, wall: float, but: Optional[int] = None) -> Optional[float]:
+        """The wall time at which the hold of a thread (other than ``but``) that holds time
+        and is not waiting on the clock stops counting, None if there is no such thread."""
         for tid, entry in self._holds.items():
+            if tid == but:
+                continue
             depth, since = entry
             waiter = self._waiting.get(tid)
             # a holder whose event is set is as good as awake: time stops at this cycle's
@@ -340,17 +364,11 @@ class SimClock:
             awake = waiter is None or waiter.woken
             if depth > 0 and awake:
                 if wall - since < HOLD_LIMIT:
-                    return min(again, since + HOLD_LIMIT)
+                    return since + HOLD_LIMIT
                 if not self._stale_warned:
                     self._stale_warned = True
                     log.warning("a request has held simulated time for %.0f s of wall time; "
                                 "time runs on", HOLD_LIMIT)
-        if wall < self._reaction_until:
-            return self._reaction_until
-        if self._stream_cycle == self.cycles - 1 and wall < self._gap_started + REACTION_WINDOW:
-            return self._gap_started + REACTION_WINDOW
-        if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
-            return again
         return None
 
     # ---- the physics loop's side ------------------------------------------------------------
