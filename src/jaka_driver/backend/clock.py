@@ -283,6 +283,14 @@ class SimClock:
         with self._cond:
             self._consumed = self.cycles
 
+    def wait_consumed(self, timeout: float) -> bool:
+        """Until the consumer (if any) has taken every sample up to now; False after
+        ``timeout`` s of wall time."""
+        with self._cond:
+            if self._consumed is None:
+                return True
+            return self._cond.wait_for(lambda: self._consumed >= self.cycles, timeout)
+
     def consumed(self, t: float) -> None:
         """The consumer has taken the sample of sim time ``t`` (s)."""
         with self._cond:
