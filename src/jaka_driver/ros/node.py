@@ -20,11 +20,13 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
-  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional
+  ``scene``          sim: workcell obstacles file (MJCF or YAML); ``""`` or ``none``
+                     (default): none
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
                      this package's config/programs)
-  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
-                     (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
+  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``model``
+                     or ``""`` (default: as config/<model>.yaml's ``force_sensor.mounted``
+                     says) — the
                      twin's is mounted, a controller's arm is said to carry one
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
@@ -86,7 +88,7 @@ def make_backend(kind: str, model_name: str, params: dict):
     model = load_model(model_name)
     if kind == "sim":
         from ..sim import SimBackend
-        return SimBackend(model, scene=params.get("scene") or None,
+        return SimBackend(model, scene=scene_param(params.get("scene", "")),
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
                           programs=params.get("programs") or None,
@@ -101,6 +103,13 @@ def make_backend(kind: str, model_name: str, params: dict):
                                  force_sensor=force_sensor_param(params.get("force_sensor", "")),
                                  stall_timeout=params["stall_timeout"])
     raise ValueError(f"unknown backend {kind!r}; expected 'sim' or 'controller'")
+
+
+def scene_param(value) -> str | None:
+    """``~scene``: the workcell file, or None for none (``""`` or ``none``: the launch file's
+    default is a word, since roslaunch lists an empty default as a required argument)."""
+    text = str(value or "").strip()
+    return None if text.lower() in ("", "none") else text
 
 
 def force_sensor_param(value) -> bool | None:
