@@ -92,7 +92,8 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         assert np.all(again <= np.floor(gaps / STALL_WINDOW + 1e-9)), \
             [(g, n) for g, n in zip(gaps, again) if n > np.floor(g / STALL_WINDOW + 1e-9)]
         # one message per packet: the recorded Zu 5s pushes every 30 ms (the arrival stamps'
-        # own jitter is the measurement's resolution)
+        # own jitter is the measurement's resolution; wall clock: the controller backend
+        # stamps in wall time, there is no sim time on a controller)
         rate = (len(packets) - 1) / (packets[-1] - packets[0])
         assert 1 / (emulator_period() * 1.3) < rate < 1 / (emulator_period() * 0.8), \
             f"joint_position at {rate:.1f} Hz"
