@@ -93,6 +93,12 @@ class Programs(ABC):
     def status(self) -> ProgramStatus:
         """The state, loaded name, current line and last error; never blocks for long."""
 
+    def watch(self, on_status) -> bool:
+        """Call ``on_status(status)`` with every status at each change, in order, from the
+        thread that made it (quick, never blocking); False where changes cannot be seen as
+        they happen (a controller's programs: the caller polls :meth:`status`)."""
+        return False
+
     @abstractmethod
     def variables(self) -> Result:
         """Every user variable (``Result.value``: a list of :class:`UserVariable` by id)."""

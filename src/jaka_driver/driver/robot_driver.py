@@ -175,6 +175,9 @@ class RobotDriver:
     def program_status(self) -> ProgramStatus:
         return self._programs.program_status()
 
+    def watch_programs(self, on_status) -> bool:
+        return self._programs.watch_programs(on_status)
+
     def program_variables(self) -> Result:
         return self._programs.program_variables()
 

@@ -44,7 +44,21 @@ class FolderPrograms(Programs):
     def __init__(self, folder: Optional[str], on_change: Callable[[], None] = lambda: None):
         self.folder = Path(folder).expanduser() if folder else None
         self._table = UserVariables()
-        self._runner = ProgramRunner(self._table, on_change=on_change)
+        self._on_change = on_change
+        self._watchers: list[Callable[[ProgramStatus], None]] = []
+        self._runner = ProgramRunner(self._table, on_change=self._changed)
+
+    def _changed(self) -> None:
+        self._on_change()
+        if self._watchers:
+            status = self._runner.status()
+            for watcher in list(self._watchers):
+                watcher(status)
+
+    def watch(self, on_status) -> bool:
+        """Every change, as the runner makes it (in sim time: at the cycle it happens)."""
+        self._watchers.append(on_status)
+        return True
 
     def bind(self, executor) -> None:
         self._runner.executor = executor
