@@ -365,11 +365,12 @@ class SimClock:
             # a holder whose event is set is as good as awake: time stops at this cycle's
             # end until it has run (the jog watchdog kicked while stepping, on a busy machine,
             # woke 0.15 s of sim time late when the cycles ran on until its thread got a core)
-            if (waiter is not None and not waiter.woken and waiter.event is not None
-                    and waiter.event.is_set()):
-                waiter.woken = True
-                entry[1] = since = wall          # its hold counts from its wake-up on
             awake = waiter is None or waiter.woken
+            if (not awake and waiter.event is not None and waiter.event.is_set()):
+                awake = True
+                if not self._stepping:           # (inside a cycle it wakes at the tick)
+                    waiter.woken = True
+                    entry[1] = since = wall      # its hold counts from its wake-up on
             if depth > 0 and awake:
                 if wall - since < HOLD_LIMIT:
                     return since + HOLD_LIMIT
