@@ -62,6 +62,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from ..common.constants import STALL_CYCLES
+from ..host import realtime
 
 log = logging.getLogger(__name__)
 
@@ -121,6 +122,7 @@ class WallClock:
             self._timer_cond.notify()
         return timer
 
+    @realtime.runs_periodically      # a watchdog's stop is due on time, as the cycle's work
     def _run_timers(self) -> None:
         while True:
             with self._timer_cond:
