@@ -10,15 +10,16 @@ units (:mod:`.contract`), and what travels across it.
   backend offers (``backend.force``; :class:`NoForceSensor` refuses every request);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
-* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`; timers on
-  either (:class:`Timer`).
+* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`;
+* :mod:`.timers` — :class:`Timer`, a callback scheduled on either (``call_at``).
 """
-from .clock import SimClock, Timer, WallClock, make_clock
+from .clock import SimClock, WallClock, make_clock
 from .completion import Completion
 from .contract import Backend
 from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .programs import ProgramState, ProgramStatus, Programs, UserVariable
 from .robot_state import MotionState, RobotState
+from .timers import Timer
 from .twin import Camera, Twin
 
 __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStatus",

@@ -58,11 +58,11 @@ import math
 import threading
 import time
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Optional
 
 from ..common.constants import STALL_CYCLES
-from ..host import realtime
+from .timers import Timer, TimerThread, run_timer
 
 log = logging.getLogger(__name__)
 
@@ -73,30 +73,6 @@ WALL_SLICE = 0.05         # s wall: waiters re-check their condition at least th
 STEPPING_WAIT = 1.0       # s wall: the longest a new request waits for a cycle to end
 
 
-@dataclass(order=True)
-class Timer:
-    """A callback scheduled on a clock (:meth:`SimClock.call_at`, :meth:`WallClock.call_at`):
-    ``due`` is when it acts (a cycle count on the sim clock, monotonic s on the wall clock)."""
-
-    due: float
-    seq: int
-    callback: Callable[[], object] = field(compare=False)
-    cancelled: bool = field(default=False, compare=False)
-
-    def cancel(self) -> None:
-        """It will not run (if it has not yet)."""
-        self.cancelled = True
-
-
-def _run_timer(timer: Timer) -> None:
-    if timer.cancelled:
-        return
-    try:
-        timer.callback()
-    except Exception:  # noqa: BLE001 — a timer's failure must not stop time or other timers
-        log.exception("timer %r failed", getattr(timer.callback, "__qualname__", timer.callback))
-
-
 class WallClock:
     """Wall time (``time.monotonic``, s). Holds and stream marks mean nothing here; timers
     run on one timer thread of the clock's, started with the first."""
@@ -104,37 +80,12 @@ class WallClock:
     simulated = False
 
     def __init__(self):
-        self._timers: list[Timer] = []
-        self._seq = itertools.count()
-        self._timer_cond = threading.Condition()
-        self._timer_thread: Optional[threading.Thread] = None
+        self._timers = TimerThread()
 
     def call_at(self, t: float, callback: Callable[[], object]) -> Timer:
         """Run ``callback()`` on the timer thread at wall time ``t`` (s, :meth:`now`'s) or as
         soon after as it gets a core; the callback must be quick (it delays the next)."""
-        timer = Timer(t, next(self._seq), callback)
-        with self._timer_cond:
-            heapq.heappush(self._timers, timer)
-            if self._timer_thread is None:
-                self._timer_thread = threading.Thread(target=self._run_timers,
-                                                      name="clock-timers", daemon=True)
-                self._timer_thread.start()
-            self._timer_cond.notify()
-        return timer
-
-    @realtime.runs_periodically      # a watchdog's stop is due on time, as the cycle's work
-    def _run_timers(self) -> None:
-        while True:
-            with self._timer_cond:
-                while True:
-                    while self._timers and self._timers[0].cancelled:
-                        heapq.heappop(self._timers)
-                    wait = (self._timers[0].due - time.monotonic()) if self._timers else None
-                    if wait is not None and wait <= 0:
-                        timer = heapq.heappop(self._timers)
-                        break
-                    self._timer_cond.wait(wait)
-            _run_timer(timer)
+        return self._timers.call_at(t, callback)
 
     def now(self) -> float:
         return time.monotonic()
@@ -443,7 +394,7 @@ class SimClock:
             self._timer_thread = threading.get_ident()
             try:
                 for timer in due:
-                    _run_timer(timer)
+                    run_timer(timer)
             finally:
                 self._timer_thread = None
         with self._cond:

@@ -16,7 +16,8 @@ import threading
 from dataclasses import dataclass
 from typing import Callable, Optional
 
-from ..backend.clock import SimClock, Timer, WallClock
+from ..backend.clock import SimClock, WallClock
+from ..backend.timers import Timer
 
 
 @dataclass
