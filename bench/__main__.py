@@ -177,7 +177,9 @@ def _sim_time(run: Run) -> None:
         speed = sim_time.speed_through_ros(stack)
     run.log("sim time: determinism, idle and loaded")
     same = sim_time.determinism(5.0 if run.quick else 20.0)
-    run.rows += sim_time.rows(speed, same)
+    run.log("sim time: every timer on a stepped twin, quiet and loaded, factors 1 and 0")
+    stepped = sim_time.stepped_replay()
+    run.rows += sim_time.rows(speed, same, stepped)
 
 
 def _force(run: Run) -> None:

@@ -4,7 +4,11 @@
   the node at ``real_time_factor:=0``; the wall time it took and the factor reached;
 * **determinism**: the same moves (plus a servo stream and a jog left to its watchdog) run
   twice in process on the twin at ``real_time_factor`` 0, once idle and once with both cores
-  loaded by two busy processes; the joint samples of every cycle are compared.
+  loaded by two busy processes; the joint samples of every cycle are compared;
+* **every timer, stepped**: the determinism test's scenario (test/support/stepped_scenario.py:
+  moves, jog and twist watchdogs, a servo gap, a trajectory, a program's ``wait`` and
+  ``wait_input``, force zeroing and constant force) on a paused twin its script steps, at
+  factor 1 quiet, 1 with both cores loaded and 0 loaded; every field of every sample compared.
 """
 from __future__ import annotations
 
@@ -127,7 +131,25 @@ def determinism(seconds: float = 20.0) -> dict:
             "wall_s": [wall_idle, wall_loaded]}
 
 
-def rows(speed: dict | None, same: dict | None) -> list[Row]:
+def stepped_replay() -> dict:
+    """The stepped scenario at factor 1 quiet, then 1 and 0 with both cores loaded: the cycles
+    compared, the fields that differ, the worst numeric difference, the wall times."""
+    from . import ros_session  # noqa: F401 — puts test/ on the path for ``support``
+    from support.stepped_scenario import differences, run
+    walls, runs = [], []
+    for factor, loaded in ((1.0, False), (1.0, True), (0.0, True)):
+        wall = time.monotonic()
+        runs.append(run(real_time_factor=factor, load=BusyLoad(2) if loaded else None))
+        walls.append(time.monotonic() - wall)
+    found, worst = [], 0.0
+    for other in runs[1:]:
+        f, w = differences(runs[0], other)
+        found, worst = found + f, max(worst, w)
+    return {"cycles": runs[0].cycles, "differences": len(found), "first": found[:5],
+            "worst": worst, "wall_s": walls}
+
+
+def rows(speed: dict | None, same: dict | None, stepped: dict | None = None) -> list[Row]:
     out = []
     if speed is not None:
         out.append(Row(GROUP, f"{SIM_SECONDS:g} s of sim time of joint and linear moves "
@@ -148,4 +170,15 @@ def rows(speed: dict | None, same: dict | None) -> list[Row]:
                        "loaded)", "≤ 1e-9 rad", judged(ok), "" if ok else
                        "a command reached the twin at a different sim time in the two runs",
                        data=same, bounds=at_most(same["worst_rad"], 1e-9, "rad")))
+    if stepped is not None:
+        ok = stepped["differences"] == 0 and stepped["worst"] == 0.0
+        walls = ", ".join(f"{w:.1f}" for w in stepped["wall_s"])
+        out.append(Row(GROUP, "stepped twin, every timer (moves, jog and twist watchdogs, servo "
+                       "gap, trajectory, program wait/wait_input, zeroing, constant force): "
+                       "factor 1 quiet against 1 and 0 with both cores loaded, every field of "
+                       "every sample",
+                       f"{stepped['differences']} fields differ over {stepped['cycles']} "
+                       f"cycles, worst {stepped['worst']:.1e} (wall {walls} s)",
+                       "0 differences", judged(ok), "" if ok else
+                       f"first: {', '.join(stepped['first'])}", data=stepped))
     return out

@@ -70,6 +70,8 @@ def test_each_profile_starts_pushes_and_answers_as_it_says(name):
         assert len(packet["din"]) == profile.io_sizes[("digital", 0, 0)]
         assert len(packet["ain"]) == profile.io_sizes[("analog", 0, 0)]
         assert emu.period == profile.period
+        # Wall clock: the emulator's status push is paced in wall time, as a controller's
+        # (no sim time on the wire); counted over a wall window (monotonic, µs).
         # Never faster than the period; a broadcaster woken later than a whole period
         # resynchronises instead of bursting, so a busy machine costs packets: the lower bound
         # allows it half of them, still far from the other profiles' periods (8 and 30 ms)

@@ -136,6 +136,7 @@ def test_several_clients_at_once(emu):
 def test_status_stream_at_the_profiles_period_with_the_fields(emu):
     assert emu.period == 0.030       # the recorded Zu 5s: about 30 ms per packet
     packets = read_status(emu.status_port, 1.0)
+    # Wall clock: the status push is wall-paced as a controller's; a 1 s window of receipts.
     # Never faster than the period (33 a second, one more at each edge of the window). A
     # broadcaster woken later than a whole period resynchronises instead of bursting, so a
     # machine that late costs packets: the lower bound allows it half of them.

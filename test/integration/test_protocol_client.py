@@ -111,6 +111,9 @@ def test_timeout_when_the_server_never_answers(client):
     with pytest.raises(TimeoutError, match="no reply to 'get_tcp_pos'") as info:
         client.call(commands.get_tcp_pos(), timeout=0.3)
     elapsed = time.monotonic() - t0
+    # Wall clock: the client's socket timeout is wall time against a TCP peer (no sim time
+    # there). time.monotonic resolves to µs; the 0.2 s above the timeout allow for a thread
+    # waiting for a core on a loaded 2-core machine, never for an early return.
     assert 0.3 <= elapsed < 0.5
     assert isinstance(info.value, JakaProtocolError)
     assert not client.connected   # a late reply must not be taken for the next one

@@ -66,6 +66,8 @@ def test_joint_move_through_ros_reaches_the_target(call, joints):
     reply = call("joint_move", Move, pose=target, mvvelo=1.0, mvacc=3.0)
     elapsed = time.monotonic() - t0
     assert reply.ret == 1, reply.message
+    # Wall clock: the controller backend (emulator) has no sim time. A lower bound only
+    # (µs resolution): the move takes longer than 0.4 s, so an early return is a bug.
     assert elapsed > 0.4, "joint_move blocks until in position"
     assert np.max(np.abs(position(joints) - target)) <= 1e-3
     assert call("joint_move", Move, pose=START, mvvelo=2.0, mvacc=8.0).ret == 1
@@ -101,7 +103,8 @@ def test_robot_states_come_from_the_controller(sim_driver, joints):
         assert np.all(again <= np.floor(gaps / STALL_WINDOW + 1e-9)), \
             [(g, n) for g, n in zip(gaps, again) if n > np.floor(g / STALL_WINDOW + 1e-9)]
         # one message per packet: the recorded Zu 5s pushes every 30 ms (the arrival stamps'
-        # own jitter is the measurement's resolution)
+        # own jitter is the measurement's resolution; wall clock: the controller backend
+        # stamps in wall time, there is no sim time on a controller)
         rate = (len(packets) - 1) / (packets[-1] - packets[0])
         assert 1 / (emulator_period() * 1.3) < rate < 1 / (emulator_period() * 0.8), \
             f"joint_position at {rate:.1f} Hz"

@@ -279,6 +279,8 @@ class Fuzz:
                             f"{getattr(reply, 'ret', getattr(reply, 'success', ''))} "
                             f"{getattr(reply, 'message', '')[:100]}")
         assert self.driver.alive(), f"the node died on {leaf} {fields}:\n{self.driver.log()}"
+        # Wall clock: a service's answer time as a ROS client sees it (the node runs on the
+        # wall clock here). Resolution µs; the budget is the answer-at-once bound per service.
         assert elapsed <= budget, f"{leaf} answered in {elapsed:.2f} s > {budget:.2f} s: " \
                                   f"{fields} → {reply}"
         message = getattr(reply, "message", "")

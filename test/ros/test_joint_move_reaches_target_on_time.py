@@ -56,7 +56,9 @@ def test_joint_move_blocks_until_within_1e3_rad_and_takes_the_predicted_time(cal
     assert predicted - EDGES <= last - first, (last - first, predicted)
     assert cycles <= predicted + SETTLING, (cycles, predicted)
     # the service returns once settled: never before the move (the twin, paced to the wall
-    # clock, catches up at most 0.2 s after a stall), never at the driver's deadline
+    # clock, catches up at most 0.2 s after a stall), never at the driver's deadline.
+    # Wall clock on purpose: this module checks the real-time twin a user gets by default
+    # (the sim-time twin has test_sim_time_is_deterministic); resolution µs, allowance 0.2 s.
     assert predicted - 0.2 <= elapsed < move_deadline(predicted), (elapsed, predicted)
 
 

@@ -55,6 +55,9 @@ def test_an_overrun_is_stopped_and_answered_minus_12(move):
     assert result.code == Code.MOTION_STOPPED
     assert "planned 0.10 s" in result.message and "allowed 2.15 s" in result.message
     assert backend.names()[-1] == "stop_move"
+    # Wall clock: the fake backend has the wall clock (a unit test, no twin to own time).
+    # Resolution µs; 0.05 s below for the deadline's own look period, 1.5 s above for the
+    # stop's wait and a loaded machine — the bound checks the deadline is the one that acted.
     assert move_deadline(0.1) - 0.05 <= took < move_deadline(0.1) + 1.5
 
 

@@ -6,6 +6,7 @@ rest not run); a failing step ends it with its line and the executor's message; 
 from outside are seen by the program; loops run their count (a variable's too)."""
 from __future__ import annotations
 
+import contextlib
 import threading
 
 import pytest
@@ -36,6 +37,10 @@ class HandClock:
         with self._cond:
             self.t += dt
             self._cond.notify_all()
+
+    def hold(self, react: bool = True):
+        """The program's thread holds time while it runs: this clock moves only by hand."""
+        return contextlib.nullcontext()
 
     def wait(self, event: threading.Event, timeout: float) -> bool:
         with self._cond:
@@ -306,3 +311,25 @@ def test_play_load_pause_resume_are_refused_in_the_wrong_state(engine):
     running_move(executor, 1)
     assert runner.play().code == Code.BUSY
     assert runner.load(parse(THREE_MOVES, "other")).code == Code.BUSY
+
+
+def test_every_status_change_reaches_a_watcher_in_order(tmp_path):
+    """~program/state publishes from this feed: each line a program passes is seen, however
+    fast the lines go by (a poll every 20 ms of wall time skipped some at real_time_factor 0)."""
+    from jaka_driver.programs import FolderPrograms
+    (tmp_path / "outputs.jdp").write_text("set_output digital cabinet 1 = 1\n"
+                                          "set_output digital cabinet 2 = 1\n"
+                                          "wait 0\n"
+                                          "set_output digital cabinet 3 = 1\n")
+    programs = FolderPrograms(str(tmp_path))
+    executor = FakeExecutor()
+    programs.bind(executor)
+    seen: list[ProgramStatus] = []
+    assert programs.watch(seen.append)
+    assert programs.load("outputs").ok
+    assert programs.play().ok
+    assert wait_until(lambda: seen and seen[-1].state == ProgramState.IDLE
+                      and len(executor.outputs) == 3, 5.0)
+    running = [s.line for s in seen if s.state == ProgramState.RUNNING]
+    assert running == [0, 1, 2, 3, 4], running            # play, then each line in order
+    assert seen[0] == ProgramStatus(ProgramState.IDLE, "outputs")       # loaded

@@ -133,3 +133,32 @@ def test_a_holder_whose_event_is_set_stops_time_until_it_has_run():
     clock.tick()
     thread.join(2.0)
     assert order == ["acted", "cycle"]
+
+
+def test_a_step_is_answered_once_what_its_last_cycle_woke_has_acted():
+    """As a program's ``wait`` ending at the last stepped cycle: its next step acts before the
+    step is answered, so a request sent after the step comes after it on any machine load."""
+    clock, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event()
+    clock.pause()
+    order = []
+
+    def program():
+        with clock.hold(react=False):
+            clock.sleep(2 * CYCLE)
+            time.sleep(IN_CYCLE_S)           # its next step takes a while (wall time)
+            order.append(("program acted", clock.cycles))
+
+    def physics():
+        while clock.wait_for_cycle(quit_):
+            clock.tick()
+
+    waiting = _in_thread(program)
+    time.sleep(0.1)                          # it waits on the clock
+    _in_thread(physics)
+    try:
+        assert clock.step(2, 5.0)
+        order.append(("step answered", clock.cycles))
+        waiting.join(2.0)
+        assert order == [("program acted", 2), ("step answered", 2)]
+    finally:
+        quit_.set()

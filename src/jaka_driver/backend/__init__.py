@@ -18,7 +18,8 @@ units (:mod:`.contract`), and what travels across it.
   refuses every request), their frames (:class:`CameraFrame`);
 * :mod:`.robot_state` — :class:`RobotState`, one sample of the arm, and :class:`MotionState`;
 * :mod:`.completion` — :class:`Completion`, the end of a started motion;
-* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`.
+* :mod:`.clock` — a backend's time: :class:`WallClock`, or the twin's :class:`SimClock`;
+* :mod:`.timers` — :class:`Timer`, a callback scheduled on either (``call_at``).
 """
 from .cameras import CameraFrame, Cameras, NoCameras
 from .clock import SimClock, WallClock, make_clock
@@ -28,6 +29,7 @@ from .force import Force, ForceReading, ForceSettings, NoForceSensor
 from .programs import NoPrograms, ProgramState, ProgramStatus, Programs, UserVariable
 from .recording import NoRecording, Recording, TrajConfig
 from .robot_state import MotionState, RobotState
+from .timers import Timer
 from .tool_io import ChannelComm, NoToolIO, Signal, ToolIO, ToolIOSettings
 from .twin import Camera, Twin
 
@@ -35,4 +37,5 @@ __all__ = ["Backend", "Twin", "Camera", "Programs", "ProgramState", "ProgramStat
            "UserVariable", "NoPrograms", "Recording", "NoRecording", "TrajConfig", "Force",
            "ForceReading", "ForceSettings", "NoForceSensor", "ToolIO", "ToolIOSettings",
            "ChannelComm", "Signal", "NoToolIO", "Cameras", "CameraFrame", "NoCameras", "RobotState",
-           "MotionState", "Completion", "WallClock", "SimClock", "make_clock", "force_checks"]
+           "MotionState", "Completion", "WallClock", "SimClock", "Timer", "make_clock",
+           "force_checks"]

@@ -3,6 +3,9 @@
 The driver keeps every timeout on its backend's clock (blocking moves, the jog watchdog, the
 servo stream, the trajectory monitor), so the same code runs in wall time against a
 controller and in simulated time against a twin that owns time (docs/design.md, "Time").
+A timer that acts by itself (a watchdog) is a callback scheduled on the clock
+(:meth:`SimClock.call_at`), not a thread that waits: in sim time the thread that advances time
+runs it at the boundary of its cycle, so no thread's wake-up decides when it acts.
 
 :class:`WallClock` is ``time.monotonic``. :class:`SimClock` is the twin's time: cycles × 8 ms
 since the twin started, advanced by the physics loop only. Its rules (the driver relies on
@@ -31,8 +34,16 @@ them for determinism; docs/twin.md "Simulated time" tells users):
 - **Paused, it steps only when told.** :meth:`SimClock.pause` stops the cycles whatever
   else would let them run; :meth:`SimClock.step` lets exactly N more run, then stands still
   again; :meth:`SimClock.unpause` lets time run on. The steps keep every other rule: a
-  request, or a watchdog acting, stops them as it stops running time (the thread that asked
-  for the steps lets them run while it waits, as a waiter does).
+  request, or a program's step, stops them as it stops running time (the thread that asked
+  for the steps lets them run while it waits, as a waiter does), and the step is answered
+  once what its last cycle woke has acted: a request after the step comes after that, as
+  it would after N cycles at real time.
+- **Timers act at their cycle's end.** A callback scheduled with :meth:`SimClock.call_at`
+  for sim time ``t`` runs in the physics thread when the first cycle ending at or after ``t``
+  has ticked, before anything else may act between that cycle and the next (requests, woken
+  waiters) and before the next cycle starts. A step of N cycles runs exactly the timers N
+  cycles at real time would. A callback must be quick and must never wait for a cycle (it
+  runs in the thread that makes them): posting to the motion slot is fine.
 - **A reader is not outrun.** With a consumer registered (the node's state publisher), the
   twin runs at most ``MAX_LAG`` cycles ahead of what it has published.
 
@@ -40,15 +51,18 @@ Nothing may freeze the twin: a hold older than ``HOLD_LIMIT`` s of wall time sto
 """
 from __future__ import annotations
 
+import heapq
+import itertools
 import logging
 import math
 import threading
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Optional
+from typing import Callable, Optional
 
 from ..common.constants import STALL_CYCLES
+from .timers import Timer, TimerThread, run_timer
 
 log = logging.getLogger(__name__)
 
@@ -60,9 +74,18 @@ STEPPING_WAIT = 1.0       # s wall: the longest a new request waits for a cycle 
 
 
 class WallClock:
-    """Wall time (``time.monotonic``, s). Holds and stream marks mean nothing here."""
+    """Wall time (``time.monotonic``, s). Holds and stream marks mean nothing here; timers
+    run on one timer thread of the clock's, started with the first."""
 
     simulated = False
+
+    def __init__(self):
+        self._timers = TimerThread()
+
+    def call_at(self, t: float, callback: Callable[[], object]) -> Timer:
+        """Run ``callback()`` on the timer thread at wall time ``t`` (s, :meth:`now`'s) or as
+        soon after as it gets a core; the callback must be quick (it delays the next)."""
+        return self._timers.call_at(t, callback)
 
     def now(self) -> float:
         return time.monotonic()
@@ -115,6 +138,9 @@ class SimClock:
         self._stale_warned = False
         self._paused = False
         self._step_budget = 0                    # cycles a paused clock may still run
+        self._timers: list[Timer] = []           # heap, due = cycle count
+        self._seq = itertools.count()
+        self._timer_thread: Optional[int] = None  # the thread running timers now
 
     # ---- reading and waiting -------------------------------------------------------------
     def now(self) -> float:
@@ -128,6 +154,7 @@ class SimClock:
         """Until ``event`` is set or ``timeout`` s of sim time pass; True if it is set.
         A thread that holds time lets it run while it waits (module docstring)."""
         tid = threading.get_ident()
+        self._not_in_a_timer("wait on")
         with self._cond:
             if event is not None and event.is_set():
                 return True
@@ -154,6 +181,23 @@ class SimClock:
     def sleep(self, seconds: float) -> None:
         self.wait(None, seconds)
 
+    def call_at(self, t: float, callback: Callable[[], object]) -> Timer:
+        """Run ``callback()`` in the physics thread once the first cycle ending at or after
+        sim time ``t`` (s) has ticked, before the next cycle starts (at the end of the next
+        cycle if ``t`` is now or past). Quick, and never waiting for a cycle (module
+        docstring)."""
+        with self._cond:
+            due = max(self._cycles_at(t), self.cycles + 1)
+            timer = Timer(due, next(self._seq), callback)
+            heapq.heappush(self._timers, timer)
+        return timer
+
+    def _not_in_a_timer(self, what: str) -> None:
+        if self._timer_thread == threading.get_ident():
+            # the thread that would make the cycle waited for is this one: it would never come
+            raise RuntimeError(f"a timer callback may not {what} the simulated clock (it runs "
+                               "in the thread that advances time)")
+
     # ---- what stops time -----------------------------------------------------------------
     @contextmanager
     def hold(self, react: bool = True):
@@ -161,6 +205,7 @@ class SimClock:
         clock). ``react``: when the outermost hold ends, wait up to REACTION_WINDOW for the
         caller's next request (a reply); False for the servo stream and the watchdog."""
         tid = threading.get_ident()
+        self._not_in_a_timer("hold")
         with self._cond:
             self._reaction_until = 0.0          # the request the window waited for is here
             if tid not in self._holds:
@@ -190,6 +235,14 @@ class SimClock:
         """Register the one consumer of samples; from now the twin waits for it."""
         with self._cond:
             self._consumed = self.cycles
+
+    def wait_consumed(self, timeout: float) -> bool:
+        """Until the consumer (if any) has taken every sample up to now; False after
+        ``timeout`` s of wall time."""
+        with self._cond:
+            if self._consumed is None:
+                return True
+            return self._cond.wait_for(lambda: self._consumed >= self.cycles, timeout)
 
     def consumed(self, t: float) -> None:
         """The consumer has taken the sample of sim time ``t`` (s)."""
@@ -226,7 +279,13 @@ class SimClock:
             self._waiting[tid] = _Waiter(target, None)
             self._cond.notify_all()
             try:
-                return self._cond.wait_for(lambda: self.cycles >= target, timeout)
+                # done once the cycles have run and whatever they woke (a program's next step,
+                # a blocking move's return) has acted: a request after the steps comes after
+                # those, as it would after N cycles at real time
+                return self._cond.wait_for(
+                    lambda: (self.cycles >= target
+                             and self._awake_holder(time.monotonic(), but=tid) is None),
+                    timeout)
             finally:
                 del self._waiting[tid]
                 if tid in self._holds:
@@ -237,26 +296,41 @@ class SimClock:
         again = wall + WALL_SLICE
         if self._paused and self._step_budget <= 0:
             return again
-        for tid, (depth, since) in self._holds.items():
-            waiter = self._waiting.get(tid)
-            # a holder whose event is set is as good as awake: time stops at this cycle's
-            # end until it has run (the jog watchdog kicked while stepping, on a busy machine,
-            # woke 0.15 s of sim time late when the cycles ran on until its thread got a core)
-            awake = waiter is None or waiter.woken or (waiter.event is not None
-                                                       and waiter.event.is_set())
-            if depth > 0 and awake:
-                if wall - since < HOLD_LIMIT:
-                    return min(again, since + HOLD_LIMIT)
-                if not self._stale_warned:
-                    self._stale_warned = True
-                    log.warning("a request has held simulated time for %.0f s of wall time; "
-                                "time runs on", HOLD_LIMIT)
+        until = self._awake_holder(wall)
+        if until is not None:
+            return min(again, until)
         if wall < self._reaction_until:
             return self._reaction_until
         if self._stream_cycle == self.cycles - 1 and wall < self._gap_started + REACTION_WINDOW:
             return self._gap_started + REACTION_WINDOW
         if self._consumed is not None and self.cycles - self._consumed >= MAX_LAG:
             return again
+        return None
+
+    def _awake_holder(self, wall: float, but: Optional[int] = None) -> Optional[float]:
+        """The wall time at which the hold of a thread (other than ``but``) that holds time
+        and is not waiting on the clock stops counting, None if there is no such thread."""
+        for tid, entry in self._holds.items():
+            if tid == but:
+                continue
+            depth, since = entry
+            waiter = self._waiting.get(tid)
+            # a holder whose event is set is as good as awake: time stops at this cycle's
+            # end until it has run (the jog watchdog kicked while stepping, on a busy machine,
+            # woke 0.15 s of sim time late when the cycles ran on until its thread got a core)
+            awake = waiter is None or waiter.woken
+            if (not awake and waiter.event is not None and waiter.event.is_set()):
+                awake = True
+                if not self._stepping:           # (inside a cycle it wakes at the tick)
+                    waiter.woken = True
+                    entry[1] = since = wall      # its hold counts from its wake-up on
+            if depth > 0 and awake:
+                if wall - since < HOLD_LIMIT:
+                    return since + HOLD_LIMIT
+                if not self._stale_warned:
+                    self._stale_warned = True
+                    log.warning("a request has held simulated time for %.0f s of wall time; "
+                                "time runs on", HOLD_LIMIT)
         return None
 
     # ---- the physics loop's side ------------------------------------------------------------
@@ -305,18 +379,36 @@ class SimClock:
         return wall0 + (self.cycles + 1 - cycles0) * period
 
     def tick(self) -> None:
-        """A cycle was stepped: time advances by one cycle; waiters due now are woken (and
-        hold again, if they held, before the next cycle may start)."""
+        """A cycle was stepped: time advances by one cycle; the timers due now run (in the
+        calling thread, while the cycle still counts as being stepped: nothing else acts
+        between the two cycles before them); then the waiters due now are woken (and hold
+        again, if they held, before the next cycle may start)."""
         with self._cond:
             self.cycles += 1
             if self._paused and self._step_budget > 0:
                 self._step_budget -= 1
+            due = []
+            while self._timers and self._timers[0].due <= self.cycles:
+                due.append(heapq.heappop(self._timers))
+        if due:
+            self._timer_thread = threading.get_ident()
+            try:
+                for timer in due:
+                    run_timer(timer)
+            finally:
+                self._timer_thread = None
+        with self._cond:
             self._stepping = False
-            self._gap_started = time.monotonic()
-            for waiter in self._waiting.values():
+            wall = self._gap_started = time.monotonic()
+            for tid, waiter in self._waiting.items():
                 if waiter.deadline <= self.cycles or (waiter.event is not None
                                                       and waiter.event.is_set()):
                     waiter.woken = True
+                    if tid in self._holds:
+                        # a holder's hold counts from its wake-up, not from when it began
+                        # to wait: a 3 s wait that took 10 s of wall time on a loaded
+                        # machine no longer let the cycles run on while its thread woke
+                        self._holds[tid][1] = wall
             self._cond.notify_all()
 
 

@@ -95,6 +95,17 @@ class Programs(ABC):
     def status(self) -> ProgramStatus:
         """The state, loaded name, current line and last error; never blocks for long."""
 
+    def state_now(self) -> ProgramState:
+        """The state alone, read without waiting for a lock (a twin's physics thread records it
+        with each sample); by default the status's."""
+        return self.status().state
+
+    def watch(self, on_status) -> bool:
+        """Call ``on_status(status)`` with every status at each change, in order, from the
+        thread that made it (quick, never blocking); False where changes cannot be seen as
+        they happen (a controller's programs: the caller polls :meth:`status`)."""
+        return False
+
     @abstractmethod
     def variables(self) -> Result:
         """Every user variable (``Result.value``: a list of :class:`UserVariable` by id)."""

@@ -125,13 +125,18 @@ class MoveRequests(RequestPart):
     @answers
     def follow_trajectory(self, trajectory, monitor: Callable[[float, RobotState],
                                                                "str | None"],
-                          period: float = 0.02) -> Result:
+                          period: float = 0.02, start_at: float | None = None) -> Result:
         """Execute a planned joint trajectory (FollowJointTrajectory). Every ``period`` s
         (of :attr:`clock`) ``monitor(t, state)`` is called with the time since the start; a
         string it returns aborts: the arm is stopped and the result is -12 with that reason.
         Blocks. At a speed ratio r < 1 the trajectory is played r times as fast in time (a
         controller's servo stream is never scaled by its rate, so the driver scales it, for
-        every backend alike) and ``monitor`` still sees the trajectory's own time."""
+        every backend alike) and ``monitor`` still sees the trajectory's own time.
+        ``start_at`` (s, the samples' stamps' time: ROS time, the twin's sim time in sim
+        time): the trajectory starts then (a goal's ``header.stamp``); the wait is on
+        :attr:`clock`, inside this request, so in sim time it starts at exactly that cycle."""
+        if start_at is not None:
+            self.clock.sleep(start_at - self.backend.state().stamp)
         ratio = self.door.ratio()
         if ratio != 1.0:
             trajectory = trajectory.time_scaled(ratio)

@@ -67,6 +67,12 @@ class ProgramRequests(RequestPart):
         programs = self.backend.programs
         return programs.status() if programs is not None else ProgramStatus()
 
+    def watch(self, on_status) -> bool:
+        """``on_status(status)`` at every change, in order (:meth:`Programs.watch`); False
+        where the backend cannot report changes as they happen (poll :meth:`status`)."""
+        programs = self.backend.programs
+        return programs.watch(on_status) if programs is not None else False
+
     @answers
     def variables(self) -> Result:
         """Every user variable (``Result.value``: :class:`UserVariable` list, by id)."""

@@ -149,8 +149,8 @@ class RobotDriver:
 
     def follow_trajectory(self, trajectory,
                           monitor: Callable[[float, RobotState], "str | None"],
-                          period: float = 0.02) -> Result:
-        return self._moves.follow_trajectory(trajectory, monitor, period)
+                          period: float = 0.02, start_at: float | None = None) -> Result:
+        return self._moves.follow_trajectory(trajectory, monitor, period, start_at)
 
     def stop_move(self) -> Result:
         return self._moves.stop_move()

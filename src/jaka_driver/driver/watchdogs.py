@@ -6,7 +6,9 @@ A jog runs only while its client keeps calling: 3.0 s after the last call it is 
 and the next servo call is told how long the stream had stopped.
 
 Both keep time on the backend's clock (:mod:`jaka_driver.backend.clock`): wall time, or the
-twin's sim time, in which the jog stops exactly ``timeout`` after the cycle of its last call.
+twin's sim time, in which the jog stops exactly ``timeout`` after the cycle of its last call
+(a timer on the clock, run by the physics thread at that cycle's end: no thread has to wake
+up in time).
 """
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ from dataclasses import dataclass
 from typing import Callable, Optional
 
 from ..backend.clock import SimClock, WallClock
-from ..host import realtime
+from ..backend.timers import Timer
 
 
 @dataclass
@@ -31,9 +33,17 @@ class JogSession:
 class JogWatchdog:
     """Stops a jog ``timeout`` seconds (of ``clock``) after its last call.
 
-    ``stop`` is called from the watchdog's own thread; it must be thread-safe. The thread
-    holds simulated time while it acts, so the stop lands in a definite cycle.
+    No thread waits for the deadline: it is a timer on the clock (:meth:`SimClock.call_at`).
+    In sim time ``stop`` runs in the physics thread at the end of the cycle the deadline falls
+    in, before anything else acts and before the next cycle starts, so it lands in the cycle
+    the calls alone decide on any machine load; on the wall clock it runs on the clock's timer
+    thread. ``stop`` must be thread-safe, quick, and never wait for a cycle (it may post to
+    the motion slot, as ``backend.jog_stop`` does).
     """
+
+    #: s: a deadline this close to now counts as reached (sim time: a cycle's end lands on
+    #: ``last_call + timeout`` up to rounding)
+    EPSILON = 1e-9
 
     def __init__(self, stop: Callable[[], object], timeout: float = 3.0, *,
                  clock: WallClock | SimClock):
@@ -42,10 +52,8 @@ class JogWatchdog:
         self._clock = clock
         self._lock = threading.Lock()
         self._session: Optional[JogSession] = None
-        self._changed = threading.Event()       # a kick, a clear or close: look again
-        self._quit = False
-        self._thread = threading.Thread(target=self._run, name="jog-watchdog", daemon=True)
-        self._thread.start()
+        self._timer: Optional[Timer] = None      # the deadline scheduled on the clock
+        self._closed = False
 
     @property
     def session(self) -> Optional[JogSession]:
@@ -55,51 +63,48 @@ class JogWatchdog:
     def kick(self, coord: int, index: int, speed: float) -> Optional[JogSession]:
         """Record a jog call; returns the session it replaces (None if none was running).
 
-        Only the first call of a jog wakes the watchdog's thread: while a session runs, the
-        thread sleeps until the last deadline it saw and then finds the later one itself, so a
-        stream of calls (a teleop's twists at 125 Hz) costs no thread wake-up per call — the
-        stop still lands ``timeout`` after the last call."""
+        Only the first call of a jog schedules a timer: while a session runs, the timer fires
+        at the last deadline it saw and then schedules the later one itself, so a stream of
+        calls (a teleop's twists at 125 Hz) costs nothing per call — the stop still lands
+        ``timeout`` after the last call."""
         with self._lock:
             previous = self._session
             self._session = JogSession(coord, index, speed, self._clock.now())
-        if previous is None:
-            self._changed.set()
+            if self._timer is None and not self._closed:
+                self._timer = self._clock.call_at(self._session.last_call + self.timeout,
+                                                  self._due)
         return previous
 
     def clear(self) -> Optional[JogSession]:
         """Forget the session without stopping (the caller stops the arm itself)."""
         with self._lock:
             previous, self._session = self._session, None
-        self._changed.set()
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
         return previous
 
     def close(self) -> None:
-        self._quit = True
-        self._changed.set()
-        self._thread.join(timeout=1.0)
+        with self._lock:
+            self._closed = True
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
 
-    @realtime.runs_periodically
-    def _run(self) -> None:
-        clock = self._clock
-        with clock.hold(react=False):
-            while True:
-                self._changed.clear()
-                if self._quit:
-                    return
-                session = self.session
-                if session is None:
-                    clock.wait(self._changed, 3600.0)
-                    continue
-                remaining = session.last_call + self.timeout - clock.now()
-                if remaining > 0:
-                    clock.wait(self._changed, remaining)
-                    continue
-                with self._lock:
-                    expired = self._session is session
-                    if expired:
-                        self._session = None
-                if expired:
-                    self._stop()
+    def _due(self) -> None:
+        """The timer: stop the jog if its last call is ``timeout`` old, else wait for the
+        later deadline a call has set meanwhile."""
+        with self._lock:
+            self._timer = None
+            session = self._session
+            if session is None or self._closed:
+                return
+            deadline = session.last_call + self.timeout
+            if deadline - self._clock.now() > self.EPSILON:
+                self._timer = self._clock.call_at(deadline, self._due)
+                return
+            self._session = None
+        self._stop()
 
 
 class ServoStream:

@@ -13,7 +13,7 @@ IO as ``set_io`` / ``get_io`` take it; time s of the executor's :attr:`Executor.
 from __future__ import annotations
 
 import threading
-from typing import Callable, Optional, Protocol, Sequence
+from typing import Callable, ContextManager, Optional, Protocol, Sequence
 
 from ..common.results import Result
 
@@ -75,6 +75,10 @@ class StepClock(Protocol):
     def now(self) -> float: ...
 
     def wait(self, event: threading.Event, timeout: float) -> bool: ...
+
+    def hold(self, react: bool = True) -> ContextManager:
+        """Time stands still while the calling thread is inside and not waiting on the clock
+        (a no-op on the wall clock)."""
 
 
 class Executor(Protocol):

@@ -16,7 +16,7 @@ import re
 from pathlib import Path
 from typing import Callable, List, Optional
 
-from ..backend.programs import Programs, ProgramStatus
+from ..backend.programs import Programs, ProgramState, ProgramStatus
 from ..backend.recording import TRACK_FOLDER
 from ..common.results import Code, Result
 from ..protocol.programs import without_jks
@@ -50,7 +50,21 @@ class FolderPrograms(Programs):
     def __init__(self, folder: Optional[str], on_change: Callable[[], None] = lambda: None):
         self.folder = Path(folder).expanduser() if folder else None
         self._table = UserVariables()
-        self._runner = ProgramRunner(self._table, on_change=on_change)
+        self._on_change = on_change
+        self._watchers: list[Callable[[ProgramStatus], None]] = []
+        self._runner = ProgramRunner(self._table, on_change=self._changed)
+
+    def _changed(self) -> None:
+        self._on_change()
+        if self._watchers:
+            status = self._runner.status()
+            for watcher in list(self._watchers):
+                watcher(status)
+
+    def watch(self, on_status) -> bool:
+        """Every change, as the runner makes it (in sim time: at the cycle it happens)."""
+        self._watchers.append(on_status)
+        return True
 
     def bind(self, executor) -> None:
         self._runner.executor = executor
@@ -114,6 +128,11 @@ class FolderPrograms(Programs):
 
     def status(self) -> ProgramStatus:
         return self._runner.status()
+
+    def state_now(self) -> ProgramState:
+        """The state alone, read without a lock (the twin's physics thread records it with
+        each sample and must not wait for a lock a request may hold)."""
+        return self._runner.state_now
 
     def variables(self) -> Result:
         listed = self._table.listed()

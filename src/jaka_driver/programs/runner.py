@@ -13,7 +13,11 @@ A controller's rules, as JAKA's programs follow them:
   (0 while idle).
 
 All waiting happens on the executor's clock (the twin's simulated time, or the wall clock), in
-steps of at most one controller cycle while an input or a variable is polled.
+steps of one controller cycle while an input or a variable is polled. The program's thread
+holds the clock while it runs (:meth:`SimClock.hold`, let go only while it waits on the
+clock), as a request does: in simulated time each step — a move's start, an output, the end
+of a ``wait``, each look at a ``wait_input``'s input — acts between two definite cycles, the
+ones the program and its requests decide, never at one its thread's wake-up picks.
 """
 from __future__ import annotations
 
@@ -35,6 +39,8 @@ log = logging.getLogger(__name__)
 #: a loop that runs this many times without waiting for anything is taken for a runaway
 #: program (a ``repeat forever`` of variable arithmetic): it is stopped
 MAX_IDLE_STEPS = 100_000
+#: s (wall) ``play`` waits for the program's thread to hold the clock
+HOLD_WAIT = 1.0
 
 
 class _Stopped(Exception):
@@ -62,12 +68,18 @@ class ProgramRunner:
         self._paused_at = 0.0                  # executor clock s of the last pause
         self._paused_total = 0.0               # executor clock s spent paused, all pauses
         self._thread: Optional[threading.Thread] = None
+        self._holding = threading.Event()     # the program's thread holds the clock
 
     # ---- what callers see ------------------------------------------------------------------
     def status(self) -> ProgramStatus:
         with self._lock:
             name = self._program.name if self._program is not None else ""
             return ProgramStatus(self._state, name, self._line, self._error)
+
+    @property
+    def state_now(self) -> ProgramState:
+        """The state, without the lock (one attribute read): for a thread that must not wait."""
+        return self._state
 
     def load(self, program: Program) -> Result:
         with self._lock:
@@ -105,9 +117,13 @@ class ProgramRunner:
             program = self._program
             self._state, self._error, self._stop, self._line = ProgramState.RUNNING, "", \
                 False, 0
+            self._holding.clear()
             self._thread = threading.Thread(target=self._run, args=(program,),
                                             name="program-runner", daemon=True)
             self._thread.start()
+        # Until the thread holds the clock, time must not run on without it (the play request
+        # holds it meanwhile); bounded, a thread that never starts cannot freeze the caller.
+        self._holding.wait(HOLD_WAIT)
         self._on_change()
         return Result.success(f"program {program.name!r} running")
 
@@ -155,6 +171,11 @@ class ProgramRunner:
 
     # ---- the program's thread ----------------------------------------------------------------
     def _run(self, program: Program) -> None:
+        with self.executor.clock.hold(react=False):
+            self._holding.set()
+            self._run_holding(program)
+
+    def _run_holding(self, program: Program) -> None:
         self._idle_steps = 0
         error = ""
         try:

@@ -27,14 +27,16 @@ Parameters (private, ``~name``):
   ``jog_timeout``    s after the last jog call before the jog stops (default 3.0)
   ``servo_timeout``  s without a servo target before the stream counts as stopped (0.1)
   ``twist_timeout``  s after the last ``~twist_command`` before the velocity jog stops (0.1)
-  ``scene``          sim: workcell obstacles file (MJCF or YAML), optional; a YAML scene's
-                     ``cameras:`` are rendered and published (ros/camera_topics.py)
+  ``scene``          sim: workcell obstacles file (MJCF or YAML); ``""`` or ``none``
+                     (default): none; a YAML scene's ``cameras:`` are rendered and published
+                     (ros/camera_topics.py)
   ``wrist_camera``   sim: a camera on the flange (jaka_driver.common.camera_spec's
                      ``WRIST_CAMERA``; default false)
   ``programs``       sim: the folder of the programs the twin runs (docs/programs.md; default
                      this package's config/programs), and of its recordings (``track/``)
-  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``""``
-                     (default: as config/<model>.yaml's ``force_sensor.mounted`` says) — the
+  ``force_sensor``   a flange force/torque sensor on the arm: ``true``, ``false``, or ``model``
+                     or ``""`` (default: as config/<model>.yaml's ``force_sensor.mounted``
+                     says) — the
                      twin's is mounted, a controller's arm is said to carry one
   ``conventions``    ``document`` (default: JAKA's interface document) or ``jaka_code`` (JAKA's
                      driver code, for programs written against it: RPY poses, servo
@@ -113,7 +115,7 @@ def make_backend(kind: str, model_name: str, params: dict):
         from ..programs import FolderPrograms
         from ..sim import SimBackend
         # the program engine is handed in, as a controller's parts are
-        return SimBackend(model, scene=params.get("scene") or None,
+        return SimBackend(model, scene=scene_param(params.get("scene", "")),
                           sim_time=bool(params.get("sim_time")),
                           real_time_factor=float(params.get("real_time_factor", 1.0)),
                           programs=FolderPrograms(params.get("programs") or None),
@@ -147,6 +149,13 @@ def gripper_arguments(p: dict) -> dict:
     return {"gripper": kind, "gripper_setup": ConnectorSetup(
         volts=p["gripper_volts"], channel=p["gripper_channel"], slave=p["gripper_slave"],
         baudrate=p["gripper_baud"], crc=p["gripper_crc"])}
+
+
+def scene_param(value) -> str | None:
+    """``~scene``: the workcell file, or None for none (``""`` or ``none``: the launch file's
+    default is a word, since roslaunch lists an empty default as a required argument)."""
+    text = str(value or "").strip()
+    return None if text.lower() in ("", "none") else text
 
 
 def force_sensor_param(value) -> bool | None:

@@ -7,13 +7,15 @@
   (``GetProgramVariables``), ``~program/set_variable`` (``SetProgramVariable``: id, value,
   alias) — every one answers ``ret`` and ``message``;
 - the latched topic ``~program/state`` (``jaka_driver_msgs/ProgramState``: state, its name,
-  the loaded program, the current line, the last run's error), published on every change
-  (looked at every 20 ms of wall time: also while a twin's simulated time is paused).
+  the loaded program, the current line, the last run's error), published on every change:
+  each one as the twin's program engine makes it; a controller's looked at every 20 ms of
+  wall time.
 """
 from __future__ import annotations
 
 import threading
 import time
+from collections import deque
 
 import rospy
 
@@ -73,22 +75,50 @@ def advertise_programs(driver: RobotDriver) -> list:
 
 
 class ProgramStatePublisher:
-    """``~program/state``, latched: the state as it is now, and again at every change."""
+    """``~program/state``, latched: the state as it is now, and again at every change.
+
+    Where the backend reports each change as it happens (the twin's program engine,
+    :meth:`ProgramRequests.watch <jaka_driver.driver.program_requests.ProgramRequests.watch>`) every one is published, in order: a program that runs
+    several lines between two looks still shows each, so the topic is the same in every run
+    of a sim-time scenario. Otherwise (a controller's programs) it looks every ``POLL`` s of
+    wall time and publishes what changed."""
 
     def __init__(self, driver: RobotDriver):
         self._driver = driver
-        self._pub = rospy.Publisher("~program/state", ProgramState, queue_size=10, latch=True)
-        threading.Thread(target=self._run, name="program-state", daemon=True).start()
+        # every change is queued here first: room for a burst of lines
+        self._pub = rospy.Publisher("~program/state", ProgramState, queue_size=100, latch=True)
+        self._pending: deque[ProgramStatus] = deque()
+        self._wake = threading.Event()
+        watched = driver.programs.watch(self._changed)
+        threading.Thread(target=self._run, args=(watched,), name="program-state",
+                         daemon=True).start()
+
+    def _changed(self, status: ProgramStatus) -> None:
+        """From the thread that changed it: queue, never block."""
+        self._pending.append(status)
+        self._wake.set()
+
+    def _next(self, watched: bool) -> list[ProgramStatus]:
+        if not watched:
+            time.sleep(POLL)
+            return [self._driver.programs.status()]
+        self._wake.wait(1.0)
+        self._wake.clear()
+        changes = []
+        while self._pending:
+            changes.append(self._pending.popleft())
+        return changes
 
     @realtime.runs_periodically
-    def _run(self) -> None:
+    def _run(self, watched: bool) -> None:
         last = None
+        changes = [self._driver.programs.status()]
         while not rospy.is_shutdown():
             try:
-                status = self._driver.programs.status()
-                if status != last:
-                    self._pub.publish(state_message(status))
-                    last = status
+                for status in changes:
+                    if status != last:
+                        self._pub.publish(state_message(status))
+                        last = status
             except Exception as exc:  # noqa: BLE001 — the topic must outlive a bad read
                 rospy.logerr_throttle(10.0, f"program state failed: {exc!r}")
-            time.sleep(POLL)
+            changes = self._next(watched)

@@ -130,15 +130,17 @@ class TrajectoryActionServer:
                                      str(rejected))
             return
         stamp = goal.trajectory.header.stamp
+        start_at = None
         if not stamp.is_zero():
             if (stamp.to_sec() + trajectory.duration) < rospy.Time.now().to_sec():
                 message = "the trajectory ends before now (header.stamp in the past)"
                 self._server.set_aborted(Result(error_code=Result.OLD_HEADER_TIMESTAMP,
                                                 error_string=message), message)
                 return
-            delay = stamp.to_sec() - rospy.Time.now().to_sec()
-            if delay > 0:
-                rospy.sleep(delay)
+            # waited for on the driver's clock inside the request, not with rospy.sleep here:
+            # in sim time the start lands in the cycle the stamp names, not when this thread
+            # wakes up after /clock has passed it
+            start_at = stamp.to_sec()
 
         verdict = {"code": Result.PATH_TOLERANCE_VIOLATED}
         names = list(self.model.joint_names)
@@ -171,7 +173,7 @@ class TrajectoryActionServer:
             return None
 
         with self._lock:
-            outcome = self.driver.follow_trajectory(trajectory, monitor)
+            outcome = self.driver.follow_trajectory(trajectory, monitor, start_at=start_at)
         if outcome.ok:
             self._server.set_succeeded(Result(error_code=Result.SUCCESSFUL,
                                               error_string=outcome.message), outcome.message)

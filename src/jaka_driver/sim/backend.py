@@ -17,7 +17,7 @@ force sensor's stops use too.
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -67,6 +67,29 @@ from .twin import SimTwin
 from .twin_model import FLANGE_BODY, Payload, build_twin_model
 
 STOP_TIME = 0.15              # s, a stop from full speed takes at most this long
+
+
+class _Status(NamedTuple):
+    """What a sample reports beside the physics (:class:`RobotState`'s fields of the same
+    names; ``tool``, ``user`` the active frames, 4x4 m), read when the sample is recorded:
+    a sample published any number of cycles later still says what stood at its stamp, so the
+    stream is the same whenever its reader gets a core."""
+
+    tool_id: int
+    user_id: int
+    tool: np.ndarray
+    user: np.ndarray
+    powered: bool
+    enabled: bool
+    servo_mode: bool
+    drag_mode: bool
+    emergency_stop: bool
+    protective_stop: bool
+    collision: bool
+    error_code: int
+    error_message: str
+    program_state: int
+    io: object
 
 
 class SimBackend(Backend):
@@ -141,10 +164,11 @@ class SimBackend(Backend):
                                       model.max_tcp_speed, model.max_tcp_accel)
         self._physics.on_cycle.append(self.recording.sample)
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
-        self._cache: tuple | None = None    # (sample, (tool, user), its TCP)
+        self._cache: tuple | None = None    # (sample, its _Status, its TCP)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
                             self._collisions, self._push, self._kin, self.frames, self._reset,
                             scene=scene, parts=PartPoses(self._mj_model, part_names(scene)))
+        self._physics.status_reading = self._status
 
     def _defaults(self) -> None:
         """The controller's state of a fresh twin: powered, enabled, no error (the flags'),
@@ -204,34 +228,49 @@ class SimBackend(Backend):
         return info
 
     def state(self) -> RobotState:
-        return self._state_of(self._physics.sample())
+        """The latest sample with the flags, modes and IO as they stand now (a request that
+        changed one a moment ago sees it, before the next cycle)."""
+        return self._state_of(self._physics.sample(), self._status())
 
     def states_since(self, after: float) -> list[RobotState]:
-        return [self._state_of(s) for s in self._physics.samples_since(after)]
+        """Each sample with the flags, modes and IO recorded with it."""
+        return [self._state_of(s, s.status or self._status())
+                for s in self._physics.samples_since(after)]
 
-    def _state_of(self, sample) -> RobotState:
-        tool, user = self.frames()
-        # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frame; the
-        # flags are read fresh, a mode may change between two physics samples. The sample
-        # itself is the key, not its stamp: a reset in sim time records a new sample with the
-        # stamp of the one before.
-        key = (self._tool_id, self._user_id)
-        flags = self._flags
+    def _status(self) -> _Status:
+        """The flags, modes, frames and IO now. Read without the flags' lock: the physics
+        thread calls it with its own lock held, which a request holding the flags' lock may be
+        waiting for; in sim time nothing changes them while a cycle is recorded."""
+        f = self._flags
+        tool_id, user_id = self._tool_id, self._user_id
+        tool, user = self._frame_table.active(tool_id, user_id)
+        return _Status(tool_id, user_id, tool, user, f.powered, f.enabled, f.servo_mode,
+                       f.drag_mode, f.emergency_stop, f.protective_stop, f.collision,
+                       f.error_code, f.error_message, int(self.programs.state_now()),
+                       self._io.values())
+
+    def _state_of(self, sample, status: _Status) -> RobotState:
+        # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frames. The
+        # sample itself is the key, not its stamp: a reset in sim time records a new sample
+        # with the stamp of the one before.
         cached = self._cache
-        if cached is not None and cached[0] is sample and cached[1] == key:
+        if (cached is not None and cached[0] is sample
+                and (cached[1] is status or (np.array_equal(cached[1].tool, status.tool)
+                                             and np.array_equal(cached[1].user, status.user)))):
             tcp = cached[2]
         else:
-            tcp = self._kin.tcp_pose(sample.q, tool, user)
-            self._cache = (sample, key, tcp)
+            tcp = self._kin.tcp_pose(sample.q, status.tool, status.user)
+            self._cache = (sample, status, tcp)
         return RobotState(
             stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
-            joint_effort=sample.tau, tcp_pose=tcp, tool_id=self._tool_id, user_id=self._user_id,
-            powered=flags.powered, enabled=flags.enabled, servo_mode=flags.servo_mode,
-            drag_mode=flags.drag_mode, emergency_stop=flags.emergency_stop,
-            protective_stop=flags.protective_stop, collision=flags.collision,
-            moving=sample.moving, error_code=flags.error_code, error_message=flags.error_message,
-            program_state=int(self.programs.status().state), io=self._io.values(),
-            force=sample.force, on_limit=on_limit(self.model, sample.q))
+            joint_effort=sample.tau, tcp_pose=tcp, tool_id=status.tool_id,
+            user_id=status.user_id, powered=status.powered, enabled=status.enabled,
+            servo_mode=status.servo_mode, drag_mode=status.drag_mode,
+            emergency_stop=status.emergency_stop, protective_stop=status.protective_stop,
+            collision=status.collision, moving=sample.moving, error_code=status.error_code,
+            error_message=status.error_message, program_state=status.program_state,
+            io=status.io, force=sample.force,
+            on_limit=on_limit(self.model, sample.q))
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)

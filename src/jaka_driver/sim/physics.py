@@ -44,8 +44,9 @@ _NO_TORQUE.flags.writeable = False
 class Sample(NamedTuple):
     """Measured joints at ``stamp`` (s: wall-clock time, or sim time when the twin owns
     time): rad, rad/s, N·m; the force/torque sensor's reading of the cycle (None: no sensor,
-    or off). A named tuple: one is made every cycle, and a tuple is made in a third of a
-    frozen dataclass's time."""
+    or off); ``status``, what the backend reports beside the physics as it stood when the
+    sample was recorded (:attr:`PhysicsLoop.status_reading`). A named tuple: one is made every
+    cycle, and a tuple is made in a third of a frozen dataclass's time."""
 
     stamp: float
     q: np.ndarray
@@ -53,6 +54,7 @@ class Sample(NamedTuple):
     tau: np.ndarray
     moving: bool
     force: object = None
+    status: object = None
 
 
 class PhysicsLoop:
@@ -84,6 +86,10 @@ class PhysicsLoop:
         #: the force/torque sensor's latest reading, recorded with each sample (a twin with a
         #: sensor sets it: sim/force.py)
         self.force_reading: Callable[[], object] = lambda: None
+        #: the backend's flags, modes and IO, recorded with each sample (sim/backend.py): a
+        #: sample published later still says what stood at its stamp. Called with ``lock``
+        #: held, so it takes no lock a request may hold while it waits for this one.
+        self.status_reading: Callable[[], object] = lambda: None
         #: None: paced to the wall clock, samples stamped in wall time; a
         #: :class:`jaka_driver.backend.clock.SimClock`: the twin owns time, samples stamped in it
         self.clock = clock
@@ -288,5 +294,6 @@ class PhysicsLoop:
 
     def _record(self) -> None:
         self._sample = Sample(self.wall0 + self.d.time, self._q.copy(), self._qd.copy(),
-                              self._tau.copy(), self._motion.moving, self.force_reading())
+                              self._tau.copy(), self._motion.moving, self.force_reading(),
+                              self.status_reading())
         self._history.append(self._sample)

@@ -29,6 +29,7 @@ from .tool_push import ToolPush
 
 #: s of wall time allowed per stepped cycle before step answers that they did not run
 STEP_TIMEOUT_PER_CYCLE = 0.05
+CONSUMER_WAIT = 1.0              # s (wall) a reset waits for the consumer to take every sample
 
 #: The active (tool, user frame) as 4x4 poses (m): the backend's ``frames``
 Frames = Callable[[], tuple]
@@ -89,6 +90,11 @@ class SimTwin(Twin):
     # ---- the twin's own time and state ---------------------------------------------------------
     def reset(self, q: Optional[np.ndarray] = None) -> Result:
         q = self._model.home.copy() if q is None else np.asarray(q, float).copy()
+        if self._clock.simulated:
+            # The reset's sample carries the stamp of the one before: a consumer that had not
+            # taken that one yet would publish both, one that had would skip the reset's —
+            # whichever its thread's timing gave. Caught up first, it always skips it.
+            self._clock.wait_consumed(CONSUMER_WAIT)
         self._reset(q)
         return Result.success("twin reset: at rest at "
                               f"[{', '.join(f'{x:.4f}' for x in q)}] rad, no error, defaults")
