@@ -59,10 +59,12 @@ def description(model: str, scene: Optional[str] = None, wrist_camera: bool = Fa
 
 
 def mounting_argument(text: str) -> Installation:
-    """The launch argument ``installation_angle``: ``[tilt_x, rot_z]`` in rad (YAML), empty:
-    upright. Raises ValueError naming the value and the range."""
+    """The launch argument ``installation_angle``: ``[tilt_x, rot_z]`` in rad (YAML); empty or
+    ``none``: upright. Raises ValueError naming the value and the range."""
     import yaml
     text = text.strip()
+    if text.lower() == "none":
+        return Installation()
     try:
         angles = yaml.safe_load(text) if text else None
         return Installation() if not angles else installation(*angles)
@@ -85,8 +87,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
     try:
         mounting = mounting_argument(args.installation_angle)
+        scene = None if args.scene.strip().lower() in ("", "none") else args.scene
         print(mounted_description(
-            description(args.model.lower(), args.scene or None,
+            description(args.model.lower(), scene,
                         args.wrist_camera.strip().lower() in ("true", "1", "yes"), args.tool),
             mounting))
     except (ValueError, OSError) as exc:

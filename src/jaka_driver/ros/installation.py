@@ -47,12 +47,14 @@ def advertise_installation(driver: RobotDriver) -> None:
 
 
 def apply_parameter(driver: RobotDriver, value) -> str | None:
-    """``~installation_angle`` (``[tilt_x, rot_z]`` rad, or "" / [] for upright as the arm is):
+    """``~installation_angle`` (``[tilt_x, rot_z]`` rad, or ``none`` / "" / [] for upright as the
+    arm is — the launch file's default is a word, since roslaunch lists an empty default as a
+    required argument):
     set it; a value out of range is a message for a fatal log (else None) — an arm that cannot
     take it now (a controller not reached yet) is a warning, the node runs on. Then the arm's own mounting is
     compared with the launch's (what ``robot_description`` shows)."""
     shown = Installation()
-    if value not in ("", None, []):
+    if value not in ("", None, [], "none"):
         try:
             tilt_x, rot_z = (float(v) for v in value)
         except (TypeError, ValueError):
