@@ -18,6 +18,9 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import IntEnum
+from pathlib import Path
+from typing import Optional
+
 from ..common.results import Code, Result
 
 
@@ -58,6 +61,10 @@ class UserVariable:
 
 class Programs(ABC):
     """Load, play, pause, resume and stop programs; their state and user variables."""
+
+    #: the folder the programs are files in (a twin's; its recordings go there too), or None
+    #: where they are not files of this machine (a controller's, none at all)
+    folder: Optional[Path] = None
 
     def bind(self, executor) -> None:
         """The executor every step of a program goes through (a
