@@ -132,7 +132,7 @@ def test_dropped_connections(caplog):
             assert run_move(backend.start_joint_move(HOME, 1.0, 4.0)).ok
             assert emu.handlers.counts["joint_move"] == 2
             lost = [r for r in caplog.records if "lost" in r.getMessage()
-                    and r.name.startswith("jaka_driver.controller")]   # not the emulator's
+                    and r.name == "jaka_driver.controller.connection"]   # the link's, not the emulator's
             assert len(lost) == 1, "the loss is logged once"
         finally:
             backend.shutdown()

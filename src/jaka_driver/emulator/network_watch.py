@@ -10,7 +10,9 @@ The emulator reads it as a client would expect it to:
 * the setting is the controller's (the last one sent wins), and it watches the command
   connections that sent it;
 * such a connection is *lost* when it ends — the peer closed it (a killed process: the kernel
-  closes its sockets), reset it, or it was dropped (``emulator_drop_connections``);
+  closes its sockets), reset it, or it was dropped (``emulator_drop_connections``) — and no
+  other connection that sent the setting is still open (a second client that asked for the
+  same handling, a driver's monitor beside it, still holds the link);
 * if no new command connection arrives within the time limit (a client that comes back in
   time), the action applies to whatever moves then: queued moves and their queue, a jog, a
   servo stream (its ramp held where the setpoint is), a program.
@@ -108,8 +110,8 @@ class NetworkWatch:
             if token not in self._watched:
                 return
             self._watched.discard(token)
-            if self._closed or self._setting is None:
-                return
+            if self._closed or self._setting is None or self._watched:
+                return                        # another client that asked for it is still here
             action, limit = self._setting
             if self._pending is not None:     # one loss at a time: the earlier one counts
                 return
