@@ -14,12 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from support.emulated_arm import programs_folder
-from support.jaka_sdk_model import ABS, RC_FAILED, RC_OK, JakaSdk
+from support.emulated_arm import emulator_with_programs, programs_folder, sdk_logged_in
+from support.jaka_sdk_model import ABS, RC_FAILED, RC_OK
 from support.jaka_sdk_recording import SdkRecording
 from support.ros_harness import wait_until
 
-from jaka_driver.emulator import Emulator
 from jaka_driver.programs.track import TrackFolder
 
 #: §11's requests, as JAKA's SDK 2.1.14 wrote them
@@ -38,19 +37,15 @@ def folder(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def emu(folder):
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled",
-                  programs=folder) as emulator:
+    with emulator_with_programs(folder) as emulator:
         yield emulator
 
 
 @pytest.fixture
 def sdk(emu):
-    handle = JakaSdk("127.0.0.1", emu.command_port, emu.data_port)
-    assert handle.login_in()[0] == RC_OK
-    yield handle
-    SdkRecording(handle).set_traj_sample_mode(False, "")
-    handle.program_abort()
-    handle.close()
+    with sdk_logged_in(emu) as handle:
+        yield handle
+        SdkRecording(handle).set_traj_sample_mode(False, "")
 
 
 def test_the_sdk_sets_and_reads_the_configuration_with_sections_11_bytes(sdk):

@@ -13,11 +13,10 @@ import time
 import numpy as np
 import pytest
 
-from support.emulated_arm import programs_folder
-from support.jaka_sdk_model import ABS, RC_FAILED, RC_OK, JakaSdk
+from support.emulated_arm import emulator_with_programs, programs_folder, sdk_logged_in
+from support.jaka_sdk_model import ABS, RC_FAILED, RC_OK
 from support.ros_harness import wait_until
 
-from jaka_driver.emulator import Emulator
 
 #: the example's end: its half circle ends here (mm), 50 mm below and 160 mm beside home
 THREE_MOVES_END_MM = (642.0, 114.0, 393.0)
@@ -26,19 +25,14 @@ LINE_OF_THE_LINE, LINE_OF_THE_ARC = 6, 7            # three_moves.jdp's linear a
 
 @pytest.fixture(scope="module")
 def emu(tmp_path_factory):
-    folder = programs_folder(tmp_path_factory.mktemp("programs"))
-    with Emulator("zu5", command_port=0, status_port=0, start="enabled",
-                  programs=folder) as emulator:
+    with emulator_with_programs(programs_folder(tmp_path_factory.mktemp("programs"))) as emulator:
         yield emulator
 
 
 @pytest.fixture
 def sdk(emu):
-    handle = JakaSdk("127.0.0.1", emu.command_port, emu.data_port)
-    assert handle.login_in()[0] == RC_OK
-    yield handle
-    handle.program_abort()
-    handle.close()
+    with sdk_logged_in(emu) as handle:
+        yield handle
 
 
 def _state(sdk) -> int:

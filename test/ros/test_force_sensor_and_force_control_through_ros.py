@@ -22,7 +22,7 @@ from jaka_driver_msgs.msg import (ForceControlState, IdentifySensorPayloadAction
 from jaka_driver_msgs.srv import (GetSensorData, GetSensorPayload, SetAdmittance,
                                   SetComplianceType, SetWrench)
 from jaka_msgs.srv import SetPayload, ServoMoveEnable
-from support.ros_harness import START, Recorder, Services, go_home, start_driver, stamp, wait_until
+from support.ros_harness import START, Recorder, go_home, start_driver, stamp, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -35,28 +35,21 @@ FORCE_SERVICES = {
 
 
 @pytest.fixture(scope="module")
-def node(request, rospy_node):
+def sim_driver(request, rospy_node):   # conftest's call talks to this node
     return start_driver(request, backend="sim", model="zu5", force_sensor="true",
                         scene=str(repo_root() / "config" / "scenes" / "table.yaml"))
 
 
 @pytest.fixture(scope="module")
-def call(node):
-    services = Services(node)
-    yield services
-    services.close()
-
-
-@pytest.fixture(scope="module")
-def wrench(node):
-    recorder = Recorder(node.name("wrench"), WrenchStamped)
+def wrench(sim_driver):
+    recorder = Recorder(sim_driver.name("wrench"), WrenchStamped)
     yield recorder
     recorder.close()
 
 
 @pytest.fixture(scope="module")
-def state(node):
-    recorder = Recorder(node.name("force_control_state"), ForceControlState)
+def state(sim_driver):
+    recorder = Recorder(sim_driver.name("force_control_state"), ForceControlState)
     yield recorder
     recorder.close()
 
@@ -78,12 +71,12 @@ def latest_state(recorder, predicate, timeout=3.0):
     return msg
 
 
-def test_every_force_service_the_action_and_the_topics_are_served(node, state):
+def test_every_force_service_the_action_and_the_topics_are_served(sim_driver, state):
     served = {n.rsplit("/", 1)[1] for n in rosservice.get_service_list()
               if n.startswith("/jaka_driver/")}
     assert FORCE_SERVICES <= served, FORCE_SERVICES - served
-    assert node.name("sim/push_tool") in rosservice.get_service_list()
-    client = actionlib.SimpleActionClient(node.name("identify_ft_sensor_payload"),
+    assert sim_driver.name("sim/push_tool") in rosservice.get_service_list()
+    client = actionlib.SimpleActionClient(sim_driver.name("identify_ft_sensor_payload"),
                                           IdentifySensorPayloadAction)
     assert client.wait_for_server(rospy_timeout(5.0))
     s = latest_state(state, lambda m: True)
@@ -96,11 +89,11 @@ def rospy_timeout(seconds):
     return rospy.Duration(seconds)
 
 
-def test_the_wrench_carries_every_sample_in_the_sensor_frame_and_zeroes(node, call, wrench,
+def test_the_wrench_carries_every_sample_in_the_sensor_frame_and_zeroes(sim_driver, call, wrench,
                                                                       state):
     assert call("ft_sensor_enable", SetBool, data=True).success
     latest_state(state, lambda m: m.sensor_on)
-    joints = Recorder(node.name("joint_position"), JointState)
+    joints = Recorder(sim_driver.name("joint_position"), JointState)
     try:
         time.sleep(0.5)
         joint_stamps = [stamp(m) for _, m in list(joints.samples)[5:-5]]
@@ -120,12 +113,12 @@ def test_the_wrench_carries_every_sample_in_the_sensor_frame_and_zeroes(node, ca
     assert data.wrench.wrench.force.z == pytest.approx(2.5, abs=0.3)     # general: raw
 
 
-def test_a_2_kg_payload_reads_its_weight_and_identification_finds_it(node, call, wrench, state):
+def test_a_2_kg_payload_reads_its_weight_and_identification_finds_it(sim_driver, call, wrench, state):
     assert call("set_payload", SetPayload, tool_num=0, mass=2.0, xc=0, yc=0, zc=50).ret == 1
     time.sleep(0.5)                     # the drives take up the new weight
     force = mean_force(wrench)
     assert force[2] == pytest.approx(19.62, rel=0.02) and np.linalg.norm(force[:2]) < 0.4
-    client = actionlib.SimpleActionClient(node.name("identify_ft_sensor_payload"),
+    client = actionlib.SimpleActionClient(sim_driver.name("identify_ft_sensor_payload"),
                                           IdentifySensorPayloadAction)
     assert client.wait_for_server(rospy_timeout(5.0))
     feedback = []
@@ -148,8 +141,8 @@ def test_a_2_kg_payload_reads_its_weight_and_identification_finds_it(node, call,
     assert call("set_payload", SetPayload, tool_num=0, mass=0, xc=0, yc=0, zc=0).ret == 1
 
 
-def test_constant_force_through_the_services_presses_10_n_on_the_table(call, node, state):
-    compensated = Recorder(node.name("wrench_compensated"), WrenchStamped)
+def test_constant_force_through_the_services_presses_10_n_on_the_table(call, sim_driver, state):
+    compensated = Recorder(sim_driver.name("wrench_compensated"), WrenchStamped)
     try:
         assert call("zero_ftsensor", Trigger).success
         reply = call("set_admittance", SetAdmittance, axis=2, opt=1, ft_user=40.0,

@@ -26,7 +26,7 @@ from jaka_driver.common.models import repo_root
 from jaka_driver_msgs.msg import GripperState
 from jaka_driver_msgs.srv import InitGripper, SetGripperPercent
 from jaka_msgs.srv import Move
-from support.ros_harness import Recorder, Services, start_sim_time_driver, wait_until
+from support.ros_harness import Recorder, start_sim_time_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -36,21 +36,14 @@ Goal = actionlib.GoalStatus
 
 
 @pytest.fixture(scope="module")
-def node(request, rospy_node):
+def sim_driver(request, rospy_node):   # conftest's call talks to this node
     return start_sim_time_driver(request, gripper="dh_pgi",
                                  scene=str(repo_root() / "config" / "scenes" / "pick.yaml"))
 
 
 @pytest.fixture(scope="module")
-def call(node):
-    services = Services(node)
-    yield services
-    services.close()
-
-
-@pytest.fixture(scope="module")
-def topics(node):
-    state = Recorder(node.name("gripper/state"), GripperState)
+def topics(sim_driver):
+    state = Recorder(sim_driver.name("gripper/state"), GripperState)
     joints = Recorder("/joint_states", JointState)
     yield state, joints
     state.close()
@@ -58,8 +51,8 @@ def topics(node):
 
 
 @pytest.fixture(scope="module")
-def action(node):
-    client = actionlib.SimpleActionClient(node.name("gripper/gripper_action"),
+def action(sim_driver):
+    client = actionlib.SimpleActionClient(sim_driver.name("gripper/gripper_action"),
                                           GripperCommandAction)
     assert client.wait_for_server(rospy.Duration(10.0))
     yield client

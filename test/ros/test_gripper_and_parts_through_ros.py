@@ -16,7 +16,7 @@ from tf2_msgs.msg import TFMessage
 
 from jaka_driver.common.models import repo_root
 from jaka_driver_msgs.srv import InitGripper, ResetTwin, SetGripperPercent
-from support.ros_harness import Recorder, Services, start_driver, wait_until
+from support.ros_harness import Recorder, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -28,21 +28,14 @@ REST_TOLERANCE = 0.0005
 
 
 @pytest.fixture(scope="module")
-def node(request, rospy_node):
+def sim_driver(request, rospy_node):   # conftest's call talks to this node
     return start_driver(request, backend="sim", model="zu5", gripper="suction",
                         scene=str(repo_root() / "config" / "scenes" / "pick.yaml"))
 
 
 @pytest.fixture(scope="module")
-def call(node):
-    services = Services(node)
-    yield services
-    services.close()
-
-
-@pytest.fixture(scope="module")
-def parts(node):
-    recorder = Recorder(node.name("sim/parts"), TFMessage)
+def parts(sim_driver):
+    recorder = Recorder(sim_driver.name("sim/parts"), TFMessage)
     yield recorder
     recorder.close()
 
@@ -54,7 +47,7 @@ def box_position(msg: TFMessage) -> np.ndarray:
     return np.array([v.x, v.y, v.z])
 
 
-def test_the_box_is_on_the_parts_topic_and_in_tf_where_it_rests(node, parts):
+def test_the_box_is_on_the_parts_topic_and_in_tf_where_it_rests(sim_driver, parts):
     msg = wait_until(parts.latest, 5.0)
     assert np.allclose(box_position(msg)[:2], SCENE_POSE[:2], atol=0.001)
     assert box_position(msg)[2] == pytest.approx(RESTING_Z, abs=REST_TOLERANCE)
@@ -75,12 +68,12 @@ def test_the_twins_reset_puts_the_box_back_where_the_scene_placed_it(call, parts
     assert np.allclose(first, SCENE_POSE, atol=REST_TOLERANCE)
 
 
-def test_without_a_gripper_its_services_and_action_refuse_with_how_to_mount_one(node, call):
+def test_without_a_gripper_its_services_and_action_refuse_with_how_to_mount_one(sim_driver, call):
     for reply in (call("gripper/initialise", InitGripper, full_calibration=False),
                   call("gripper/set_force", SetGripperPercent, percent=50),
                   call("gripper/set_speed", SetGripperPercent, percent=50)):
         assert reply.ret == -9 and "gripper:=dh_pgi" in reply.message, reply
-    client = actionlib.SimpleActionClient(node.name("gripper/gripper_action"),
+    client = actionlib.SimpleActionClient(sim_driver.name("gripper/gripper_action"),
                                           GripperCommandAction)
     assert client.wait_for_server(rospy.Duration(5.0))
     goal = GripperCommandGoal()

@@ -104,6 +104,28 @@ end
 """
 
 
+@contextmanager
+def emulator_with_programs(folder: str) -> Iterator[Emulator]:
+    """The zu5 emulator, enabled, running the programs of ``folder`` (:func:`programs_folder`)."""
+    with Emulator("zu5", command_port=0, status_port=0, start="enabled",
+                  programs=folder) as emulator:
+        yield emulator
+
+
+@contextmanager
+def sdk_logged_in(emu: Emulator):
+    """JAKA's SDK (support.jaka_sdk_model) logged in to ``emu``; on leaving, any program it
+    started is aborted and it logs out."""
+    from .jaka_sdk_model import RC_OK, JakaSdk
+    handle = JakaSdk("127.0.0.1", emu.command_port, emu.data_port)
+    assert handle.login_in()[0] == RC_OK
+    try:
+        yield handle
+    finally:
+        handle.program_abort()
+        handle.close()
+
+
 def programs_folder(folder: Path) -> str:
     """``folder`` holding the package's ``three_moves.jdp`` and ``count_cycles.jdp``
     (:data:`COUNT_CYCLES`): the programs the tests through the emulator play."""
