@@ -11,7 +11,7 @@ pytestmark = pytest.mark.ros
 @pytest.mark.parametrize("suite", ["bringup.test", "motion_scenario.test", "multi_robot.test",
                                    "sim_time_program.test", "twin_reset_between_tests.test",
                                    "program_pause_resume.test", "press_on_table.test",
-                                   "touch_part_seen_by_camera.test", "pick_and_place.test"])
+                                   "vision_guided_pick.test", "pick_and_place.test"])
 def test_rostest_suite_passes(suite, tmp_path):
     env = dict(os.environ, ROS_HOME=str(tmp_path), ROS_LOG_DIR=str(tmp_path / "log"))
     env.pop("ROS_MASTER_URI", None)
