@@ -16,10 +16,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .commands import Request, _cmd, _number
 from .errors import ProtocolError
 from .fields import Cmd, Field
-from .replies import Reply, _field
+from .replies import Reply
+from .reply_values import field as _field
+from .request_values import Request, command as _cmd, number as _number
 from .wire import float_vector
 
 

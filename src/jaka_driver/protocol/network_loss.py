@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from enum import IntEnum
 
-from .commands import Request, _cmd, _number
 from .errors import InvalidArgument
 from .fields import Cmd, Field
+from .request_values import Request, command as _cmd, number as _number
 
 
 class NetworkLossAction(IntEnum):

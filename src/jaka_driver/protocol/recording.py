@@ -21,10 +21,11 @@ from __future__ import annotations
 import math
 from typing import Any, Dict, List, NamedTuple
 
-from .commands import _cmd, _number
 from .errors import InvalidArgument, ProtocolError
 from .fields import Cmd, Field
-from .replies import Reply, _field
+from .replies import Reply
+from .reply_values import field as _field
+from .request_values import command as _cmd, number as _number
 from .wire import Fixed
 
 Request = Dict[str, Any]

@@ -13,7 +13,8 @@ from typing import Any, Dict, NamedTuple, Sequence, Tuple
 
 from .errors import InvalidArgument, ProtocolError
 from .fields import Cmd, Field
-from .replies import Reply, _field
+from .replies import Reply
+from .reply_values import field as _field
 
 Request = Dict[str, Any]
 
