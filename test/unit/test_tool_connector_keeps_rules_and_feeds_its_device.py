@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jaka_driver.backend.tool_io import (ChannelComm, NoToolIO, Signal, ToolIOSettings)
+from jaka_driver.backend.tool_io import (ChannelComm, NoToolIO, Signal, ToolIOSettings,
+                                         check_frame)
 from jaka_driver.common.models import load_model
 from jaka_driver.sim.io_board import INPUT, IoBoard
 from jaka_driver.sim.tool_connector import SimToolIO
@@ -272,3 +273,9 @@ def test_any_request_is_answered_with_a_code_and_a_refused_one_changes_nothing(m
     assert r.code in (1, -2, -9), r
     if not r.ok:
         assert tio.settings() == before and tio.signals() == signals
+
+
+def test_a_frame_of_whole_floats_goes_out_as_their_bytes():
+    # a ROS or JSON client may send 1.0 for 1: the checked integers are what goes out (the
+    # fuzz found -0.0 passing the check and then failing to become a byte)
+    assert check_frame(1, [1.0, 6.0, -0.0, 255.0]) == (1, bytes([1, 6, 0, 255]))

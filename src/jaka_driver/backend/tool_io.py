@@ -217,11 +217,13 @@ def check_frame(channel, frame: Sequence[int]) -> Tuple[int, bytes]:
     values = list(frame)
     if not 1 <= len(values) <= MAX_FRAME:
         raise invalid(f"frame has {len(values)} bytes, expected 1–{MAX_FRAME}")
+    data = []
     for i, b in enumerate(values):
-        b = _int(f"frame[{i}]", b)
+        b = _int(f"frame[{i}]", b)              # 1.0 and -0.0 are whole: their int goes out
         if not 0 <= b <= 255:
             raise invalid(f"frame[{i}] is {b}, expected a byte 0–255")
-    return channel, bytes(values)
+        data.append(b)
+    return channel, bytes(data)
 
 
 def frame_refusal(settings: ToolIOSettings, channel: int) -> Optional[str]:
