@@ -13,13 +13,11 @@ go on every period on the wall clock, each showing the latest cycle.
 from __future__ import annotations
 
 import dataclasses
-import json
-import socket
-import threading
 import time
 
 import pytest
 from support.ros_harness import wait_until
+from support.status_reader import StatusReader
 
 from jaka_driver.common.models import load_model
 from jaka_driver.emulator.handlers import CommandHandlers
@@ -32,40 +30,6 @@ from jaka_driver.sim import SimBackend
 PERIOD = 0.2            # s between packets: 25 cycles of 8 ms
 CYCLES = 25
 PROMPT = 0.1            # s of wall time a packet may follow its cycle's step by
-
-
-class StampReader(threading.Thread):
-    """Reads the status stream: (wall monotonic s at receipt, the packet's timestamp)."""
-
-    def __init__(self, port: int):
-        super().__init__(daemon=True)
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=0.05)
-        self.packets: list = []
-        self.stop = threading.Event()
-
-    def run(self) -> None:
-        decoder, text = json.JSONDecoder(), ""
-        while not self.stop.is_set():
-            try:
-                chunk = self.sock.recv(65536)
-            except socket.timeout:
-                continue
-            except OSError:
-                return
-            if not chunk:
-                return
-            now = time.monotonic()
-            text += chunk.decode()
-            while text:
-                try:
-                    packet, end = decoder.raw_decode(text)
-                except ValueError:
-                    break
-                self.packets.append((now, packet["timestamp"]))
-                text = text[end:]
-
-    def after(self, t: float) -> list:
-        return [p for p in list(self.packets) if p[0] > t]
 
 
 @pytest.fixture(scope="module")
@@ -82,17 +46,20 @@ def stepped_emulator():
                             command_port=0, status_port=0, period=PERIOD, data_port=0,
                             arm=backend)
     server.start()
-    reader = StampReader(server.status_port)
+    reader = StatusReader(server.status_port)
     reader.start()
     try:
         yield backend, server, reader
     finally:
-        reader.stop.set()
-        reader.join(1.0)
-        reader.sock.close()
+        reader.close()
         server.stop()
         controller.close()
         backend.shutdown()
+
+
+def _stamps(reader: StatusReader, since: float) -> list:
+    """(receipt s, the cycle shown: the packet's timestamp, sim s) since ``since``."""
+    return [(t, packet["timestamp"]) for t, packet in reader.after(since)]
 
 
 def test_a_due_cycle_is_sent_at_once_and_no_cycle_between_is_sent(stepped_emulator):
@@ -101,11 +68,11 @@ def test_a_due_cycle_is_sent_at_once_and_no_cycle_between_is_sent(stepped_emulat
     for _ in range(3):
         n = len(reader.packets)
         assert wait_until(lambda: len(reader.packets) > n, 2.0)   # step right after a packet
-        shown = reader.packets[-1][1]
+        shown = reader.packets[-1][1]["timestamp"]
         assert backend.clock.step(CYCLES, 5.0)
         stepped = time.monotonic()
-        assert wait_until(lambda: any(s > shown for _, s in reader.after(stepped - 1)), 2.0)
-        arrival, stamp = next((t, s) for t, s in reader.after(stepped - 1) if s > shown)
+        assert wait_until(lambda: any(s > shown for _, s in _stamps(reader, stepped - 1)), 2.0)
+        arrival, stamp = next((t, s) for t, s in _stamps(reader, stepped - 1) if s > shown)
         assert stamp == pytest.approx(shown + PERIOD, abs=1e-9)      # the 25th cycle, not one between
         assert arrival - stepped < PROMPT, (
             f"the due cycle's packet came {1e3 * (arrival - stepped):.1f} ms after its step")
@@ -117,7 +84,7 @@ def test_a_paused_twin_still_gets_its_packets_on_the_wall_clock(stepped_emulator
     latest = backend.state().stamp
     t0 = time.monotonic()
     time.sleep(3 * PERIOD + 0.05)
-    paused = reader.after(t0)
+    paused = _stamps(reader, t0)
     assert len(paused) >= 2, f"{len(paused)} packets in {3 * PERIOD:.1f} s paused"
     assert all(s == pytest.approx(latest, abs=1e-9) for _, s in paused)
     assert server.pacer.on_wall_clock >= 2
