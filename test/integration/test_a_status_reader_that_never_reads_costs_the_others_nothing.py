@@ -7,52 +7,14 @@ from __future__ import annotations
 
 import json
 import socket
-import threading
 import time
 
 from support.ros_harness import wait_until
+from support.status_reader import StatusReader
 
 from jaka_driver.emulator import Emulator
 
 PERIOD = 0.008   # s: the servo cycle, the fastest a controller pushes
-
-
-class MeasuringReader(threading.Thread):
-    """Reads the status stream and notes when each packet completes."""
-
-    def __init__(self, port: int):
-        super().__init__(daemon=True)
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=0.2)
-        self.arrivals: list = []
-        self.stop = threading.Event()
-
-    def run(self) -> None:
-        decoder, text = json.JSONDecoder(), ""
-        while not self.stop.is_set():
-            try:
-                chunk = self.sock.recv(65536)
-            except socket.timeout:
-                continue
-            except OSError:
-                return
-            if not chunk:
-                return
-            now = time.monotonic()
-            text += chunk.decode()
-            while True:
-                start = text.find('{"len":')
-                if start < 0:
-                    break
-                try:
-                    _, end = decoder.raw_decode(text, start)
-                except ValueError:
-                    break
-                self.arrivals.append(now)
-                text = text[end:]
-
-    def gaps(self, since: float) -> list:
-        times = [t for t in self.arrivals if t >= since]
-        return [b - a for a, b in zip(times, times[1:])]
 
 
 def _stuck_subscriber(port: int) -> socket.socket:
@@ -65,7 +27,7 @@ def _stuck_subscriber(port: int) -> socket.socket:
 def test_a_reader_that_never_reads_is_skipped_then_dropped_and_delays_no_one():
     with Emulator("zu5", command_port=0, status_port=0, period=PERIOD) as emu:
         emu.server.subscribers.stall_limit = 1.5      # s; 5 by default
-        reader = MeasuringReader(emu.status_port)
+        reader = StatusReader(emu.status_port)
         reader.start()
         stuck = _stuck_subscriber(emu.status_port)
         try:
@@ -90,9 +52,7 @@ def test_a_reader_that_never_reads_is_skipped_then_dropped_and_delays_no_one():
             while stuck.recv(65536):      # what it was sent before the drop, then the end
                 pass
         finally:
-            reader.stop.set()
-            reader.join(2.0)
-            reader.sock.close()
+            reader.close()
             stuck.close()
 
 

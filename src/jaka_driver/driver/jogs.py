@@ -4,6 +4,7 @@ until twists stop coming: the twist watchdog stops it ``twist_timeout`` s after 
 """
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import numpy as np
@@ -71,5 +72,5 @@ class JogRequests(RequestPart):
         if not result.ok:
             door.twist.clear()
             return result
-        door.twist.kick(2 if in_tool else 1, -1, float(np.linalg.norm(v)))
+        door.twist.kick(2 if in_tool else 1, -1, math.hypot(*v.tolist()))
         return result

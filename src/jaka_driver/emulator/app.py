@@ -90,7 +90,8 @@ class Emulator:
             data_port = 0 if command_port == 0 else 10004
         self.handlers = CommandHandlers(self.controller)
         self.server = EmulatorServer(self.handlers, lambda: status_fields(self.controller),
-                                     host, command_port, status_port, period, data_port)
+                                     host, command_port, status_port, period, data_port,
+                                     arm=self.backend)
 
     @property
     def host(self) -> str:

@@ -11,7 +11,8 @@
 * Data port: each ``{"cmdName":"data_request"}`` is answered with one status packet,
   zlib-compressed, as JAKA's SDK reads status.
 * Status port: any number of clients; one thread encodes a packet every ``period`` s (the
-  profile's push period) and hands it to all of them without ever waiting for one: a reader
+  profile's push period), right after the end of the twin's cycle it shows
+  (:mod:`.status_pace`), and hands it to all of them without ever waiting for one: a reader
   that stops reading is skipped, then dropped, and costs the others nothing
   (:mod:`.status_push`).
 * No bytes end a connection thread: whatever arrives gets an error reply (:mod:`.framing`,
@@ -38,6 +39,7 @@ from ..protocol.tcp_server import TcpServer
 from .framing import RequestSplitter
 from .handlers import CommandHandlers
 from .replies import encode_reply, error_reply
+from .status_pace import CycleSource, StatusPacer
 from .status_push import StatusSubscribers
 
 log = logging.getLogger(__name__)
@@ -50,18 +52,24 @@ _POLL = 0.1              # s, how often blocked threads look at the stop flag
 
 class EmulatorServer:
     """Serves ``handlers`` on ``command_port``, the packets of ``status_source()`` (a dict of
-    status fields) every ``period`` s on ``status_port``, and one zlib packet per
+    status fields) every ``period`` s on ``status_port`` — each right after the cycle of
+    ``arm`` (the twin: its ``wait_for_sample`` and ``state``) it shows, or on a wall-clock
+    timer without one (:class:`~.status_pace.StatusPacer`) — and one zlib packet per
     ``data_request`` on ``data_port``. Port 0 picks a free port; the bound ports are in
     :attr:`command_port`, :attr:`status_port` and :attr:`data_port` after :meth:`start`. Each
     port is a :class:`~jaka_driver.protocol.tcp_server.TcpServer`."""
 
     def __init__(self, handlers: CommandHandlers, status_source: Callable[[], Dict],
                  host: str = "127.0.0.1", command_port: int = 10001, status_port: int = 10000,
-                 period: float = STATUS_PERIOD, data_port: int = 10004):
+                 period: float = STATUS_PERIOD, data_port: int = 10004,
+                 arm: Optional[CycleSource] = None):
         self.handlers = handlers
         self.status_source = status_source
         self.host = host
         self.period = float(period)
+        #: when each status packet goes out (its counters: packets that followed their cycle,
+        #: packets the wall clock paced while no cycle ended)
+        self.pacer = StatusPacer(arm, self.period)
         self._exec_lock = threading.Lock()     # one command at a time
         #: the status port's subscribers (their counters: :meth:`StatusSubscribers.stats`)
         self.subscribers = StatusSubscribers()
@@ -200,17 +208,12 @@ class EmulatorServer:
     # ---- status stream ------------------------------------------------------------------------
     @realtime.runs_periodically
     def _broadcast(self) -> None:
-        deadline = time.monotonic()
         encoder = StatusEncoder()       # the unchanged arrays are encoded once
-        while not self._quit.is_set():
-            if len(self.subscribers):
-                try:
-                    self.subscribers.push(encoder.encode(self.status_source()))
-                except Exception:  # noqa: BLE001 - the stream must survive a bad sample
-                    log.exception("emulator: building the status packet failed")
-            deadline += self.period
-            delay = deadline - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            elif delay < -self.period:
-                deadline = time.monotonic()   # fell behind (stall): resynchronise, no burst
+        pacer = self.pacer
+        while pacer.wait(self._quit):
+            if not len(self.subscribers):
+                continue
+            try:
+                self.subscribers.push(encoder.encode(self.status_source()))
+            except Exception:  # noqa: BLE001 - the stream must survive a bad sample
+                log.exception("emulator: building the status packet failed")

@@ -28,10 +28,20 @@ Keys the twin has nothing behind are reported as an idle controller with nothing
 would (``paused`` false, ``task_mode`` 2 = auto, ``funcdi`` unassigned).
 ``errcode`` is the emulator's own, written ``"0x…"`` as the SDK reads it: ``0xE001`` collision,
 ``0xE002`` protective stop, ``0x0`` none.
+
+**Made again only when it changed.** A packet goes out every 8 ms, built in the interpreter
+lock that the emulator's command threads wait for (a ``servo_j`` that arrives meanwhile is
+answered after it). Each derived value (the wire's joints, poses, joint rows, speeds, the
+torque sensor's lists) is kept with the inputs it was made from, and the same object goes out
+again while they are the same (:class:`_Unchanged`): an arm at rest, which changes nothing
+from packet to packet, costs the lookups, and the encoder (protocol.StatusEncoder) writes
+such an object from the bytes it kept. The TCP's speed and the commanded TCP depend on the
+active frames too; the measured TCP, made with them, is part of their inputs.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, List, Tuple
+import weakref
+from typing import Any, Callable, Dict, List, Tuple
 
 import numpy as np
 
@@ -111,6 +121,47 @@ _IO_LISTS = _IoLists()
 _FIELDBUS_LISTS = _IoLists()
 
 
+class _Unchanged:
+    """One controller's packet values, each kept with the inputs it was made from (see the
+    module). Threads may share it (the broadcaster, ``data_request``, ``get_data``): a value is
+    only ever replaced whole, and what a thread gets was made from the inputs it asked with."""
+
+    def __init__(self):
+        self._kept: Dict[str, Tuple[Any, Any]] = {}
+
+    def made(self, name: str, inputs: Any, make: Callable[[], Any]) -> Any:
+        """``make()``, or the value made for ``name`` last if ``inputs`` (bytes, a tuple of them
+        and other values, or an object that is not changed in place: the board's IO) are those
+        it was made from."""
+        kept = self._kept.get(name)
+        if kept is not None and (kept[0] is inputs or kept[0] == inputs):
+            return kept[1]
+        value = make()
+        self._kept[name] = (inputs, value)
+        return value
+
+    def same(self, name: str, value: Any) -> Any:
+        """``value``, or the equal one given for ``name`` last (a list made afresh each time
+        from settings: the torque sensor's, the tool connector's signals). Each of those keeps
+        its JSON types for equal values, so equal means the same bytes."""
+        kept = self._kept.get(name)
+        if kept is not None and kept[1] == value:
+            return kept[1]
+        self._kept[name] = (None, value)
+        return value
+
+
+_UNCHANGED: "weakref.WeakKeyDictionary[TwinController, _Unchanged]" = \
+    weakref.WeakKeyDictionary()
+
+
+def _unchanged(controller: TwinController) -> _Unchanged:
+    kept = _UNCHANGED.get(controller)
+    if kept is None:
+        kept = _UNCHANGED[controller] = _Unchanged()
+    return kept
+
+
 def wire_pose(pose: np.ndarray) -> list:
     """4x4 pose (m) → wire ``[x, y, z mm, rx, ry, rz deg]``."""
     return units.pose_to_wire(matrix_to_pose_mm_rpy(pose))
@@ -162,6 +213,7 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     """One packet's fields, in a real packet's key order (without ``len``:
     :func:`~jaka_driver.protocol.encode_status` puts it first)."""
     st = controller.state()
+    kept = _unchanged(controller)
     inpos = controller.inpos
     if st.collision:
         errcode = ERRCODE_COLLISION
@@ -176,15 +228,18 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     else:
         task_state = TaskState.ENABLED
     io = st.io          # the board as it stands (the same object until a write)
-    tcp_speed = controller.tcp_speed(st)
+    q, qd, tcp = st.joint_position.tobytes(), st.joint_velocity.tobytes(), st.tcp_pose.tobytes()
+    commanded = controller.commanded_joints()
     program = controller.programs.status()
     fields: Dict[str, Any] = {
         S.DRAG_STATUS: bool(st.drag_mode),
-        S.EXTIO: extio(controller, io),
+        S.EXTIO: kept.made(S.EXTIO, io, lambda: extio(controller, io)),
         S.ERRCODE: f"{errcode:#x}",
         S.ERRMSG: st.error_message if errcode else "",
-        S.MONITOR_DATA: _monitor_data(st.powered, st.joint_effort, st.joint_velocity),
-        S.TORQSENSOR: controller.torqsensor(st),
+        S.MONITOR_DATA: kept.made(
+            S.MONITOR_DATA, (st.powered, st.joint_effort.tobytes(), qd),
+            lambda: _monitor_data(st.powered, st.joint_effort, st.joint_velocity)),
+        S.TORQSENSOR: kept.same(S.TORQSENSOR, controller.torqsensor(st)),
         S.RAPIDRATE: float(controller.rapid_rate),
         S.ENABLED: bool(st.enabled),
         S.POWERED_ON: int(st.powered),
@@ -200,17 +255,23 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
         "motion_mode": zeros_of("motion_mode"),
         S.CURRENT_TOOL_ID: int(st.tool_id),
         S.CURRENT_USER_ID: int(st.user_id),
-        S.JOINT_ACTUAL_POSITION: units.joints_to_wire(st.joint_position),
-        S.JOINT_POSITION: units.joints_to_wire(controller.commanded_joints()),
-        S.ACTUAL_POSITION: wire_pose(st.tcp_pose),
-        S.POSITION: wire_pose(controller.commanded_tcp()),
-        "curr_tcp_trans_vel": float(tcp_speed * 1000.0),
+        S.JOINT_ACTUAL_POSITION: kept.made(S.JOINT_ACTUAL_POSITION, q,
+                                           lambda: units.joints_to_wire(st.joint_position)),
+        S.JOINT_POSITION: kept.made(S.JOINT_POSITION, commanded.tobytes(),
+                                    lambda: units.joints_to_wire(commanded)),
+        S.ACTUAL_POSITION: kept.made(S.ACTUAL_POSITION, tcp, lambda: wire_pose(st.tcp_pose)),
+        # the active frames are in the measured TCP: a frame changed changes it
+        S.POSITION: kept.made(S.POSITION, (commanded.tobytes(), tcp),
+                              lambda: wire_pose(controller.commanded_tcp())),
+        "curr_tcp_trans_vel": kept.made("curr_tcp_trans_vel", (q, qd, tcp),
+                                        lambda: float(controller.tcp_speed(st) * 1000.0)),
     }
     for name, values in _IO_LISTS.of(io, IO_KEYS).items():
         fields[name] = values
         if name == S.TIO_AIN:
             fields["tio_key"] = _IDLE_VALUES["tio_key"]
-            fields["tio_rs_signals"] = signal_rows(controller.backend.tool_io)
+            fields["tio_rs_signals"] = kept.same("tio_rs_signals",
+                                                 signal_rows(controller.backend.tool_io))
     fields[S.HOMED] = _homed(controller.profile.homed_count)
     for key in ("drag_near_limit", "funcdi", "point_key", "netState"):
         fields[key] = _IDLE_VALUES[key]
@@ -218,7 +279,8 @@ def status_fields(controller: TwinController) -> Dict[str, Any]:
     fields[S.MOTION_LINE] = int(controller.motion_line)
     fields[S.ERR_ADD_LINE] = 0
     fields[S.EXECUTING_LINE] = int(controller.motion_line)
-    fields[S.INST_VEL] = np.degrees(st.joint_velocity).tolist()
+    fields[S.INST_VEL] = kept.made(S.INST_VEL, qd,
+                                   lambda: np.degrees(st.joint_velocity).tolist())
     keys = controller.profile.packet_keys
     if keys is None:
         return fields

@@ -72,6 +72,8 @@ class TwistRamp:
     def __init__(self, linear_accel: float, angular_accel: float):
         self.accel = (float(linear_accel), float(angular_accel))
         self.velocity = np.zeros(6)
+        #: :attr:`velocity` as plain floats, as :meth:`update` left it
+        self.values = [0.0] * 6
         self.target = np.zeros(6)
 
     def command(self, twist: np.ndarray) -> None:
@@ -90,6 +92,7 @@ class TwistRamp:
             for k, g in zip(range(first, first + 3), gap):
                 v[k] = t[k] if size <= step else v[k] + g * (step / size)
         self.velocity[:] = v
+        self.values = v
         return self.velocity
 
     @property
@@ -149,17 +152,19 @@ class VelocityJog:
 
     def next(self, q: np.ndarray) -> np.ndarray:
         """The setpoint (rad) one cycle after ``q`` (the last setpoint)."""
-        velocity = self.ramp.update(self.cycle)
-        if not velocity.any():
+        self.ramp.update(self.cycle)
+        velocity = self.ramp.values                 # the ramp's, as plain floats
+        if not any(velocity):
             self.limited_by = None
             return q
         qs = q.tolist()
         pose, sigma = self._at(q, qs)
-        target = displaced_pose(pose, velocity * self.cycle, self.in_tool)
+        cycle = self.cycle
+        target = displaced_pose(pose, [v * cycle for v in velocity], self.in_tool)
         solution = self._ik(target, q)
         if solution is None:
             return self._held(q, "no IK solution for the next step")
-        step = np.asarray(solution, float) - q
+        step = solution - q                          # the IK's joints: a float64 array
         steps = step.tolist()
         if any(abs(d) > most for d, most in zip(steps, self._jump)):
             # not a faster motion but another configuration (a joint wrapped by 2π, the wrist
@@ -172,6 +177,7 @@ class VelocityJog:
         self.limited_by = why if scale < 1.0 else None
         if scale < 1.0:
             self.ramp.velocity *= scale     # the ramp accelerates again from the slower speed
+            self.ramp.values = self.ramp.velocity.tolist()
             return q + scale * step
         return after
 
@@ -185,6 +191,7 @@ class VelocityJog:
 
     def _held(self, q: np.ndarray, why: str) -> np.ndarray:
         self.ramp.velocity[:] = 0.0
+        self.ramp.values = [0.0] * 6
         self.limited_by = why
         return q
 
