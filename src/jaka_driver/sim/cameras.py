@@ -9,7 +9,7 @@ whatever else moves) with the cycle's stamp and number — a few microseconds, n
 and the renderer renders from that copy, never from a half-stepped state.
 
 **Never slower than the arm.** The cycle hands a copy over and goes on; a thread of the
-node (nice +10) hands it to the renderer, a process of its own at the lowest priority
+node hands it to the renderer, a process of its own at the lowest priority
 (:mod:`.camera_process`: its own interpreter lock, scheduled only on a core nothing else
 wants), and publishes what comes back. Where the machine cannot
 render at the asked rate, frames wait at most :data:`MAX_PENDING` deep per camera: the oldest
@@ -45,7 +45,6 @@ log = logging.getLogger(__name__)
 MAX_PENDING = 2             # frames per camera waiting for the renderer before one is dropped
 MAX_PENDING_STEPPED = 1000  # the same while a paused twin is stepped: every frame is kept
 DROP_LOG_PERIOD = 5.0       # s wall between two log lines about dropped frames
-RENDER_NICE = 10            # nice increment of the thread that feeds and publishes (Linux)
 START_TIMEOUT = 90.0        # s wall the first stream waits for the renderer to exist
 STOP_TIMEOUT = 5.0          # s wall a stop waits for the frame being rendered to be handed over
 RENDER_TIMES_KEPT = 1000    # recent render times per camera, for stats
@@ -183,10 +182,9 @@ class SimCameras(Cameras):
         return self._failure
 
     def _run(self) -> None:
-        try:
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), RENDER_NICE)
-        except (OSError, AttributeError):
-            pass     # not Linux, or not allowed: frames still come, at full priority
+        # At the default priority, not lower: this thread holds the interpreter lock while it
+        # copies a frame and serialises its messages, and a lowered thread that lost its core
+        # meanwhile kept the arm's threads waiting for the lock.
         try:
             renderer = RenderProcess(self._model, self._specs, self._scene, self._sensor,
                                      self._gripper)
