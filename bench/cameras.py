@@ -6,7 +6,7 @@
    camera ``vga`` (640 × 480, 10 Hz) and ``hd`` (1280 × 720, 10 Hz), three windows of the same
    length: no camera subscribed, ``vga`` subscribed, ``hd`` subscribed. In each: the state
    topics' rows (bench.state_topics: rate, inter-arrival, sample age), node CPU (% of one
-   core); with a camera, its frame rate against the asked one (± 10 %), and the frames' sample
+   core) and, beside it, the renderer's process's (jaka_driver.sim.camera_process); with a camera, its frame rate against the asked one (± 10 %), and the frames' sample
    age at publication (receipt time − ``header.stamp``, the time of the cycle the frame shows:
    its rendering, publication and one hop over TCP). The issue's target: with ``vga``
    subscribed the state topics keep 125 Hz and their inter-arrival p99 is at most 1.05 × the
@@ -71,8 +71,24 @@ def render_times(scene: str, frames: int = RENDER_FRAMES) -> dict:
     return out
 
 
+def renderer_pid(node_pid: int) -> int | None:
+    """The node's camera renderer process (jaka_driver.sim.camera_process), if it runs."""
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            stat = (proc / "stat").read_text()
+            parent = int(stat[stat.rindex(")") + 2:].split()[1])
+            if parent == node_pid and b"camera_process" in (proc / "cmdline").read_bytes():
+                return int(proc.name)
+        except (OSError, ValueError):
+            continue            # ended meanwhile
+    return None
+
+
 def _window(driver, seconds: float, camera: str | None) -> dict:
-    """State topics, node CPU and (with ``camera``) its frames over one window."""
+    """State topics, node CPU, the renderer's CPU and (with ``camera``) its frames over one
+    window."""
     with ExitStack() as stack:
         frames = None
         if camera is not None:
@@ -80,11 +96,14 @@ def _window(driver, seconds: float, camera: str | None) -> dict:
             depth = ros_session.recorder(stack, f"/{camera}/depth/image_raw", Image)
             ros_session.wait_until(lambda: depth.latest() is not None, 30.0)
             time.sleep(1.0)                  # the renderer warmed up
-        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu:
+        renderer = renderer_pid(driver.proc.pid)
+        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu, \
+                CpuWindow(renderer or driver.proc.pid) as render_cpu:
             t0 = time.time()
             topics = state_topics.record(driver, seconds)
             t1 = time.time()
         out = {"topics": state_topics.analyse(topics), "cpu": cpu.as_dict(),
+               "renderer_cpu": render_cpu.as_dict() if renderer else None,
                "machine_percent": machine.percent}
         if frames is not None:
             got = [(t, m.header.stamp.to_sec()) for t, m in frames.since(t0) if t <= t1]
@@ -116,6 +135,10 @@ def rows(renders: dict, windows: dict) -> list[Row]:
                                  machine_percent=win["machine_percent"])
         out.append(Row(GROUP, f"node CPU, {label}", f"{win['cpu']['cpu_percent']:.1f} %",
                        "report", REPORT, data=win["cpu"]))
+        if win.get("renderer_cpu"):
+            out.append(Row(GROUP, f"renderer process CPU (SCHED_IDLE), {label}",
+                           f"{win['renderer_cpu']['cpu_percent']:.1f} %", "report", REPORT,
+                           data=win["renderer_cpu"]))
         f = win.get("frames")
         if f is not None:
             ok = abs(f["rate_hz"] - RATE_HZ) <= RATE_TOL * RATE_HZ
