@@ -86,15 +86,30 @@ def renderer_pid(node_pid: int) -> int | None:
     return None
 
 
+class FrameStamps:
+    """(receipt time, header stamp) of each message of an image topic — the frames themselves
+    are not kept: 30 s of 640 × 480 colour + depth is 630 MB, whose allocation in this process
+    slowed the state topics' subscribers beside it."""
+
+    def __init__(self, stack: ExitStack, topic: str):
+        import rospy
+        self.stamps: list[tuple[float, float]] = []
+        sub = rospy.Subscriber(topic, Image, self._on, queue_size=10, tcp_nodelay=True)
+        stack.callback(sub.unregister)
+
+    def _on(self, msg) -> None:
+        self.stamps.append((time.time(), msg.header.stamp.to_sec()))
+
+
 def _window(driver, seconds: float, camera: str | None) -> dict:
     """State topics, node CPU, the renderer's CPU and (with ``camera``) its frames over one
     window."""
     with ExitStack() as stack:
         frames = None
         if camera is not None:
-            frames = ros_session.recorder(stack, f"/{camera}/image_raw", Image)
-            depth = ros_session.recorder(stack, f"/{camera}/depth/image_raw", Image)
-            ros_session.wait_until(lambda: depth.latest() is not None, 30.0)
+            frames = FrameStamps(stack, f"/{camera}/image_raw")
+            depth = FrameStamps(stack, f"/{camera}/depth/image_raw")
+            ros_session.wait_until(lambda: depth.stamps, 30.0)
             time.sleep(1.0)                  # the renderer warmed up
         renderer = renderer_pid(driver.proc.pid)
         with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu, \
@@ -106,7 +121,7 @@ def _window(driver, seconds: float, camera: str | None) -> dict:
                "renderer_cpu": render_cpu.as_dict() if renderer else None,
                "machine_percent": machine.percent}
         if frames is not None:
-            got = [(t, m.header.stamp.to_sec()) for t, m in frames.since(t0) if t <= t1]
+            got = [(t, s) for t, s in list(frames.stamps) if t0 <= t <= t1]
             recv = np.array([t for t, _ in got])
             out["frames"] = {"count": len(got),
                              "rate_hz": (len(got) - 1) / (recv[-1] - recv[0])
