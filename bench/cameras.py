@@ -4,9 +4,11 @@
    process (the renderer the node uses, EGL — llvmpipe on a machine without a GPU), no ROS;
 2. through ROS, on the zu5 twin on the wall clock (as a user runs it) in a cell with a fixed
    camera ``vga`` (640 × 480, 10 Hz) and ``hd`` (1280 × 720, 10 Hz), three windows of the same
-   length: no camera subscribed, ``vga`` subscribed, ``hd`` subscribed. In each: the state
+   length — no camera subscribed, ``vga`` subscribed, ``hd`` subscribed — each taken as
+   :data:`ROUNDS` shorter windows in turn (the machine's neighbours change within minutes;
+   side by side, each condition gets its share of them). In each: the state
    topics' rows (bench.state_topics: rate, inter-arrival, sample age), node CPU (% of one
-   core); with a camera, its frame rate against the asked one (± 10 %), and the frames' sample
+   core) and, beside it, the renderer's process's (jaka_driver.sim.camera_process); with a camera, its frame rate against the asked one (± 10 %), and the frames' sample
    age at publication (receipt time − ``header.stamp``, the time of the cycle the frame shows:
    its rendering, publication and one hop over TCP). The issue's target: with ``vga``
    subscribed the state topics keep 125 Hz and their inter-arrival p99 is at most 1.05 × the
@@ -71,38 +73,101 @@ def render_times(scene: str, frames: int = RENDER_FRAMES) -> dict:
     return out
 
 
+def renderer_pid(node_pid: int) -> int | None:
+    """The node's camera renderer process (jaka_driver.sim.camera_process), if it runs."""
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            stat = (proc / "stat").read_text()
+            parent = int(stat[stat.rindex(")") + 2:].split()[1])
+            if parent == node_pid and b"camera_process" in (proc / "cmdline").read_bytes():
+                return int(proc.name)
+        except (OSError, ValueError):
+            continue            # ended meanwhile
+    return None
+
+
+class FrameStamps:
+    """(receipt time, header stamp) of each message of an image topic — the frames themselves
+    are not kept: 30 s of 640 × 480 colour + depth is 630 MB, whose allocation in this process
+    slowed the state topics' subscribers beside it."""
+
+    def __init__(self, stack: ExitStack, topic: str):
+        import rospy
+        self.stamps: list[tuple[float, float]] = []
+        sub = rospy.Subscriber(topic, Image, self._on, queue_size=10, tcp_nodelay=True)
+        stack.callback(sub.unregister)
+
+    def _on(self, msg) -> None:
+        self.stamps.append((time.time(), msg.header.stamp.to_sec()))
+
+
+ROUNDS = 3                 # the windows taken in turn: none, vga, hd, none, vga, hd, ...
+
+
 def _window(driver, seconds: float, camera: str | None) -> dict:
-    """State topics, node CPU and (with ``camera``) its frames over one window."""
+    """State topics (raw), node CPU, the renderer's CPU and (with ``camera``) its frames over
+    one window."""
     with ExitStack() as stack:
         frames = None
         if camera is not None:
-            frames = ros_session.recorder(stack, f"/{camera}/image_raw", Image)
-            depth = ros_session.recorder(stack, f"/{camera}/depth/image_raw", Image)
-            ros_session.wait_until(lambda: depth.latest() is not None, 30.0)
+            frames = FrameStamps(stack, f"/{camera}/image_raw")
+            depth = FrameStamps(stack, f"/{camera}/depth/image_raw")
+            ros_session.wait_until(lambda: depth.stamps, 30.0)
             time.sleep(1.0)                  # the renderer warmed up
-        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu:
+        else:
+            time.sleep(1.0)                  # the camera before has stopped streaming
+        renderer = renderer_pid(driver.proc.pid)
+        with MachineWindow() as machine, CpuWindow(driver.proc.pid) as cpu, \
+                CpuWindow(renderer or driver.proc.pid) as render_cpu:
             t0 = time.time()
             topics = state_topics.record(driver, seconds)
             t1 = time.time()
-        out = {"topics": state_topics.analyse(topics), "cpu": cpu.as_dict(),
+        out = {"topics": topics, "cpu": cpu.as_dict(),
+               "renderer_cpu": render_cpu.as_dict() if renderer else None,
                "machine_percent": machine.percent}
         if frames is not None:
-            got = [(t, m.header.stamp.to_sec()) for t, m in frames.since(t0) if t <= t1]
-            recv = np.array([t for t, _ in got])
-            out["frames"] = {"count": len(got),
-                             "rate_hz": (len(got) - 1) / (recv[-1] - recv[0])
-                             if len(got) > 1 else 0.0,
-                             "age_ms": summary(np.array([t - s for t, s in got]), 1e3)}
+            out["frames"] = [(t, s) for t, s in list(frames.stamps) if t0 <= t <= t1]
+    return out
+
+
+def _mean_cpu(parts: list[dict]) -> dict:
+    """One window's CPU figures from several: time-weighted mean %, the last RSS."""
+    total = sum(p["window_s"] for p in parts)
+    return {**parts[-1], "window_s": total,
+            "cpu_percent": sum(p["cpu_percent"] * p["window_s"] for p in parts) / total}
+
+
+def _merged(parts: list[dict]) -> dict:
+    """The windows of one condition as one: topics pooled (state_topics.analyse_windows),
+    CPU time-weighted, frame rate over the summed spans, ages pooled."""
+    out = {"topics": state_topics.analyse_windows([p["topics"] for p in parts]),
+           "cpu": _mean_cpu([p["cpu"] for p in parts]),
+           "renderer_cpu": (_mean_cpu([p["renderer_cpu"] for p in parts])
+                            if all(p["renderer_cpu"] for p in parts) else None),
+           "machine_percent": float(np.mean([p["machine_percent"] for p in parts]))}
+    if "frames" in parts[0]:
+        got = [p["frames"] for p in parts]
+        count = sum(len(g) for g in got)
+        span = sum(g[-1][0] - g[0][0] for g in got if len(g) > 1)
+        out["frames"] = {"count": count,
+                         "rate_hz": sum(len(g) - 1 for g in got if len(g) > 1) / span
+                         if span > 0 else 0.0,
+                         "age_ms": summary(np.array([t - s for g in got for t, s in g]), 1e3)}
     return out
 
 
 def run(driver, seconds: float, log=print) -> dict:
-    windows = {}
-    for camera in (None,) + tuple(CAMERAS):
-        label = f"{camera} subscribed" if camera else "no camera subscribed"
-        log(f"cameras: {label}, {seconds:g} s")
-        windows[label] = _window(driver, seconds, camera)
-    return windows
+    """``seconds`` per condition, in :data:`ROUNDS` windows taken in turn, so that the
+    machine's slow changes (its neighbours) fall on every condition alike."""
+    parts: dict[str, list] = {}
+    for round_ in range(ROUNDS):
+        for camera in (None,) + tuple(CAMERAS):
+            label = f"{camera} subscribed" if camera else "no camera subscribed"
+            log(f"cameras: round {round_ + 1} of {ROUNDS}, {label}, {seconds / ROUNDS:g} s")
+            parts.setdefault(label, []).append(_window(driver, seconds / ROUNDS, camera))
+    return {label: _merged(p) for label, p in parts.items()}
 
 
 def rows(renders: dict, windows: dict) -> list[Row]:
@@ -116,6 +181,10 @@ def rows(renders: dict, windows: dict) -> list[Row]:
                                  machine_percent=win["machine_percent"])
         out.append(Row(GROUP, f"node CPU, {label}", f"{win['cpu']['cpu_percent']:.1f} %",
                        "report", REPORT, data=win["cpu"]))
+        if win.get("renderer_cpu"):
+            out.append(Row(GROUP, f"renderer process CPU (SCHED_IDLE), {label}",
+                           f"{win['renderer_cpu']['cpu_percent']:.1f} %", "report", REPORT,
+                           data=win["renderer_cpu"]))
         f = win.get("frames")
         if f is not None:
             ok = abs(f["rate_hz"] - RATE_HZ) <= RATE_TOL * RATE_HZ

@@ -54,18 +54,28 @@ def record(driver, seconds: float, topics=TOPICS) -> dict:
 
 def analyse(samples: dict) -> dict:
     """Rate, inter-arrival and age statistics per topic (see the module docstring)."""
+    return analyse_windows([samples])
+
+
+def analyse_windows(windows: list[dict]) -> dict:
+    """:func:`analyse` of several windows of :func:`record` taken as one: intervals within
+    each window only (never across the gap between two), the rate over their summed spans."""
     out = {}
-    for name, s in samples.items():
-        recv = s["recv"]
-        n = recv.size
-        span = recv[-1] - recv[0] if n > 1 else 0.0
-        stats = {"messages": int(n), "rate_hz": (n - 1) / span if span > 0 else 0.0,
-                 "interarrival_ms": summary(np.diff(recv), 1e3)}
-        if s["stamp"] is not None:
-            stats["age_ms"] = summary(recv - s["stamp"], 1e3)
+    for name in windows[0]:
+        parts = [w[name] for w in windows]
+        n = sum(p["recv"].size for p in parts)
+        intervals = sum(p["recv"].size - 1 for p in parts if p["recv"].size > 1)
+        span = sum(p["recv"][-1] - p["recv"][0] for p in parts if p["recv"].size > 1)
+        stats = {"messages": int(n), "rate_hz": intervals / span if span > 0 else 0.0,
+                 "interarrival_ms": summary(np.concatenate([np.diff(p["recv"])
+                                                             for p in parts]), 1e3)}
+        if parts[0]["stamp"] is not None:
+            stats["age_ms"] = summary(np.concatenate([p["recv"] - p["stamp"]
+                                                      for p in parts]), 1e3)
             # Stamp intervals show whether the twin kept its 8 ms grid (a skipped cycle
             # is a gap); not when the node woke.
-            stats["stamp_interval_ms"] = summary(np.diff(s["stamp"]), 1e3)
+            stats["stamp_interval_ms"] = summary(np.concatenate([np.diff(p["stamp"])
+                                                                 for p in parts]), 1e3)
         out[name] = stats
     return out
 

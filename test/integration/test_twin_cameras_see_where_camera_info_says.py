@@ -7,7 +7,9 @@ fixed camera ``top`` 1 m above the table looking down, a wrist camera ``wrist``.
 """
 from __future__ import annotations
 
+import os
 import queue
+import signal
 import time
 from pathlib import Path
 
@@ -276,6 +278,36 @@ def test_on_the_wall_clock_frames_carry_their_cycle_s_wall_time(tmp_path):
         assert driver.cameras.stats("wrist").rendered >= 2
     finally:
         driver.shutdown()
+
+
+def test_the_renderer_s_process_lives_with_the_cameras_and_its_death_is_said():
+    """Frames are rendered in a process of the twin's own; killed, the cameras stop with the
+    reason and the twin steps on; closed with the twin, the process is gone."""
+    driver = RobotDriver(SimBackend(MODEL, scene=SCENE, sim_time=True, real_time_factor=0))
+    got: queue.Queue = queue.Queue()
+    assert driver.cameras.listen(got.put).ok
+    driver.start()
+    cameras = driver.backend.cameras
+    try:
+        assert cameras.renderer_pid is None                 # started by the first stream
+        assert driver.twin.pause(True).ok
+        assert driver.cameras.stream("wrist", True).ok
+        assert driver.twin.step(13).ok
+        assert _frames(got, 1, "wrist")[0].rgb.shape == (120, 160, 3)
+        pid = cameras.renderer_pid
+        assert pid is not None and pid != os.getpid()
+        os.kill(pid, signal.SIGKILL)
+        assert driver.twin.step(13).ok                      # the twin goes on
+        deadline = time.monotonic() + FRAME_WAIT
+        while cameras.renderer_pid is not None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        refused = driver.cameras.stream("wrist", True)
+        assert refused.code == -9 and "renderer's process ended" in refused.message
+        assert driver.twin.step(13).ok and got.empty()
+    finally:
+        driver.shutdown()
+    with pytest.raises(ChildProcessError):
+        os.waitpid(pid, os.WNOHANG)                         # reaped: nothing of it is left
 
 
 def test_a_wrong_camera_stops_the_twin_before_it_is_built(tmp_path):

@@ -16,8 +16,9 @@ inside:
   following error → brakes; :mod:`.io_board` — the twin's IO;
 * :mod:`.snapshot` — offscreen pictures (also ``scripts/snapshot``);
 * the cameras (``backend.cameras``): :mod:`.cameras` (:class:`~.cameras.SimCameras`, the facet:
-  a copy of each due cycle's state, the rendering thread), :mod:`.camera_render` (colour and
-  depth offscreen, depth linearised), :mod:`.camera_mounts` (MuJoCo cameras in the cell or on
+  a copy of each due cycle's state), :mod:`.camera_process` (the renderer in a process of its
+  own, at the lowest priority), :mod:`.camera_render` (colour and depth offscreen, depth
+  linearised), :mod:`.camera_mounts` (MuJoCo cameras in the cell or on
   the flange);
 * the flange force/torque sensor and force control (``backend.force``): :mod:`.ft_sensor` (the
   sensor in the model and its readings), :mod:`.force` (:class:`~.force.SimForce`, the facet),

@@ -1,21 +1,23 @@
-"""The twin's cameras (``backend.cameras``, :class:`SimCameras`): frames rendered in their own
-thread from a copy of one cycle's state, so rendering never slows the arm.
+"""The twin's cameras (``backend.cameras``, :class:`SimCameras`): frames rendered in a process
+of their own from a copy of one cycle's state, so rendering never slows the arm.
 
 **When a frame is due.** Counted in cycles, whatever the clock: camera of rate ``r`` Hz is due
 at cycle ``n`` when ``floor(n · cycle · r)`` steps up (at 10 Hz, cycles 13, 25, 38, 50 … of
 8 ms): a stepped twin gets the frames its steps produce, a paused one none, the same in every
 run. At the end of a due cycle the physics loop's per-cycle hook copies ``qpos`` (the arm and
 whatever else moves) with the cycle's stamp and number — a few microseconds, no waiting —
-and the rendering thread renders from that copy, never from a half-stepped state.
+and the renderer renders from that copy, never from a half-stepped state.
 
-**Never slower than the arm.** The cycle hands a copy over and goes on; the rendering thread
-runs at a lower priority (nice +10, Mesa's threads inherit it). Where the machine cannot
+**Never slower than the arm.** The cycle hands a copy over and goes on; a thread of the
+node hands it to the renderer, a process of its own at the lowest priority
+(:mod:`.camera_process`: its own interpreter lock, scheduled only on a core nothing else
+wants), and publishes what comes back. Where the machine cannot
 render at the asked rate, frames wait at most :data:`MAX_PENDING` deep per camera: the oldest
 is dropped, counted (:meth:`SimCameras.stats`) and logged (at most every
 :data:`DROP_LOG_PERIOD` s). While a paused twin is stepped (sim time) every frame its steps
 produce is kept (up to :data:`MAX_PENDING_STEPPED`) and rendered: a test that steps and then
 waits gets them all, the same in every run. Only streaming cameras render (the node streams one while
-somebody subscribes); the renderer (a GL context) is made at the first stream.
+somebody subscribes); the renderer (a process with a GL context) is started at the first stream.
 """
 from __future__ import annotations
 
@@ -35,6 +37,7 @@ from ..common.camera_spec import CameraSpec
 from ..common.models import RobotModel
 from ..common.results import Code, Result
 from ..common.sensor_spec import ForceSensorSpec
+from .camera_process import RenderProcess
 from .physics import PhysicsLoop
 
 log = logging.getLogger(__name__)
@@ -42,9 +45,7 @@ log = logging.getLogger(__name__)
 MAX_PENDING = 2             # frames per camera waiting for the renderer before one is dropped
 MAX_PENDING_STEPPED = 1000  # the same while a paused twin is stepped: every frame is kept
 DROP_LOG_PERIOD = 5.0       # s wall between two log lines about dropped frames
-RENDER_NICE = 10            # nice increment of the rendering thread (Linux: per thread)
-RASTER_THREADS = 1          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
-START_TIMEOUT = 30.0        # s wall the first stream waits for the renderer to exist
+START_TIMEOUT = 90.0        # s wall the first stream waits for the renderer to exist
 STOP_TIMEOUT = 5.0          # s wall a stop waits for the frame being rendered to be handed over
 RENDER_TIMES_KEPT = 1000    # recent render times per camera, for stats
 
@@ -78,6 +79,7 @@ class SimCameras(Cameras):
         self._dropped_since_log = 0
         self._last_drop_log = 0.0
         self._rendering: Optional[str] = None       # the camera whose frame is being made
+        self._renderer: Optional[RenderProcess] = None
         self._thread: Optional[threading.Thread] = None
         self._ready = threading.Event()
         self._failure: Optional[str] = None
@@ -121,6 +123,13 @@ class SimCameras(Cameras):
             return CameraStats(name, self._rendered.get(name, 0), self._dropped.get(name, 0),
                                tuple(self._times.get(name, ())))
 
+    @property
+    def renderer_pid(self) -> Optional[int]:
+        """The rendering process's id while it runs (None before the first stream and once
+        the cameras are closed or failed)."""
+        renderer = self._renderer
+        return renderer.pid if renderer is not None and self._failure is None else None
+
     def describe(self) -> str:
         """Each camera, what it is asked for and what it did (diagnostics)."""
         with self._cond:
@@ -160,7 +169,7 @@ class SimCameras(Cameras):
                 self._pending.append((name, stamp, n, q))
             self._cond.notify()
 
-    # ---- the rendering thread -----------------------------------------------------------------
+    # ---- the thread that feeds the renderer and hands its frames on --------------------------
     def _start_renderer(self) -> Optional[str]:
         """None once the renderer runs, else why it cannot."""
         with self._cond:
@@ -173,24 +182,18 @@ class SimCameras(Cameras):
         return self._failure
 
     def _run(self) -> None:
+        # At the default priority, not lower: this thread holds the interpreter lock while it
+        # copies a frame and serialises its messages, and a lowered thread that lost its core
+        # meanwhile kept the arm's threads waiting for the lock.
         try:
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), RENDER_NICE)
-        except (OSError, AttributeError):
-            pass     # not Linux, or not allowed: frames still come, at full priority
-        # Mesa's software rasteriser renders in one thread of its own (made with the GL
-        # context, so it inherits the nice value) rather than one per core: a frame's burst
-        # then leaves a core to the physics loop and the state publisher. A GPU ignores it.
-        os.environ.setdefault("LP_NUM_THREADS", str(RASTER_THREADS))
-        try:
-            from .camera_render import CameraRenderer      # EGL: only when a camera streams
-            renderer = CameraRenderer(self._model, self._specs, self._scene, self._sensor,
-                                      self._gripper)
-        except Exception as exc:  # noqa: BLE001 — no EGL: every stream says why
-            self._failure = (f"offscreen rendering unavailable ({exc!r}); it needs EGL: Debian "
-                             "packages libegl1 and libgl1-mesa-dri (make setup)")
+            renderer = RenderProcess(self._model, self._specs, self._scene, self._sensor,
+                                     self._gripper)
+        except RuntimeError as exc:         # no EGL: every stream says why
+            self._failure = str(exc)
             log.error("cameras: %s", self._failure)
             self._ready.set()
             return
+        self._renderer = renderer
         self._ready.set()
         try:
             while True:
@@ -203,9 +206,11 @@ class SimCameras(Cameras):
                     listeners = list(self._listeners)
                     self._rendering = name
                 self._log_drops()
-                t0 = time.perf_counter()
-                rgb, depth = renderer.render(name, q)
-                took = time.perf_counter() - t0
+                try:
+                    rgb, depth, took = renderer.render(name, q)
+                except RuntimeError as exc:
+                    self._fail(str(exc))
+                    return
                 frame = CameraFrame(name, stamp, n, q[:6].copy(), rgb, depth, took)
                 with self._cond:
                     self._rendered[name] += 1
@@ -219,7 +224,18 @@ class SimCameras(Cameras):
                     self._rendering = None
                     self._cond.notify_all()
         finally:
+            self._renderer = None
             renderer.close()
+
+    def _fail(self, why: str) -> None:
+        """The renderer cannot go on: every stream ends, and a new one is refused with ``why``."""
+        log.error("cameras: %s; every camera stops", why)
+        with self._cond:
+            self._failure = why
+            self._streaming.clear()
+            self._pending.clear()
+            self._rendering = None
+            self._cond.notify_all()
 
     def _log_drops(self) -> None:
         now = time.monotonic()
