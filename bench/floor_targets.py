@@ -124,7 +124,11 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
         return (f"p99 {fmt(p99, 3)} ms", at_most(p99, CONTROLLER_RTT_P99_MS, "ms", "p99"),
                 "The emulator's broadcast thread held the interpreter lock ~1 ms a packet "
                 "(half of the lock's samples during a round trip); its packet is now built in "
-                "about a sixth of the time.")
+                "about a sixth of the time, and only what changed is made again (99 → 27 µs "
+                "at rest, 199 → 157 µs moving); the node reads an unchanged torqsensor once "
+                "(35 → 29 µs a packet). What is left: the slow calls bunch in the ~1 ms "
+                "before a packet reaches the node, the cycle's burst of both processes "
+                "(bench.node_profile ctl-rtt).")
 
     def controller_observed():
         d = _find(table, controller, "servo command → observed")
@@ -134,11 +138,13 @@ def rows(table: list[Row], sim: str, streams: str, controller: str) -> list[Row]
         floor = _p99(d["floor_ms"])
         bounds = at_most(p99 - floor, CONTROLLER_ABOVE_FLOOR_MS, "ms", "above the floor")
         note = ("The status thread's parse and the packet's build above, and the waiters "
-                "woken after the packet's work instead of before it. The stream starts "
-                "mid-cycle (bench.servo_latency.mid_cycle_start): at a phase within the node → "
-                "emulator transit of a cycle's end, every target counted one cycle late (a run "
-                "at such a phase: 8.49 ms above the floor, p50 too), which the node's stamps "
-                "cannot show.")
+                "woken after the packet's work instead of before it. The emulator's packets "
+                "went out on a timer of their own, at a phase to its twin's cycles that was "
+                "the luck of the start: at some phases every target of a run counted one "
+                "cycle late (8.49 ms above the floor, p50 too). Now each follows the cycle it "
+                "shows (emulator/status_pace.py). Seen since (one run of three): ~1 % of the "
+                "targets one to three cycles late, p50 0.3 ms above the floor — isolated "
+                "stalls on the path, not a phase.")
         return (f"p99 {fmt(p99)} ms; floor p99 {fmt(floor)} ms; the driver's part "
                 f"{fmt(p99 - floor)} ms", bounds, note)
 
