@@ -54,12 +54,10 @@ class FolderPrograms(Programs):
         self._watchers: list[Callable[[ProgramStatus], None]] = []
         self._runner = ProgramRunner(self._table, on_change=self._changed)
 
-    def _changed(self) -> None:
+    def _changed(self, status: ProgramStatus) -> None:
         self._on_change()
-        if self._watchers:
-            status = self._runner.status()
-            for watcher in list(self._watchers):
-                watcher(status)
+        for watcher in list(self._watchers):
+            watcher(status)
 
     def watch(self, on_status) -> bool:
         """Every change, as the runner makes it (in sim time: at the cycle it happens)."""

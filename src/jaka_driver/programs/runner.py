@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections import deque
 from typing import Callable, Optional
 
 from ..backend.programs import ProgramState, ProgramStatus
@@ -51,13 +52,16 @@ class ProgramRunner:
     """Runs one loaded :class:`~.language.Program` at a time on an executor."""
 
     def __init__(self, variables: UserVariables, executor: Optional[Executor] = None,
-                 on_change: Callable[[], None] = lambda: None):
-        """``on_change()`` is called after every change of state or line (from the program's
-        thread or the caller's; it must not block)."""
+                 on_change: Callable[[ProgramStatus], None] = lambda status: None):
+        """``on_change(status)`` is called with the status of every change of state or line,
+        in the order they were made (from the program's thread or the caller's; it must not
+        block)."""
         self.variables = variables
         self.executor = executor
         self._on_change = on_change
         self._lock = threading.Lock()
+        self._changes: deque = deque()        # statuses of changes not yet announced
+        self._announcing = threading.RLock()  # one thread hands them on at a time
         self._wake = threading.Event()        # a pause, resume or stop to look at
         self._program: Optional[Program] = None
         self._state = ProgramState.IDLE
@@ -73,8 +77,28 @@ class ProgramRunner:
     # ---- what callers see ------------------------------------------------------------------
     def status(self) -> ProgramStatus:
         with self._lock:
-            name = self._program.name if self._program is not None else ""
-            return ProgramStatus(self._state, name, self._line, self._error)
+            return self._status()
+
+    def _status(self) -> ProgramStatus:
+        name = self._program.name if self._program is not None else ""
+        return ProgramStatus(self._state, name, self._line, self._error)
+
+    def _changed(self) -> None:
+        """Keep the status of the change just made (the lock held): :meth:`_announce` hands it
+        on. A status read when ``on_change`` runs instead could already be a later one: a play
+        whose caller lost its core meanwhile was announced at line 1, after line 1's own."""
+        self._changes.append(self._status())
+
+    def _announce(self) -> None:
+        """Hand every kept change to ``on_change``, in the order they were made, whichever
+        thread made them (the lock not held: ``on_change`` may read the status)."""
+        with self._announcing:
+            while True:
+                with self._lock:
+                    if not self._changes:
+                        return
+                    status = self._changes.popleft()
+                self._on_change(status)
 
     @property
     def state_now(self) -> ProgramState:
@@ -88,8 +112,9 @@ class ProgramRunner:
                                       f"{self._program.name!r} is {self._state.word} "
                                       "(stop it first)")
             self._program, self._error = program, ""
+            self._changed()
         self.variables.declare(program.variables)
-        self._on_change()
+        self._announce()
         return Result.success(f"program {program.name!r} loaded ({_count(program)} steps, "
                               f"{len(program.variables)} variables)")
 
@@ -98,7 +123,8 @@ class ProgramRunner:
         with self._lock:
             if self._state == ProgramState.IDLE:
                 self._program, self._error = None, ""
-        self._on_change()
+                self._changed()
+        self._announce()
 
     def play(self) -> Result:
         with self._lock:
@@ -118,13 +144,14 @@ class ProgramRunner:
             self._state, self._error, self._stop, self._line = ProgramState.RUNNING, "", \
                 False, 0
             self._holding.clear()
+            self._changed()
             self._thread = threading.Thread(target=self._run, args=(program,),
                                             name="program-runner", daemon=True)
             self._thread.start()
         # Until the thread holds the clock, time must not run on without it (the play request
         # holds it meanwhile); bounded, a thread that never starts cannot freeze the caller.
         self._holding.wait(HOLD_WAIT)
-        self._on_change()
+        self._announce()
         return Result.success(f"program {program.name!r} running")
 
     def pause(self) -> Result:
@@ -138,7 +165,8 @@ class ProgramRunner:
             if hold is not None:
                 hold.pause()              # the move under way comes to rest on its path
             self._wake.set()
-        self._on_change()
+            self._changed()
+        self._announce()
         return Result.success(f"program paused at line {line}")
 
     def resume(self) -> Result:
@@ -152,7 +180,8 @@ class ProgramRunner:
             if hold is not None:
                 hold.resume()
             self._wake.set()
-        self._on_change()
+            self._changed()
+        self._announce()
         return Result.success(f"program resumed at line {line}")
 
     def stop(self) -> Result:
@@ -191,7 +220,8 @@ class ProgramRunner:
         with self._lock:
             self._state, self._line, self._error, self._hold = ProgramState.IDLE, 0, error, \
                 None
-        self._on_change()
+            self._changed()
+        self._announce()
 
     def _block(self, statements) -> None:
         for statement in statements:
@@ -201,7 +231,8 @@ class ProgramRunner:
         self._wait_while_paused()
         with self._lock:
             self._line = statement.line
-        self._on_change()
+            self._changed()
+        self._announce()
         try:
             if isinstance(statement, Repeat):
                 self._repeat(statement)
