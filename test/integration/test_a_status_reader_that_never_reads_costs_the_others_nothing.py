@@ -42,11 +42,14 @@ def test_a_reader_that_never_reads_is_skipped_then_dropped_and_delays_no_one():
             gaps = reader.gaps(t0)
             window = time.monotonic() - t0
             # Wall clock: the emulator's broadcaster is paced in wall time (a TCP server, no
-            # sim time); gaps measured with time.monotonic (µs) against a 0.2 s bound.
+            # sim time); gaps measured with time.monotonic (µs) against a 0.4 s bound: the
+            # fault this guards against blocked 0.5 s on every packet to the stuck socket,
+            # while a loaded 2-core machine (a suite's three workers and two busy programs)
+            # has kept this test's threads from running for 0.27 s.
             # packets the reader got: never skipped (above); the broadcaster, woken a period
             # late on a busy machine, resynchronises instead of bursting: half at least
             assert len(gaps) >= 0.5 * window / PERIOD, (len(gaps), window)
-            assert max(gaps) < 0.2, f"a {max(gaps) * 1000:.0f} ms gap for the reading subscriber"
+            assert max(gaps) < 0.4, f"a {max(gaps) * 1000:.0f} ms gap for the reading subscriber"
             assert 1.4 < t_dropped - t0 < 3.5
             stuck.settimeout(2.0)
             while stuck.recv(65536):      # what it was sent before the drop, then the end
