@@ -1,13 +1,15 @@
 """The cameras' renderer in a process of its own (:class:`RenderProcess`), so that a frame's
 rendering never competes with the arm for the node's interpreter or its scheduling.
 
-Why a process and not a thread: measured on a 2-core machine (bench/cameras.py), rendering
-640 × 480 colour + depth at 10 Hz in a thread of the node — even at nice +10 — stretched the
-state topics' inter-arrival p99 from 8.2 to 9.9–11 ms: the thread shares the node's
-interpreter lock (the Python between MuJoCo's calls, the depth's conversion) and its address
-space (each frame's buffers mapped and unmapped, which interrupts every thread of the process).
-The child runs at ``SCHED_IDLE`` (Linux; else at the lowest nice): it only gets a core that
-nothing else of the machine wants, and Mesa's rasteriser threads, made after that, inherit it.
+Why a process and not a thread: measured on a 2-core machine in side-by-side windows
+(bench/cameras.py), rendering 640 × 480 colour + depth at 10 Hz in a thread of the node, at
+nice +10, stretched the state topics' inter-arrival p99 from 8.2 to 9.9–11.3 ms; the same
+thread at ``SCHED_IDLE`` to 9.0 ms; the node publishing cached frames without rendering left it
+at 8.3 ms, and a renderer in a process of its own at ``SCHED_IDLE`` moved it 0.1–0.4 ms.
+(MuJoCo's render and read calls release the interpreter lock; what the thread cost the node
+was its scheduling and its share of the process, not the lock held while drawing.) The child
+runs at ``SCHED_IDLE`` (Linux; else at the lowest nice): it only gets a core that nothing else
+of the machine wants, and Mesa's rasteriser threads, made after that, inherit it.
 
 How a frame goes: the parent sends the camera's name and the joint positions of the cycle
 (a pickle on a socket pair); the child renders with
@@ -24,7 +26,6 @@ from __future__ import annotations
 import dataclasses
 import mmap
 import os
-import pickle
 import socket
 import subprocess
 import sys
