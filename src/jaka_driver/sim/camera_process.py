@@ -47,26 +47,21 @@ _CHILD = ("import sys; from jaka_driver.sim.camera_process import serve; "
           "sys.exit(serve(int(sys.argv[1]), int(sys.argv[2])))")
 
 
-def _layout(cameras: Sequence[CameraSpec]) -> dict[str, tuple[int, int]]:
-    """Offset (bytes) of each camera's colour and of its depth in the shared memory."""
+def _layout(cameras: Sequence[CameraSpec]) -> tuple[dict[str, tuple[int, int]], int]:
+    """Offset (bytes) of each camera's colour (3 bytes a pixel) and of its depth (4) in the
+    shared memory, and the memory's size."""
     out, offset = {}, 0
     for c in cameras:
-        rgb_at = offset
-        offset += c.width * c.height * 3
-        depth_at = offset
-        offset += c.width * c.height * 4
-        out[c.name] = (rgb_at, depth_at)
-    return out
-
-
-def _size(cameras: Sequence[CameraSpec]) -> int:
-    return sum(c.width * c.height * 7 for c in cameras)
+        pixels = c.width * c.height
+        out[c.name] = (offset, offset + 3 * pixels)
+        offset += 7 * pixels
+    return out, offset
 
 
 def _views(memory, cameras: Sequence[CameraSpec]) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """The colour (h, w, 3) uint8 and depth (h, w) float32 arrays of each camera over
     ``memory``."""
-    at = _layout(cameras)
+    at, _ = _layout(cameras)
     out = {}
     for c in cameras:
         rgb_at, depth_at = at[c.name]
@@ -85,7 +80,7 @@ class RenderProcess:
                  scene: Optional[str] = None, force_sensor: Optional[ForceSensorSpec] = None,
                  gripper: str = "none"):
         self._cameras = tuple(cameras)
-        size = _size(self._cameras)
+        _, size = _layout(self._cameras)
         memory_fd = os.memfd_create("jaka-cameras")
         ours, theirs = socket.socketpair()
         for end in (ours, theirs):
