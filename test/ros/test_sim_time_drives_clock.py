@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from rosgraph_msgs.msg import Clock
 
-from support.ros_harness import (START, Recorder, go_home, sample_at, sim_sleep,
-                                 start_sim_time_driver, stamp, wait_until)
+from support.ros_harness import (START, Recorder, go_home, pause_twin, sample_at, sim_sleep,
+                                 start_sim_time_driver, stamp, step_twin, wait_until)
 from support.scheduling import thread_policies
 from jaka_msgs.srv import Move, ServoMove, ServoMoveEnable
 
@@ -75,7 +75,14 @@ def test_a_servo_stream_paced_by_the_samples_is_followed(call, joints):
         q = q + np.array([0.004, -0.002, 0.003, 0.0, 0.0, 0.005])
         assert call("servo_j", ServoMove, pose=q.tolist(), speed=[]).ret == 1
         last = stamp(sample_at(joints, last + 0.008))
-    reached = sim_sleep(joints, 0.1)
+    # 0.1 s of sim time after the last target came in: the latest sample this process has
+    # received can be some cycles older than the twin (it runs up to MAX_LAG cycles ahead of
+    # its publisher), so the twin is paused and stepped, and the time it answers counts from
+    pause_twin(call)
+    try:
+        reached = sample_at(joints, step_twin(call, 13))
+    finally:
+        pause_twin(call, False)
     assert np.max(np.abs(np.array(reached.position) - q)) < 1e-3
     assert call("servo_move_enable", ServoMoveEnable, enable=False).ret == 1
 
