@@ -7,7 +7,8 @@ without depending on how the threads happen to be scheduled:
 * an event set inside a cycle (a move's completion) wakes its holding waiter when that cycle
   has ticked, not while it is being stepped — else what the waiter does next (plan from the
   latest sample, read the time) depends on how far the cycle had got;
-* a request (``hold``) that arrives while a cycle is being stepped starts after it;
+* a request (``hold``) that arrives while a cycle is being stepped starts after it — also
+  when the loop steps its cycles back to back (factor 0);
 * a request that arrives while the pacer waits for the wall clock stops the cycle from
   starting;
 * a paused clock's steps stop for a request (or a watchdog acting) as running time does; only
@@ -69,6 +70,29 @@ def test_a_request_arriving_during_a_cycle_starts_after_it():
     assert clock.wait_for_cycle(quit_)
     _acts_only_after_the_tick(clock, _in_thread(request), started_at,
                               "the request started inside the cycle")
+
+
+def test_a_request_to_a_twin_stepping_back_to_back_starts_after_the_cycle_in_progress():
+    """At factor 0 the physics loop starts its next cycle right after each tick: a request
+    that only waited for "no cycle being stepped" lost that race every time (and waited out
+    the clock's STEPPING_WAIT, 1 s, while ~a thousand cycles ran)."""
+    clock, quit_ = SimClock(CYCLE, real_time_factor=0), threading.Event()
+
+    def physics():
+        while clock.wait_for_cycle(quit_):
+            time.sleep(0.0005)               # stepping the cycle
+            clock.tick()
+
+    thread = _in_thread(physics)
+    try:
+        for _ in range(20):
+            before = clock.cycles
+            with clock.hold(react=False):
+                assert clock.cycles - before <= 1, clock.cycles - before
+            time.sleep(0.01)                 # time runs between the requests
+    finally:
+        quit_.set()
+        thread.join(2.0)
 
 
 def test_a_request_during_the_pacers_wait_stops_the_cycle():

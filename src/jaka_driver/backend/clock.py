@@ -208,12 +208,17 @@ class SimClock:
         self._not_in_a_timer("hold")
         with self._cond:
             self._reaction_until = 0.0          # the request the window waited for is here
-            if tid not in self._holds:
+            first = tid not in self._holds
+            # Held from now, before the wait below: the cycle being stepped ends, and the
+            # next one waits for this request. (Waiting first and holding after, a twin at
+            # factor 0 started its next cycle in the instant between the tick's notify and
+            # this thread's wake-up, every time, and a request waited out STEPPING_WAIT.)
+            entry = self._holds.setdefault(tid, [0, time.monotonic()])
+            entry[0] += 1
+            if first:
                 # A cycle being stepped ends first (well under a millisecond; bounded, so a
                 # caller that holds what the cycle needs cannot freeze both).
                 self._cond.wait_for(lambda: not self._stepping, STEPPING_WAIT)
-            entry = self._holds.setdefault(tid, [0, time.monotonic()])
-            entry[0] += 1
         try:
             yield
         finally:
