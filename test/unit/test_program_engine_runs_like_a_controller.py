@@ -14,6 +14,7 @@ import pytest
 
 from support.ros_harness import wait_until
 
+from jaka_driver.backend.clock import SimClock
 from jaka_driver.backend.programs import ProgramState, ProgramStatus
 from jaka_driver.common.results import Code, Result
 from jaka_driver.programs import MoveHold, ProgramRunner, UserVariables, parse
@@ -219,6 +220,37 @@ def test_a_wait_keeps_its_time_left_across_a_pause(engine):
     assert not wait_until(lambda: executor.moves, 0.2)    # 0.5 s of the wait left
     executor.clock.advance(0.6)
     running_move(executor, 1).finish()
+
+
+def test_a_wait_on_the_twins_clock_ends_on_its_cycle_whatever_cycle_it_began_at():
+    """``wait 0.2`` begun at cycle 95 of 8 ms: 25 cycles later (the float sums of the cycles
+    leave 5.6e-17 s, which once kept the program looping, holding time, until the clock's
+    hold limit let it run on 10 s later)."""
+    clock, quit_ = SimClock(0.008, real_time_factor=0), threading.Event()
+    clock.pause()
+
+    def physics():
+        while clock.wait_for_cycle(quit_):
+            clock.tick()
+
+    thread = threading.Thread(target=physics, daemon=True)
+    thread.start()
+    executor = FakeExecutor()
+    executor.clock = clock
+    runner = ProgramRunner(UserVariables(), executor)
+    try:
+        assert clock.step(95, 5.0)
+        runner.load(parse("wait 0.2\nset_output digital cabinet 3 = 1\n", "w"))
+        assert runner.play().ok
+        assert clock.step(24, 5.0) and executor.outputs == []
+        assert clock.step(1, 5.0), "the program's wait kept holding time"
+        assert ended(runner) and executor.outputs == [("digital", 0, 3, 1.0)]
+        assert clock.cycles == 95 + 25
+    finally:
+        runner.stop()
+        quit_.set()
+        clock.unpause()
+        thread.join(2.0)
 
 
 def test_stop_ends_the_program_and_its_move_and_runs_nothing_more(engine):

@@ -42,6 +42,11 @@ log = logging.getLogger(__name__)
 MAX_IDLE_STEPS = 100_000
 #: s (wall) ``play`` waits for the program's thread to hold the clock
 HOLD_WAIT = 1.0
+#: s: a wait's remaining time at most this is done. Its time is counted in cycles of
+#: 0.008 s, whose float sums leave remainders like 5.6e-17 s (``wait 0.2`` begun at cycle 95),
+#: which the clock's wait answers at once, before any cycle: the program looped on it holding
+#: time, and the twin stood still until the hold ran out (10 s of wall time).
+TIME_EPSILON = 1e-9
 
 
 class _Stopped(Exception):
@@ -336,7 +341,7 @@ class ProgramRunner:
             self._wait_while_paused()
             if until is not None and until():
                 return True
-            if remaining <= 0.0:
+            if remaining <= TIME_EPSILON:
                 return False
             with self._lock:
                 self._wake.clear()
