@@ -16,7 +16,7 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
                               FollowJointTrajectoryResult, JointTolerance)
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from support.ros_harness import (CYCLE, START, pause_twin, reset_twin, sample_at,
+from support.ros_harness import (CYCLE, START, action_done, pause_twin, reset_twin, sample_at,
                                  start_sim_time_driver, stamp, step_twin, step_twin_to,
                                  wait_until)
 from jaka_msgs.srv import ServoMoveEnable
@@ -97,17 +97,9 @@ def finished(client, call, chunk: int = 25, limit: float = 20.0) -> float:
 
 
 def answered(client) -> None:
-    """A goal refused before anything moves is answered without a cycle of the twin.
-
-    Read from the goal's own handle, on the wall clock. actionlib's wait_for_result counts this
-    process's ROS time, the last /clock it has read, which jumps ahead as a busy machine lets
-    it read a backlog (the twin ran as fast as it could before the module paused it). And
-    SimpleActionClient takes the handle of a goal only once send_goal has returned: an answer
-    that arrives before that, as a refusal can on a busy machine, updates the handle but not
-    the client's simple state ("a transition callback on a goal handle that we're not
-    tracking")."""
-    assert wait_until(lambda: client.gh is not None
-                      and client.gh.get_comm_state() == actionlib.CommState.DONE, ANSWER)
+    """A goal refused before anything moves is answered without a cycle of the twin (read on
+    the wall clock, from the goal's own handle: support.ros_harness.action_done)."""
+    assert action_done(client, ANSWER)
 
 
 def still_at(joints, call, q, after: float) -> None:

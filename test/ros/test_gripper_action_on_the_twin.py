@@ -26,7 +26,7 @@ from jaka_driver.common.models import repo_root
 from jaka_driver_msgs.msg import GripperState
 from jaka_driver_msgs.srv import InitGripper, SetGripperPercent
 from jaka_msgs.srv import Move
-from support.ros_harness import Recorder, start_sim_time_driver, wait_until
+from support.ros_harness import Recorder, action_done, start_sim_time_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -66,7 +66,7 @@ def goal(position: float, effort: float = 0.0) -> GripperCommandGoal:
 
 def finish(client, g: GripperCommandGoal, timeout: float = 20.0):
     client.send_goal(g)
-    assert client.wait_for_result(rospy.Duration(timeout))
+    assert action_done(client, timeout)
     return client.get_state(), client.get_result(), client.get_goal_status_text()
 
 

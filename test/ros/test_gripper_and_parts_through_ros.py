@@ -16,7 +16,7 @@ from tf2_msgs.msg import TFMessage
 
 from jaka_driver.common.models import repo_root
 from jaka_driver_msgs.srv import InitGripper, ResetTwin, SetGripperPercent
-from support.ros_harness import Recorder, start_driver, wait_until
+from support.ros_harness import Recorder, action_done, start_driver, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -79,6 +79,6 @@ def test_without_a_gripper_its_services_and_action_refuse_with_how_to_mount_one(
     goal = GripperCommandGoal()
     goal.command.position, goal.command.max_effort = 0.02, 50.0
     client.send_goal(goal)
-    assert client.wait_for_result(rospy.Duration(5.0))
+    assert action_done(client, 5.0)
     assert client.get_state() == actionlib.GoalStatus.ABORTED
     assert "gripper:=dh_pgi" in client.get_goal_status_text()

@@ -463,3 +463,20 @@ def sim_sleep(recorder, seconds: float):
     latest = wait_until(recorder.latest, 5.0)
     assert latest is not None, "no sample"
     return sample_at(recorder, stamp(latest) + seconds)
+
+
+# --- actions ---
+
+def action_done(client, timeout: float) -> bool:
+    """Whether the goal a ``SimpleActionClient`` sent last is done (its result in) within
+    ``timeout`` s of wall time, read from the goal's own handle.
+
+    Not ``wait_for_result``: SimpleActionClient takes the handle of a goal only once
+    ``send_goal`` has returned, and an answer that comes before that — a refusal, at once, on a
+    busy machine — updates the handle but never the client's simple state ("a transition
+    callback on a goal handle that we're not tracking", ros/actionlib#206), so it waits out its
+    whole timeout. Nor ROS time: in sim time this process's clock is the last /clock it read."""
+    import actionlib
+    return bool(wait_until(lambda: client.gh is not None
+                           and client.gh.get_comm_state() == actionlib.CommState.DONE,
+                           timeout, 0.005))
