@@ -183,6 +183,10 @@ class ControllerBackend(Backend):
         return self.view.state(self.link.connected, self.motion.servo_mode,
                                int(self.programs.status().state))
 
+    def states_since(self, after: float) -> list[RobotState]:
+        return self.view.states_since(after, self.link.connected, self.motion.servo_mode,
+                                      int(self.programs.status().state))
+
     @property
     def kinematics(self) -> Kinematics:
         """The driver's local kinematics of the arm: on the controller's own parameters when

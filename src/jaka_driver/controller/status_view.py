@@ -15,6 +15,9 @@ What a packet carries is taken from it (docs/protocol.md, "Status packet"); the 
   stop and emergency stop into its error code; here they stay flags of their own (a soft limit
   is not an error the arm must be cleared of: it is jogged out of);
 * ``stamp``: receipt time (``time.time()``) of the packet — the stream has no time field;
+  packets completed by one TCP read share it and make one sample, the last of them;
+* the samples of the last :data:`HISTORY` packets are kept (:meth:`StatusView.states_since`),
+  so a reader that fell behind (the node's publisher on a busy machine) still gets each one;
 * servo mode: not in the stream; the backend's, from ``is_in_servomove``;
 * IO: every array the packet carries (:func:`packet_io`: cabinet, tool, the extension module,
   relays, the fieldbus slaves), as it came;
@@ -32,7 +35,8 @@ import math
 import threading
 import time
 from types import MappingProxyType
-from typing import Callable, Optional, Tuple
+from collections import deque
+from typing import Callable, NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -43,6 +47,17 @@ from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
 from ..protocol.status_packet import StatusPacket
 
 MIN_DT = 0.004   # s; packets closer than this in receipt time are one burst
+HISTORY = 64     # samples kept for a reader that fell behind: 0.5 s of 8 ms packets
+
+
+class _Packet(NamedTuple):
+    """A packet as the view read it: what a sample of it is made from."""
+    status: StatusPacket
+    received: float            # s, time.time()
+    q: np.ndarray              # rad, the last readable joints
+    velocity: np.ndarray       # rad/s
+    tcp: np.ndarray            # 4x4, m
+    serial: int                # packets stored before it, itself included
 
 
 def _finite(values: np.ndarray) -> bool:
@@ -128,6 +143,7 @@ class StatusView:
         self._q = np.zeros(6)       # the last readable joints, rad
         self._tcp = np.eye(4)
         self._serial = 0
+        self._history: deque[_Packet] = deque(maxlen=HISTORY)
         self._cache: Optional[tuple[tuple, RobotState]] = None
         #: the sensor's readings in a packet, with the joints (rad) the view read from it
         self.force_reading: Callable[[StatusPacket, np.ndarray],
@@ -176,6 +192,11 @@ class StatusView:
                 self._tcp = tcp
             self._status, self._received = status, received
             self._serial += 1
+            packet = _Packet(status, received, self._q, self._velocity, self._tcp, self._serial)
+            if self._history and self._history[-1].received == received:
+                self._history[-1] = packet          # the same read: one sample, the last
+            else:
+                self._history.append(packet)
 
     @property
     def latest(self) -> Optional[StatusPacket]:
@@ -203,33 +224,59 @@ class StatusView:
                 lambda: self._status is not None and shows(self._status), timeout)
 
     def state(self, connected: bool, servo_mode: bool, program_state: int = 0) -> RobotState:
+        """The sample of the latest packet (while the link is down: the last joints seen,
+        stamped now); ``servo_mode`` and ``program_state`` are the backend's."""
         with self._lock:
-            status, received, serial = self._status, self._received, self._serial
-            velocity, tcp, q = self._velocity, self._tcp, self._q
-            key = (serial, connected, servo_mode, program_state)
-            if connected and self._cache is not None and self._cache[0] == key:
-                return self._cache[1]
-        if status is None:
+            latest = self._history[-1] if self._history else None
+            q, tcp = self._q, self._tcp
+        if latest is None:
             return RobotState(stamp=time.time(), connected=False,
                               error_message="no status received from the controller yet")
         if not connected:
             return RobotState(stamp=time.time(), joint_position=q, tcp_pose=tcp,
-                              tool_id=status.current_tool_id, user_id=status.current_user_id,
+                              tool_id=latest.status.current_tool_id,
+                              user_id=latest.status.current_user_id,
                               connected=False, error_message="connection to the controller lost")
+        return self._sample(latest, servo_mode, program_state)
+
+    def states_since(self, after: float, connected: bool, servo_mode: bool,
+                     program_state: int = 0) -> list[RobotState]:
+        """The samples of the kept packets received later than ``after`` (s, ``time.time()``),
+        oldest first: a reader that fell behind gets every one of the last :data:`HISTORY`.
+        While the link is down: :meth:`state`, if it is newer."""
+        if not connected:
+            st = self.state(connected, servo_mode, program_state)
+            return [st] if st.stamp > after else []
+        with self._lock:
+            newer = []
+            for packet in reversed(self._history):         # usually one is new
+                if packet.received <= after:
+                    break
+                newer.append(packet)
+        return [self._sample(p, servo_mode, program_state) for p in reversed(newer)]
+
+    def _sample(self, packet: _Packet, servo_mode: bool, program_state: int) -> RobotState:
+        """The connected sample of ``packet``; the latest one's is made once and cached."""
+        key = (packet.serial, servo_mode, program_state)
+        cache = self._cache
+        if cache is not None and cache[0] == key:
+            return cache[1]
+        status = packet.status
         effort = status.joint_torque if np.all(np.isfinite(status.joint_torque)) \
             else np.zeros(6)
         st = RobotState(
-            stamp=received, joint_position=q, joint_velocity=velocity, joint_effort=effort,
-            tcp_pose=tcp, tool_id=status.current_tool_id, user_id=status.current_user_id,
-            connected=True, powered=status.powered, enabled=status.enabled,
-            servo_mode=servo_mode, drag_mode=status.drag_status,
+            stamp=packet.received, joint_position=packet.q, joint_velocity=packet.velocity,
+            joint_effort=effort, tcp_pose=packet.tcp, tool_id=status.current_tool_id,
+            user_id=status.current_user_id, connected=True, powered=status.powered,
+            enabled=status.enabled, servo_mode=servo_mode, drag_mode=status.drag_status,
             emergency_stop=status.emergency_stop, protective_stop=status.protective_stop,
             collision=is_collision(status), moving=not status.inpos,
             error_code=status.errcode or status.sensor_errcode,
             error_message=status.errmsg if status.errcode or not status.sensor_errcode
             else f"torque sensor error {status.sensor_errcode}", program_state=program_state,
-            io=packet_io(status), force=self.force_reading(status, q),
+            io=packet_io(status), force=self.force_reading(status, packet.q),
             on_limit=bool(status.on_soft_limit))
         with self._lock:
-            self._cache = (key, st)
+            if packet.serial == self._serial:           # only the latest is worth keeping
+                self._cache = (key, st)
         return st
