@@ -9,7 +9,10 @@ at 8.3 ms, and a renderer in a process of its own at ``SCHED_IDLE`` moved it 0.1
 (MuJoCo's render and read calls release the interpreter lock; what the thread cost the node
 was its scheduling and its share of the process, not the lock held while drawing.) The child
 runs at ``SCHED_IDLE`` (Linux; else at the lowest nice): it only gets a core that nothing else
-of the machine wants, and Mesa's rasteriser threads, made after that, inherit it.
+of the machine wants. llvmpipe rasterises in the rendering thread itself (``LP_NUM_THREADS``
+0, unless set): with one rasteriser thread of its own, each frame crossed between two threads
+and often two cores, and took longer (640 × 480 colour + depth p50 8.1–8.4 ms against 7.4–7.9,
+side by side on the 2-core machine, the state topics' rows as good or better).
 
 How a frame goes: the parent sends the camera's name and the joint positions of the cycle
 (a pickle on a socket pair); the child renders with
@@ -39,7 +42,7 @@ from ..common.camera_spec import CameraSpec
 from ..common.models import RobotModel
 from ..common.sensor_spec import ForceSensorSpec
 
-RASTER_THREADS = 1          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
+RASTER_THREADS = 0          # llvmpipe's rasteriser threads (LP_NUM_THREADS), unless set
 START_TIMEOUT = 60.0        # s wall for the child to build its model and GL context
 CLOSE_TIMEOUT = 2.0         # s wall for the child to end before it is killed
 # the child's program (not ``-m`` of this module: its package imports it first)
