@@ -34,8 +34,8 @@ from __future__ import annotations
 import math
 import threading
 import time
-from types import MappingProxyType
 from collections import deque
+from types import MappingProxyType
 from typing import Callable, NamedTuple, Optional, Tuple
 
 import numpy as np
@@ -124,8 +124,8 @@ def sensor_reading(status: StatusPacket, flange_rotation: Callable[[], np.ndarra
 
 
 class StatusView:
-    """The one copy of the controller's latest status packet, and the :class:`RobotState` made
-    from it on request.
+    """The controller's latest status packet, what was read of the last :data:`HISTORY`, and
+    the :class:`RobotState` made from one on request (:meth:`state`, :meth:`states_since`).
 
     :meth:`feed` is called from the status thread, everything else from any thread: :meth:`state`
     never blocks beyond a short lock and caches its answer until the next packet;
