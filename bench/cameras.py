@@ -16,6 +16,7 @@
 """
 from __future__ import annotations
 
+import struct
 import tempfile
 import time
 from contextlib import ExitStack
@@ -23,7 +24,6 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from sensor_msgs.msg import Image
 
 from . import ros_session, state_topics
 from .proc_meter import CpuWindow, MachineWindow
@@ -90,17 +90,21 @@ def renderer_pid(node_pid: int) -> int | None:
 
 class FrameStamps:
     """(receipt time, header stamp) of each message of an image topic — the frames themselves
-    are not kept: 30 s of 640 × 480 colour + depth is 630 MB, whose allocation in this process
-    slowed the state topics' subscribers beside it."""
+    are neither kept nor read: 30 s of 640 × 480 colour + depth is 630 MB, whose allocation in
+    this process slowed the state topics' subscribers beside it, and deserialising a frame
+    copies its megabytes with the interpreter lock held, which the state topics' receiving
+    threads here would wait behind. The stamp is read from the message's bytes (``AnyMsg``;
+    a ``std_msgs/Header`` first: seq, then the stamp's secs and nsecs)."""
 
     def __init__(self, stack: ExitStack, topic: str):
         import rospy
         self.stamps: list[tuple[float, float]] = []
-        sub = rospy.Subscriber(topic, Image, self._on, queue_size=10, tcp_nodelay=True)
+        sub = rospy.Subscriber(topic, rospy.AnyMsg, self._on, queue_size=10, tcp_nodelay=True)
         stack.callback(sub.unregister)
 
     def _on(self, msg) -> None:
-        self.stamps.append((time.time(), msg.header.stamp.to_sec()))
+        secs, nsecs = struct.unpack_from("<II", msg._buff, 4)
+        self.stamps.append((time.time(), secs + nsecs * 1e-9))
 
 
 ROUNDS = 3                 # the windows taken in turn: none, vga, hd, none, vga, hd, ...
