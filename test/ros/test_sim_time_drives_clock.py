@@ -77,7 +77,8 @@ def test_a_servo_stream_paced_by_the_samples_is_followed(call, joints):
         last = stamp(sample_at(joints, last + 0.008))
     # 0.1 s of sim time after the last target came in: the latest sample this process has
     # received can be some cycles older than the twin (it runs up to MAX_LAG cycles ahead of
-    # its publisher), so the twin is paused and stepped, and the time it answers counts from
+    # its publisher), so the twin is paused and stepped 13 cycles, and the sample read is the
+    # one at the sim time that step answers
     pause_twin(call)
     try:
         reached = sample_at(joints, step_twin(call, 13))
