@@ -57,7 +57,6 @@ class _Packet(NamedTuple):
     q: np.ndarray              # rad, the last readable joints
     velocity: np.ndarray       # rad/s
     tcp: np.ndarray            # 4x4, m
-    serial: int                # packets stored before it, itself included
 
 
 def _finite(values: np.ndarray) -> bool:
@@ -136,15 +135,13 @@ class StatusView:
     def __init__(self):
         self._lock = threading.Lock()
         self._arrived = threading.Condition(self._lock)   # notified by every packet
-        self._status: Optional[StatusPacket] = None
-        self._received = 0.0
         self._velocity = np.zeros(6)
         self._ref: Optional[tuple[float, np.ndarray]] = None   # (received, q) for the difference
         self._q = np.zeros(6)       # the last readable joints, rad
         self._tcp = np.eye(4)
-        self._serial = 0
-        self._history: deque[_Packet] = deque(maxlen=HISTORY)
-        self._cache: Optional[tuple[tuple, RobotState]] = None
+        self._history: deque[_Packet] = deque(maxlen=HISTORY)   # the newest last
+        #: (packet, servo_mode, program_state, its sample) of the newest packet's last sample
+        self._cache: Optional[tuple[_Packet, bool, int, RobotState]] = None
         #: the sensor's readings in a packet, with the joints (rad) the view read from it
         self.force_reading: Callable[[StatusPacket, np.ndarray],
                                      Optional[ForceReading]] = lambda status, q: None
@@ -190,44 +187,51 @@ class StatusView:
                 self._velocity = status.joint_velocity
             if tcp is not None:
                 self._tcp = tcp
-            self._status, self._received = status, received
-            self._serial += 1
-            packet = _Packet(status, received, self._q, self._velocity, self._tcp, self._serial)
+            packet = _Packet(status, received, self._q, self._velocity, self._tcp)
             if self._history and self._history[-1].received == received:
                 self._history[-1] = packet          # the same read: one sample, the last
             else:
                 self._history.append(packet)
 
+    def _newest(self) -> Optional[_Packet]:
+        """The latest packet as read, None before the first (no lock needed: the history only
+        grows, dropping its oldest)."""
+        history = self._history
+        return history[-1] if history else None
+
     @property
     def latest(self) -> Optional[StatusPacket]:
         """The latest packet, or None before the first."""
-        return self._status
+        newest = self._newest()
+        return None if newest is None else newest.status
 
     @property
     def latest_received(self) -> Optional[Tuple[StatusPacket, float]]:
         """(latest packet, its receipt time s, ``time.time()``), or None before the first."""
-        with self._lock:
-            return None if self._status is None else (self._status, self._received)
+        newest = self._newest()
+        return None if newest is None else (newest.status, newest.received)
 
     def wait_for_packet(self, after: float, timeout: float) -> bool:
         """Block until a packet received later than ``after`` (s, ``time.time()``) is here, at
         most ``timeout`` s; True if one is."""
         with self._arrived:
             return self._arrived.wait_for(
-                lambda: self._status is not None and self._received > after, timeout)
+                lambda: (newest := self._newest()) is not None and newest.received > after,
+                timeout)
 
     def wait_until(self, shows: Callable[[StatusPacket], bool], timeout: float) -> bool:
         """Block until the latest packet satisfies ``shows`` (a quick test, called under the
         view's lock), at most ``timeout`` s; True if it does."""
         with self._arrived:
             return self._arrived.wait_for(
-                lambda: self._status is not None and shows(self._status), timeout)
+                lambda: (newest := self._newest()) is not None and shows(newest.status),
+                timeout)
 
     def state(self, connected: bool, servo_mode: bool, program_state: int = 0) -> RobotState:
         """The sample of the latest packet (while the link is down: the last joints seen,
         stamped now); ``servo_mode`` and ``program_state`` are the backend's."""
         with self._lock:
-            latest = self._history[-1] if self._history else None
+            latest = self._newest()
             q, tcp = self._q, self._tcp
         if latest is None:
             return RobotState(stamp=time.time(), connected=False,
@@ -257,10 +261,9 @@ class StatusView:
 
     def _sample(self, packet: _Packet, servo_mode: bool, program_state: int) -> RobotState:
         """The connected sample of ``packet``; the latest one's is made once and cached."""
-        key = (packet.serial, servo_mode, program_state)
         cache = self._cache
-        if cache is not None and cache[0] == key:
-            return cache[1]
+        if cache is not None and cache[0] is packet and cache[1:3] == (servo_mode, program_state):
+            return cache[3]
         status = packet.status
         effort = status.joint_torque if np.all(np.isfinite(status.joint_torque)) \
             else np.zeros(6)
@@ -277,6 +280,6 @@ class StatusView:
             io=packet_io(status), force=self.force_reading(status, packet.q),
             on_limit=bool(status.on_soft_limit))
         with self._lock:
-            if packet.serial == self._serial:           # only the latest is worth keeping
-                self._cache = (key, st)
+            if packet is self._newest():                # only the latest is worth keeping
+                self._cache = (packet, servo_mode, program_state, st)
         return st
