@@ -238,6 +238,13 @@ def _emulator(run: Run, out: Path) -> None:
                                    servo_s=3 if run.quick else 16, log=run.log)
         run.rows += rows
         run.raw["controller"] = raw
+        run.log("controller backend and the twin: node CPU idle, side by side")
+        # a namespace of its own: a second /jaka_driver would make the master end the first
+        twin = ros_session.start_driver(stack, "bench_controller_twin", ns="beside",
+                                        backend="sim", model="zu5")
+        run.rows.append(node_suite.side_by_side_row(
+            EMU, node_suite.idle_side_by_side({"controller": driver, "twin": twin},
+                                              5 if run.quick else 20)))
 
 
 def _plots(run: Run, out: Path) -> list[str]:

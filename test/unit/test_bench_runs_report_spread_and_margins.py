@@ -137,3 +137,24 @@ def test_node_cpu_rows_are_judged_on_their_bounds():
          "window_s": 30}
     (row,) = _agree(node_resources.rows("sim", {"idle": w}))
     assert row.status == FAIL and row.bounds[0].margin == pytest.approx(-0.5)
+
+
+@pytest.mark.parametrize("controller, twin, passes", [(5.8, 3.5, False), (4.6, 3.5, True)])
+def test_the_controller_cpu_row_compares_the_two_nodes_measured_over_one_window(controller,
+                                                                               twin, passes):
+    from bench import floor_targets, node_suite
+
+    def cpu(percent):
+        return {"cpu_percent": percent, "window_s": 20.0, "rss_mib": 120, "peak_rss_mib": 120,
+                "machine_percent": 12}
+    # the apart rows say the opposite of the pair: only the pair may be judged
+    table = [Row("sim", "node CPU and RSS, idle", "…", "report", REPORT, data=cpu(9.0)),
+             Row("ctl", "node CPU and RSS, idle", "…", "report", REPORT, data=cpu(1.0)),
+             node_suite.side_by_side_row("ctl", {"controller": cpu(controller),
+                                                 "twin": cpu(twin)})]
+    rows = floor_targets.rows(table, "sim", "streams", "ctl")
+    (row,) = [r for r in rows if r.metric.startswith("controller backend: node CPU idle")]
+    _agree([row])
+    assert row.bounds == [Bound(pytest.approx(controller - twin), 2.0, "points", True,
+                                "above the twin's")]
+    assert (row.status == PASS) == passes
