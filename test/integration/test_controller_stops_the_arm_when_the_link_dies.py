@@ -11,7 +11,11 @@ the sockets on the same clock. The twin paces its cycles to the wall clock, so t
 is one cycle (8 ms): the arm started to slow at the start of the first cycle whose sample shows
 it slower (that sample's stamp − 8 ms). The controller acts at a cycle's end (a command
 becomes the setpoint of the cycle after the one it arrived in), so the arm starts to slow at
-most two cycles after the limit has passed, and never before.
+most two cycles after the limit has passed. Never before it, on the twin's own time; but a
+stamp is the cycle's nominal end, and the twin takes in commands when its thread wakes after
+it (0.2 ms later at best, more on a busy machine): an action that came 0.1 ms after a
+boundary, before the wake, acts from that boundary on, and reads 0.1 ms before its time
+(seen once: 99.8 ms against the 100 ms limit). The lower bound allows that cycle.
 """
 from __future__ import annotations
 
@@ -124,7 +128,7 @@ def test_by_default_the_arm_slows_within_the_limit_of_the_drivers_death(emu):
     slowed = next(st.stamp for st in samples
                   if st.stamp > killed and st.joint_velocity[0] < 0.95 * SPEED)
     began = slowed - SERVO_CYCLE                 # the start of the cycle its sample closes
-    assert LIMIT <= began - killed <= LIMIT + 2 * SERVO_CYCLE
+    assert LIMIT - SERVO_CYCLE < began - killed <= LIMIT + 2 * SERVO_CYCLE
     assert began < started + planned - 2.5                       # well before the planned end
     final = emu.backend.state().joint_position
     assert abs(final[0] - TARGET[0]) > 0.3 and abs(emu.backend.state().joint_velocity[0]) < 1e-3
@@ -137,7 +141,7 @@ def test_with_pause_the_move_comes_to_rest_on_its_way_and_stays_there(emu):
         assert emu.handlers.network.last_action == "motion paused on its path (pause)"
         slowed = next(st.stamp for st in samples
                       if st.stamp > killed and st.joint_velocity[0] < 0.95 * SPEED)
-        assert LIMIT <= slowed - SERVO_CYCLE - killed <= LIMIT + 2 * SERVO_CYCLE
+        assert LIMIT - SERVO_CYCLE < slowed - SERVO_CYCLE - killed <= LIMIT + 2 * SERVO_CYCLE
         rest = [st for st in samples if st.stamp > killed + 0.3]
         assert rest and all(abs(st.joint_velocity[0]) < 1e-3 for st in rest)   # held still
         q = emu.backend.state().joint_position[0]
