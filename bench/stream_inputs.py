@@ -244,8 +244,9 @@ def _input_cpu_note(topic: dict, service: dict) -> str:
             "the checks and the target handed on); the topic's message has no reply to "
             "build and write, the ~20 µs a target that the other runs show as its lead "
             "(about -0.25 points at 125 Hz). A lead that small is within what the host's "
-            "speed moves between turns of 0.2 s, taken in turn in one servo session: in "
-            "two records of three runs each this comparison missed in one run of six.")
+            "speed moves between turns of 0.2 s, taken in turn in one servo session: it "
+            "missed in one run of three in three of the four records T to W and in the "
+            "streams group's own three runs (bench/README.md), by +0.0006 to +0.16 points.")
 
 
 def cpu_of_inputs(driver, inputs: dict) -> dict:
