@@ -104,6 +104,16 @@ def test_the_fixture_replies_are_in_the_layout_they_describe():
         assert reply_text == controller_text(json.loads(reply_text)), reply_text
 
 
+def test_replies_of_strings_only_are_written_in_that_layout_too():
+    # the emulator writes these (every acknowledgement) with json's encoder: same layout
+    from jaka_driver.emulator.replies import encode_reply, error_reply
+    for reply in ({"errorCode": "0", "errorMsg": "", "cmdName": "servo_j"},
+                  error_reply("joint_move", 'call joint_move failed: "j2" 超出 ±135°\n', "2"),
+                  {"errorCode": "0", "errorMsg": "", "cmdName": "get_robot_state",
+                   "enable": "robot_enabled", "power": "powered_on"}):
+        assert encode_reply(reply).decode() == controller_text(dict(reply))
+
+
 def test_every_transcript_exchange_is_answered_with_its_keys_types_layout_and_read_backs(emu):
     with RawClient(emu.command_port, timeout=30) as client:
         for request, reply_text, note in load_transcript():

@@ -41,3 +41,27 @@ def test_what_is_read_cannot_change_the_table():
     table.store(TOOL, 2, TOOL_1)
     table.get(TOOL, 2)[0, 3] = 99.0
     np.testing.assert_array_equal(table.get(TOOL, 2), TOOL_1)
+
+
+def test_the_shared_frames_are_the_kept_ones_until_stored_again_and_cannot_be_written():
+    table = FrameTable()
+    table.store(TOOL, 2, TOOL_1)
+    tool, user = table.shared(2, 5)         # user 5 never stored: the identity
+    assert tool is table.shared(2, 0)[0]    # the same array: a reader can cache by identity
+    np.testing.assert_array_equal(tool, TOOL_1)
+    np.testing.assert_array_equal(user, np.eye(4))
+    for frame in (tool, user):
+        assert not frame.flags.writeable
+    table.store(TOOL, 2, USER_3)
+    again, _ = table.shared(2, 0)
+    assert again is not tool                # stored again: a new array, the old one unchanged
+    np.testing.assert_array_equal(again, USER_3)
+    np.testing.assert_array_equal(tool, TOOL_1)
+
+
+def test_a_frame_stored_from_a_callers_array_is_not_changed_by_it():
+    pose = TOOL_1.copy()
+    table = FrameTable()
+    table.store(TOOL, 1, pose)
+    pose[0, 3] = 99.0
+    np.testing.assert_array_equal(table.shared(1, 0)[0], TOOL_1)

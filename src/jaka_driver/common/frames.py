@@ -18,14 +18,26 @@ TOOL = "tool"
 USER_FRAME = "user frame"
 
 
+def _frozen(pose) -> np.ndarray:
+    """A read-only copy of ``pose`` (4x4, m): what the table keeps, so that :meth:`FrameTable.shared`
+    can hand the kept array out without a copy and nobody can change it behind the table."""
+    kept = np.array(pose, float)
+    kept.setflags(write=False)
+    return kept
+
+
+#: the identity as kept (id 0, and what an id never stored reads as in :meth:`FrameTable.shared`)
+_IDENTITY = _frozen(np.eye(4))
+
+
 class FrameTable:
     """Offsets (4x4, m) by id; thread-safe. ``on_unknown(kind, frame_id)`` is called the first
     time an id that was never stored is read."""
 
     def __init__(self, on_unknown: Optional[Callable[[str, int], None]] = None):
         self._lock = threading.Lock()
-        self._frames: Dict[str, Dict[int, np.ndarray]] = {TOOL: {0: np.eye(4)},
-                                                          USER_FRAME: {0: np.eye(4)}}
+        self._frames: Dict[str, Dict[int, np.ndarray]] = {TOOL: {0: _IDENTITY},
+                                                          USER_FRAME: {0: _IDENTITY}}
         self._on_unknown = on_unknown
         self._reported: set = set()
 
@@ -35,10 +47,15 @@ class FrameTable:
         if int(frame_id) == 0:
             return
         with self._lock:
-            self._frames[kind][int(frame_id)] = np.array(pose, float)
+            self._frames[kind][int(frame_id)] = _frozen(pose)
 
     def get(self, kind: str, frame_id: int) -> np.ndarray:
         """The stored pose of ``kind`` ``frame_id`` (a copy), the identity if never stored."""
+        return self._kept(kind, frame_id).copy()
+
+    def _kept(self, kind: str, frame_id: int) -> np.ndarray:
+        """The kept (read-only) pose of ``kind`` ``frame_id``, the identity if never stored
+        (said once to ``on_unknown``)."""
         with self._lock:
             pose = self._frames[kind].get(int(frame_id))
             first = pose is None and (kind, int(frame_id)) not in self._reported
@@ -47,9 +64,15 @@ class FrameTable:
         if pose is None:
             if first and self._on_unknown is not None:
                 self._on_unknown(kind, int(frame_id))
-            return np.eye(4)
-        return pose.copy()
+            return _IDENTITY
+        return pose
 
     def active(self, tool_id: int, user_id: int) -> Tuple[np.ndarray, np.ndarray]:
-        """(flange→tool, base→user) of the given active ids."""
+        """(flange→tool, base→user) of the given active ids (copies)."""
         return self.get(TOOL, tool_id), self.get(USER_FRAME, user_id)
+
+    def shared(self, tool_id: int, user_id: int) -> Tuple[np.ndarray, np.ndarray]:
+        """:meth:`active` without the copies: the kept arrays, read-only. The same array comes
+        back until that frame is stored again, so a reader caching what it computed from a
+        frame can tell an unchanged one by identity (the twin's state, once per request)."""
+        return self._kept(TOOL, tool_id), self._kept(USER_FRAME, user_id)

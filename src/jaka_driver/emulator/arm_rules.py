@@ -7,6 +7,7 @@ enable, the commanded setpoint, the arm's own kinematics. SI units; a refusal ra
 from __future__ import annotations
 
 import threading
+from typing import Optional
 
 import numpy as np
 
@@ -41,14 +42,16 @@ class ArmRules:
         return programs is not None and programs.status().state != ProgramState.IDLE
 
     def require_can_move(self, what: str, servo_ok: bool = False,
-                         program_step: bool = False) -> None:
+                         program_step: bool = False, state: Optional[RobotState] = None
+                         ) -> None:
         """Refuse ``what`` unless the arm may move: no stop, powered, enabled, no protective
         stop, not in drag or (unless ``servo_ok``) servo mode, and no program running or paused
-        (unless this is a step of it)."""
+        (unless this is a step of it). ``state``: the state the request already read, else
+        read now."""
         if not program_step and self.program_running():
             raise Rejected(f"{what}: a program is {self.programs.status().state.word} "
                            "(stop_program first)")
-        t = self.state()
+        t = state if state is not None else self.state()
         if t.emergency_stop:
             raise Rejected(f"{what}: emergency stop is pressed")
         if not t.powered:

@@ -98,6 +98,10 @@ def error_reply(name: Any, message: str, code: str = ERROR_CODE_EXCEPTION) -> Di
 def encode_reply(reply: Mapping[str, Any]) -> bytes:
     """``reply`` in the controller's text layout, UTF-8; floats with 6 decimals, or as the
     status packet writes them when ``reply`` is :class:`PlainFloats`."""
+    if all(type(key) is str and type(value) is str for key, value in reply.items()):
+        # Most replies (every acknowledged motion and servo command) hold strings only, which
+        # json's C encoder writes in this very layout (", " and ": ") in a fifth of the time.
+        return json.dumps(dict(reply), ensure_ascii=False).encode("utf-8", "replace")
     parts: List[str] = []
     _write(reply, parts, _plain if isinstance(reply, PlainFloats) else _six_decimals)
     return "".join(parts).encode("utf-8", "replace")

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import logging
 import threading
+from typing import Optional
 
 import numpy as np
 
-from ..backend import Backend, Twin
+from ..backend import Backend, RobotState, Twin
 from ..common.constants import SERVO_CYCLE
 from ..common.joint_limits import fastest_step
 from ..common.models import RobotModel
@@ -50,25 +51,29 @@ class ServoMode:
             if not result.ok:
                 raise Rejected(f"servo_move: {result.message}")
 
-    def servo_reference(self, what: str) -> np.ndarray:
-        """The latest servo target (rad), the base of relative set-points."""
-        goal = self.twin.servo_goal() if self.state().servo_mode else None
+    def servo_reference(self, what: str, state: Optional[RobotState] = None) -> np.ndarray:
+        """The latest servo target (rad), the base of relative set-points (``state``: the
+        state this request already read, else read now)."""
+        goal = self.twin.servo_goal() if (state if state is not None else self.state()).servo_mode else None
         if goal is None:
             raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
         return goal
 
-    def require_servo_mode(self, what: str) -> None:
+    def require_servo_mode(self, what: str, state: Optional[RobotState] = None) -> None:
         """servo_j outside servo mode: the recorded errorCode "-1" and text (servo_p answered
-        likewise, by analogy: not recorded)."""
-        if not self.state().servo_mode:
+        likewise, by analogy: not recorded). ``state`` as :meth:`servo_reference`'s."""
+        if not (state if state is not None else self.state()).servo_mode:
             raise Rejected(NOT_IN_SERVO_MODE.format(what.replace("_", "")),
                            ERROR_NOT_IN_SERVO_MODE)
 
     def servo_joints(self, q: np.ndarray, steps: int, what: str = "servo_j") -> None:
         with self.lock:
-            self.require_servo_mode(what)
-            self.require_can_move(what, servo_ok=True)
-            goal = self.servo_reference(what)
+            # one read of the state for the three checks: a servo stream sends 125 of these a
+            # second, and each read builds the whole state (~7 µs)
+            state = self.state()
+            self.require_servo_mode(what, state)
+            self.require_can_move(what, servo_ok=True, state=state)
+            goal = self.servo_reference(what, state)
             self.check_limits(q, what)
             too_fast = fastest_step(self.model, goal, q, steps * SERVO_CYCLE)
             if too_fast is not None:

@@ -164,7 +164,7 @@ class SimBackend(Backend):
                                       model.max_tcp_speed, model.max_tcp_accel)
         self._physics.on_cycle.append(self.recording.sample)
         self._stop_decel = np.maximum(model.max_acceleration, model.max_velocity / STOP_TIME)
-        self._cache: tuple | None = None    # (sample, its _Status, its TCP)
+        self._cache: tuple | None = None    # (sample, tool, user, its TCP, on a limit)
         self.twin = SimTwin(model, self.clock, self._physics, self._flags, self._io,
                             self._collisions, self._push, self._kin, self.frames, self._reset,
                             scene=scene, parts=PartPoses(self._mj_model, part_names(scene)))
@@ -243,24 +243,27 @@ class SimBackend(Backend):
         waiting for; in sim time nothing changes them while a cycle is recorded."""
         f = self._flags
         tool_id, user_id = self._tool_id, self._user_id
-        tool, user = self._frame_table.active(tool_id, user_id)
+        tool, user = self._frame_table.shared(tool_id, user_id)
         return _Status(tool_id, user_id, tool, user, f.powered, f.enabled, f.servo_mode,
                        f.drag_mode, f.emergency_stop, f.protective_stop, f.collision,
                        f.error_code, f.error_message, int(self.programs.state_now()),
                        self._io.values())
 
     def _state_of(self, sample, status: _Status) -> RobotState:
-        # The TCP (Pinocchio FK) is the only costly part: cache it per sample and frames. The
-        # sample itself is the key, not its stamp: a reset in sim time records a new sample
-        # with the stamp of the one before.
+        # What follows from the joints alone — the TCP (Pinocchio FK) and whether a joint is on
+        # its limit — is computed once per sample and frames: a request reads the state a few
+        # times (the emulator's servo_j five), each a read of the same cycle. The key is by
+        # identity: the sample itself, not its stamp (a reset in sim time records a new sample
+        # with the stamp of the one before), and the frames as the table keeps them (the same
+        # arrays until one is stored again: FrameTable.shared).
         cached = self._cache
-        if (cached is not None and cached[0] is sample
-                and (cached[1] is status or (np.array_equal(cached[1].tool, status.tool)
-                                             and np.array_equal(cached[1].user, status.user)))):
-            tcp = cached[2]
+        if (cached is not None and cached[0] is sample and cached[1] is status.tool
+                and cached[2] is status.user):
+            tcp, limit = cached[3], cached[4]
         else:
             tcp = self._kin.tcp_pose(sample.q, status.tool, status.user)
-            self._cache = (sample, status, tcp)
+            limit = on_limit(self.model, sample.q)
+            self._cache = (sample, status.tool, status.user, tcp, limit)
         return RobotState(
             stamp=sample.stamp, joint_position=sample.q, joint_velocity=sample.qd,
             joint_effort=sample.tau, tcp_pose=tcp, tool_id=status.tool_id,
@@ -270,7 +273,7 @@ class SimBackend(Backend):
             collision=status.collision, moving=sample.moving, error_code=status.error_code,
             error_message=status.error_message, program_state=status.program_state,
             io=status.io, force=sample.force,
-            on_limit=on_limit(self.model, sample.q))
+            on_limit=limit)
 
     def wait_for_sample(self, after: float, timeout: float) -> bool:
         return self._physics.wait_for_sample(after, timeout)
