@@ -117,7 +117,7 @@ def _startup(run: Run) -> None:
 def _sim(run: Run) -> None:
     from jaka_driver.common.models import load_model
 
-    from . import joint_move_timing, linear_move_accuracy, node_suite, ros_session
+    from . import joint_move_timing, linear_move_accuracy, node_suite, ros_session, servo_latency
     from sensor_msgs.msg import JointState
     with ExitStack() as stack:
         run.log("sim node: starting")
@@ -126,6 +126,7 @@ def _sim(run: Run) -> None:
         rows, raw = node_suite.run(SIM, driver, calls, judge=True,
                                    topic_s=5 if run.quick else 30,
                                    servo_s=3 if run.quick else 16,
+                                   rtt_s=1 if run.quick else servo_latency.RTT_SECONDS,
                                    physics_percent=run.extra.get("physics_percent"),
                                    log=run.log)
         run.rows += rows
@@ -218,7 +219,7 @@ def _gripper(run: Run) -> None:
 def _emulator(run: Run, out: Path) -> None:
     from jaka_driver.emulator.process import EmulatorProcess
 
-    from . import node_suite, ros_session
+    from . import node_suite, ros_session, servo_latency
     with ExitStack() as stack:
         run.log("emulator: starting")
         # As the rows were measured before the emulator had controller profiles: a packet
@@ -235,7 +236,9 @@ def _emulator(run: Run, out: Path) -> None:
         calls = ros_session.services(stack, driver)
         rows, raw = node_suite.run(EMU, driver, calls, judge=False,
                                    topic_s=5 if run.quick else 30,
-                                   servo_s=3 if run.quick else 16, log=run.log)
+                                   servo_s=3 if run.quick else 16,
+                                   rtt_s=1 if run.quick else servo_latency.RTT_SECONDS,
+                                   log=run.log)
         run.rows += rows
         run.raw["controller"] = raw
         run.log("controller backend and the twin: node CPU idle, side by side")

@@ -38,7 +38,8 @@ def _window(driver, seconds: float, loaded: bool):
 
 
 def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: float,
-        physics_percent: float | None = None, log=print) -> tuple[list, dict]:
+        rtt_s: float = servo_latency.RTT_SECONDS, physics_percent: float | None = None,
+        log=print) -> tuple[list, dict]:
     """Rows and raw data (for the plots) of one node; ``physics_percent`` see
     :func:`bench.node_resources.rows`."""
     rows, raw, cpu = [], {}, {}
@@ -55,8 +56,8 @@ def run(group: str, driver, calls, *, judge: bool, topic_s: float, servo_s: floa
         raw[f"machine {condition}"] = cpu[condition]["machine_percent"]
     with ExitStack() as stack:
         joints = ros_session.recorder(stack, driver.name("joint_position"), JointState)
-        log("  servo_j round trip")
-        rtt = servo_latency.round_trip(driver, calls, joints)
+        log(f"  servo_j round trip, {rtt_s:g} s")
+        rtt = servo_latency.round_trip(driver, calls, joints, rtt_s)
         log(f"  servo sine stream, {servo_s:g} s")
         with MachineWindow() as machine, CpuWindow(driver.proc.pid) as window:
             stream = servo_latency.sine_stream(driver, calls, joints, servo_s)

@@ -4,6 +4,8 @@ passed — a row that met its target on the median but missed it once fails. No 
 here: the rows are made by hand."""
 import json
 
+import numpy as np
+
 import pytest
 
 from bench import runs
@@ -158,3 +160,16 @@ def test_the_controller_cpu_row_compares_the_two_nodes_measured_over_one_window(
     assert row.bounds == [Bound(pytest.approx(controller - twin), 2.0, "points", True,
                                 "above the twin's")]
     assert (row.status == PASS) == passes
+
+
+def test_a_slow_half_second_shows_in_its_block_s_p99_and_in_the_range_the_row_reports():
+    from bench import servo_latency
+    # 5 blocks of 2000 calls at 0.2 ms; the second half second slow for 60 of its calls
+    rtt = np.full(5 * servo_latency.RTT_BLOCK, 0.2e-3)
+    rtt[2000:2060] = 1.3e-3
+    blocks = servo_latency.block_p99s(rtt)
+    assert len(blocks) == 5
+    assert blocks[1] == pytest.approx(1.3) and blocks[0] == pytest.approx(0.2)
+    text = servo_latency._blocks({"rtt_s": rtt, "seconds": 10.0})
+    assert "over 10 s" in text and "0.20–1.30 ms" in text
+    assert servo_latency._blocks({"rtt_s": rtt[:3000], "seconds": 1.0}) == ""   # one block
