@@ -19,8 +19,9 @@ USER_FRAME = "user frame"
 
 
 def _frozen(pose) -> np.ndarray:
-    """A read-only copy of ``pose`` (4x4, m): what the table keeps, so that :meth:`FrameTable.shared`
-    can hand the kept array out without a copy and nobody can change it behind the table."""
+    """A read-only copy of ``pose`` (4x4, m): what the table keeps, so that
+    :meth:`FrameTable.shared` can hand the kept array out without a copy and nobody can change
+    it behind the table."""
     kept = np.array(pose, float)
     kept.setflags(write=False)
     return kept

@@ -54,7 +54,8 @@ class ServoMode:
     def servo_reference(self, what: str, state: Optional[RobotState] = None) -> np.ndarray:
         """The latest servo target (rad), the base of relative set-points (``state``: the
         state this request already read, else read now)."""
-        goal = self.twin.servo_goal() if (state if state is not None else self.state()).servo_mode else None
+        state = state if state is not None else self.state()
+        goal = self.twin.servo_goal() if state.servo_mode else None
         if goal is None:
             raise Rejected(f"{what}: not in servo mode (servo_move relFlag 1 first)")
         return goal
