@@ -252,7 +252,7 @@ class SimBackend(Backend):
     def _state_of(self, sample, status: _Status) -> RobotState:
         # What follows from the joints alone — the TCP (Pinocchio FK) and whether a joint is on
         # its limit — is computed once per sample and frames: a request reads the state a few
-        # times (the emulator's servo_j five), each a read of the same cycle. The key is by
+        # times (the emulator's servo_j up to three), each a read of the same cycle. The key is by
         # identity: the sample itself, not its stamp (a reset in sim time records a new sample
         # with the stamp of the one before), and the frames as the table keeps them (the same
         # arrays until one is stored again: FrameTable.shared).
