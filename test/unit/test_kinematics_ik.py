@@ -234,3 +234,23 @@ def test_inputs_are_validated_at_the_door():
         kin.ik(np.eye(4), seed=np.zeros(7))
     with pytest.raises(ValueError):
         kin.tcp_pose(np.zeros(6), tool=rotvec_to_matrix([0, 0, 1]))
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, 1.0000001e150, -1e200])
+def test_forward_kinematics_refuses_nan_inf_and_values_past_1e150(bad):
+    kin = Kinematics(load_model("zu5"))
+    q = np.zeros(6)
+    q[3] = bad
+    with pytest.raises(ValueError, match="6 finite values"):
+        kin.flange_pose(q)
+    tool = np.eye(4)
+    tool[1, 3] = bad
+    with pytest.raises(ValueError):
+        kin.tcp_pose(np.zeros(6), tool)
+
+
+def test_forward_kinematics_takes_values_up_to_1e150():
+    kin = Kinematics(load_model("zu5"))
+    q = np.zeros(6)
+    q[3] = 1e150               # the compiled path's bound: still a number to it
+    assert np.isfinite(kin.flange_pose(q)).all()

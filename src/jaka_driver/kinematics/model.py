@@ -68,8 +68,10 @@ def _finite(a: np.ndarray) -> bool:
     """No NaN/inf in ``a``; values beyond 1e150 count as infinite, as the compiled path
     (jaka_ik.c ``sane``) counts them. NaN fails the comparison. (It was ``v @ v`` finite: a
     value of 1e200, refused on purpose, overflowed the square and numpy warned "overflow
-    encountered in matmul" on every such refusal; this costs 0.3 µs more per FK/IK call.)"""
-    return float(np.abs(a).max()) <= 1e150
+    encountered in matmul" on every such refusal.) A plain loop, not numpy's ``max``: every
+    sample's TCP passes here on a thread that has just woken, where a numpy reduction over a
+    few numbers costs 20-40 µs (jaka_driver.common.joint_limits says how it was measured)."""
+    return all(abs(v) <= 1e150 for v in np.asarray(a).ravel().tolist())
 
 
 def _as_pose(T, name: str) -> np.ndarray:
