@@ -27,6 +27,7 @@ import numpy as np
 from ..backend.completion import Completion
 from ..common.constants import IN_POSITION
 from ..common.results import Code, Result
+from ..common.values import all_finite
 from ..common.transforms import rotation_angle_between, rpy_to_matrix
 from ..protocol.status_packet import StatusPacket
 
@@ -50,11 +51,12 @@ def fault_of(status: StatusPacket) -> Optional[str]:
 
 def joints_at(target: np.ndarray, tolerance: float = IN_POSITION) -> Callable[[StatusPacket], bool]:
     """Predicate: every measured joint within ``tolerance`` rad of ``target`` (rad)."""
-    goal = np.asarray(target, float)
+    goal_list = np.asarray(target, float).tolist()
 
     def at(status: StatusPacket) -> bool:
         q = status.joint_position
-        return bool(np.all(np.isfinite(q)) and np.max(np.abs(q - goal)) <= tolerance)
+        return all_finite(q) and max(abs(a - b) for a, b in
+                                     zip(np.asarray(q, float).tolist(), goal_list)) <= tolerance
     return at
 
 
@@ -75,7 +77,7 @@ def tcp_at(target_mm_rpy: np.ndarray) -> Callable[[StatusPacket], bool]:
 
     def at(status: StatusPacket) -> bool:
         p = status.tcp_pose
-        if not np.all(np.isfinite(p)):
+        if not all_finite(p):
             return False
         return bool(np.linalg.norm(p[:3] - goal[:3]) <= TCP_IN_POSITION_MM
                     # Compare rotations, not angles: near ±π and at gimbal lock one rotation has many RPYs.

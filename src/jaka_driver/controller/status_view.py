@@ -43,6 +43,7 @@ import numpy as np
 from ..backend.force import GRAVITY, ForceReading, SensorPayload, gravity_wrench
 from ..backend.robot_state import IoValues, RobotState
 from ..common.transforms import pose_mm_rpy_to_matrix
+from ..common.values import all_finite
 from ..protocol.fields import FIELDBUS_SLAVES, IO_ARRAYS, IOType
 from ..protocol.status_packet import StatusPacket
 
@@ -113,10 +114,10 @@ def sensor_reading(status: StatusPacket, flange_rotation: Callable[[], np.ndarra
     under ``gravity`` (m/s², base frame: the arm's mounting, :attr:`StatusView.gravity`) — so ``~wrench_compensated`` means the same on every
     controller. A packet without ``actual`` has no reading."""
     ts = status.torque_sensor
-    if ts is None or ts.status == 0 or not np.all(np.isfinite(ts.actual)):
+    if ts is None or ts.status == 0 or not all_finite(ts.actual):
         return None
     real = ts.real
-    if not np.all(np.isfinite(real)):
+    if not all_finite(real):
         payload = SensorPayload(ts.payload_mass, np.asarray(ts.payload_centroid) / 1000.0)
         real = ts.actual - gravity_wrench(payload, flange_rotation(), gravity)
     return ForceReading(ts.actual, ts.general, real, ts.status, ts.errcode)
@@ -265,7 +266,7 @@ class StatusView:
         if cache is not None and cache[0] is packet and cache[1:3] == (servo_mode, program_state):
             return cache[3]
         status = packet.status
-        effort = status.joint_torque if np.all(np.isfinite(status.joint_torque)) \
+        effort = status.joint_torque if all_finite(status.joint_torque) \
             else np.zeros(6)
         st = RobotState(
             stamp=packet.received, joint_position=packet.q, joint_velocity=packet.velocity,

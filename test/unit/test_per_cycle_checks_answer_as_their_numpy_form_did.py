@@ -1,5 +1,6 @@
-"""The joint limit checks (jaka_driver.common.joint_limits), asked in plain Python, give the
-answers of their array form — written out here as numpy says it — for targets inside, on and
+"""The checks every servo target and status packet passes, now asked in plain Python
+(jaka_driver.common.joint_limits, common.values.all_finite, protocol.wire.float_vector), give
+the answers of their numpy form — written out here as numpy says it — for targets inside, on and
 past the limits, steps at and past the speed limit, ties, infinities and NaN, on every arm."""
 from typing import Optional
 
@@ -83,3 +84,21 @@ def test_a_tie_names_the_first_joint_and_its_speed():
     joint, speed = fastest_step(model, q0, q1)
     assert joint == 0
     assert speed == pytest.approx(2.0 * 3.14, rel=1e-12)
+
+
+@pytest.mark.parametrize("values, finite", [
+    (np.zeros(6), True), (np.full(6, 1e308), True), (np.eye(4), True),
+    (np.array([0, 0, np.nan, 0, 0, 0]), False), (np.array([np.inf]), False),
+    (np.array([[0.0, -np.inf], [0.0, 0.0]]), False), ([1, 2, 3], True), (np.zeros(0), True)])
+def test_all_finite_answers_as_numpys_isfinite_all(values, finite):
+    from jaka_driver.common.values import all_finite
+    assert all_finite(values) is finite is bool(np.all(np.isfinite(values)))
+
+
+@pytest.mark.parametrize("value, n, expected", [
+    ([1, 2, 3], 3, [1.0, 2.0, 3.0]), ([1, 2], 3, None), ([1, float("nan"), 3], 3, None),
+    ([1, float("inf"), 3], 3, None), ("abc", 3, None), ([[1, 2, 3]], 3, None), (None, 3, None)])
+def test_a_packets_vector_is_n_finite_floats_or_none(value, n, expected):
+    from jaka_driver.protocol.wire import float_vector
+    got = float_vector(value, n)
+    assert (got is None) if expected is None else got.tolist() == expected
