@@ -241,12 +241,11 @@ def _input_cpu_note(topic: dict, service: dict) -> str:
     return (f"{topic['cpu_percent'] - service['cpu_percent']:+.2f} points of a core "
             f"({topic['cpu_percent']:.2f} against {service['cpu_percent']:.2f} %). Both "
             "streams make the same call in the node (RobotDriver.servo_j_target / servo_j: "
-            "the checks and the target handed on); the topic's message has no reply to "
-            "build and write, the ~20 µs a target that the other runs show as its lead "
-            "(about -0.25 points at 125 Hz). A lead that small is within what the host's "
-            "speed moves between turns of 0.2 s, taken in turn in one servo session: it "
-            "missed in one run of three in three of the four records T to W and in the "
-            "streams group's own three runs (bench/README.md), by +0.0006 to +0.16 points.")
+            "the checks and the target handed on); what differs is rospy's own work, about "
+            "5 µs a message less for a topic than for a persistent service call (21.5-23.2 "
+            "against 27.4-27.7 µs with handlers that do nothing): 0.06 points of a core at "
+            "125 Hz. This measurement's standard error, 36 s of the inputs in turns of 0.2 s, "
+            "is 0.06-0.11 points, so the row falls either way (bench/README.md, table Z).")
 
 
 def cpu_of_inputs(driver, inputs: dict) -> dict:
