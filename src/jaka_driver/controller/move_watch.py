@@ -27,8 +27,8 @@ import numpy as np
 from ..backend.completion import Completion
 from ..common.constants import IN_POSITION
 from ..common.results import Code, Result
-from ..common.values import all_finite
 from ..common.transforms import rotation_angle_between, rpy_to_matrix
+from ..common.values import all_finite
 from ..protocol.status_packet import StatusPacket
 
 TCP_IN_POSITION_MM = 0.5  # mm, for recognising a linear move that had nothing to do
